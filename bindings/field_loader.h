@@ -1,0 +1,19 @@
+// Reads a field file (rules/<sport>/field.lua) into the quantum core's Field.
+#pragma once
+
+#include <string>
+
+#include "quantum/field.h"
+
+namespace quantum::lua {
+
+// `path` is a field file or a sport folder holding field.lua. The file runs as text-only Lua in
+// an empty sandbox (only `math`) with an instruction and a memory budget, and must return a
+// table. Throws FieldError whose message names the file and the place, e.g.
+// "rules/airhockey/field.lua: walls[2].points[3]: expected a number for y, got string".
+Field load_field(const std::string& path);
+
+// The file load_field reads for `path`.
+std::string field_file(const std::string& path);
+
+}  // namespace quantum::lua

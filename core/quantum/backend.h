@@ -1,0 +1,48 @@
+// How particles move through one step. The fast backend (hand-written structure-of-arrays loop)
+// is the engine; the Box2D backend in core/reference replays the same scene for comparison.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "quantum/cloud.h"
+#include "quantum/field.h"
+
+namespace quantum {
+
+// Where a body goes during one step, from the frame's input.
+struct BodyMotion {
+  Vec2 from, to;  // positions at the start and the end of the step
+  Vec2 velocity;  // the tracked velocity, handed to the ball on contact
+  float radius;
+};
+
+struct StepContext {
+  float dt;
+  const BodyMotion* bodies;
+  int n_bodies;
+  uint32_t noise_key;     // noise_bits(particle index, noise_key) drives the Brownian offsets
+  float noise_amplitude;  // see noise_amplitude()
+};
+
+// Something a particle ran into during a step. target: body k is k, goal g is n_bodies + g,
+// out is n_bodies + n_goals, and kCrushed marks a particle with no valid place left.
+struct Contact {
+  uint32_t particle;
+  int32_t target;
+};
+constexpr int32_t kCrushed = -1;
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  // Moves every particle of `cloud` through one step in place and appends one Contact per
+  // particle that touched a body, crossed a goal line or left the bounds (ascending particle
+  // order). Particles that touched a body hold their state after the bounce.
+  virtual void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) = 0;
+};
+
+std::unique_ptr<Backend> make_fast_backend(const Field& field);
+
+}  // namespace quantum

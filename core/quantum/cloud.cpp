@@ -1,0 +1,51 @@
+#include "quantum/cloud.h"
+
+namespace quantum {
+
+void Cloud::reserve(size_t n) {
+  x.reserve(n), y.reserve(n), vx.reserve(n), vy.reserve(n), w.reserve(n), tw.reserve(n);
+}
+
+void Cloud::clear() {
+  x.clear(), y.clear(), vx.clear(), vy.clear(), w.clear(), tw.clear();
+  mass = tmass = 0;
+}
+
+void Cloud::push(float px, float py, float pvx, float pvy, double pw, double ptw) {
+  x.push_back(px), y.push_back(py), vx.push_back(pvx), vy.push_back(pvy);
+  w.push_back(pw), tw.push_back(ptw);
+  mass += pw, tmass += ptw;
+}
+
+void Cloud::push_from(const Cloud& o, size_t i) { push(o.x[i], o.y[i], o.vx[i], o.vy[i], o.w[i], o.tw[i]); }
+
+void Cloud::remove_sorted(const std::vector<uint32_t>& indices) {
+  size_t last = size();
+  // Walk from the back so a particle moved into a hole is never one still to be removed.
+  for (size_t k = indices.size(); k-- > 0;) {
+    const size_t i = indices[k];
+    mass -= w[i], tmass -= tw[i];
+    --last;
+    x[i] = x[last], y[i] = y[last], vx[i] = vx[last], vy[i] = vy[last], w[i] = w[last], tw[i] = tw[last];
+  }
+  x.resize(last), y.resize(last), vx.resize(last), vy.resize(last), w.resize(last), tw.resize(last);
+  if (last == 0) mass = tmass = 0;
+}
+
+void Cloud::normalize() {
+  double s = 0, ts = 0;
+  for (size_t i = 0; i < size(); ++i) s += w[i], ts += tw[i];
+  if (s <= 0 || ts <= 0) {
+    mass = tmass = 0;
+    return;
+  }
+  for (size_t i = 0; i < size(); ++i) w[i] /= s, tw[i] /= ts;
+  mass = tmass = 1;
+}
+
+void Cloud::reset_tweak() {
+  tw = w;
+  tmass = mass;
+}
+
+}  // namespace quantum

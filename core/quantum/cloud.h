@@ -1,0 +1,37 @@
+// The ball as a cloud of weighted particles, stored as structure of arrays so the step loop
+// streams through plain float arrays.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace quantum {
+
+// Weights are kept unnormalized: `mass` is the sum of `w`, so removing particles costs
+// O(removed) instead of a pass over the whole cloud. weight(i) is the normalized value.
+// `tw` is the tweaked weight (w times the fate factors), `tmass` its sum; decisions draw from it.
+struct Cloud {
+  std::vector<float> x, y, vx, vy;
+  std::vector<double> w, tw;
+  double mass = 0, tmass = 0;
+
+  size_t size() const { return x.size(); }
+  bool empty() const { return x.empty(); }
+  double weight(size_t i) const { return w[i] / mass; }
+  double tweaked(size_t i) const { return tw[i] / tmass; }
+
+  void reserve(size_t n);
+  void clear();
+  void push(float px, float py, float pvx, float pvy, double pw, double ptw);
+  void push_from(const Cloud& other, size_t i);
+  // Removes the particles whose indices are listed (ascending, unique) by moving the last live
+  // particles into the holes: O(removed), and the same order on every run.
+  void remove_sorted(const std::vector<uint32_t>& indices);
+  // Recomputes mass and tmass exactly, and rescales so both sum to 1.
+  void normalize();
+  // Forgets the fate factors: tw = w.
+  void reset_tweak();
+};
+
+}  // namespace quantum

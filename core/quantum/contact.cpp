@@ -1,0 +1,316 @@
+#include "quantum/contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace quantum::detail {
+namespace {
+
+// A resolved contact leaves the ball this far outside the surface, so rounding never puts it
+// back inside.
+constexpr float kSkin = 2e-6f;
+constexpr int kMaxContactsPerStep = 8;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+float dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
+// std::hypot guards against overflow at a large cost; field coordinates never come near it.
+float norm(float x, float y) { return std::sqrt(x * x + y * y); }
+
+// Whether the segment p-q passes through box b (Liang-Barsky clipping).
+bool segment_touches_box(Vec2 p, Vec2 q, const Box& b) {
+  float t0 = 0, t1 = 1;
+  const float dx = q.x - p.x, dy = q.y - p.y;
+  const float pp[4] = {-dx, dx, -dy, dy};
+  const float qq[4] = {p.x - b.x0, b.x1 - p.x, p.y - b.y0, b.y1 - p.y};
+  for (int k = 0; k < 4; ++k) {
+    if (pp[k] == 0) {
+      if (qq[k] < 0) return false;
+      continue;
+    }
+    const float t = qq[k] / pp[k];
+    if (pp[k] < 0) t0 = std::max(t0, t);
+    else t1 = std::min(t1, t);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+Box grown(const Box& b, float m) { return {b.x0 - m, b.y0 - m, b.x1 + m, b.y1 + m}; }
+
+bool box_is_clear(const Field& f, const Box& box, float r) {
+  constexpr float kMargin = 1e-3f;
+  const Box bounds{f.bounds_min.x, f.bounds_min.y, f.bounds_max.x, f.bounds_max.y};
+  if (box.x0 < bounds.x0 + kMargin || box.y0 < bounds.y0 + kMargin || box.x1 > bounds.x1 - kMargin ||
+      box.y1 > bounds.y1 - kMargin)
+    return false;
+  const Box near_walls = grown(box, r + kMargin);
+  for (const Segment& s : f.segments)
+    if (segment_touches_box(s.a, s.b, near_walls)) return false;
+  const Box near_goals = grown(box, kMargin);
+  for (const Goal& gl : f.goals)
+    if (segment_touches_box(gl.a, gl.b, near_goals)) return false;
+  return true;
+}
+
+// Grows a box from `centre` one millimetre per side at a time while it stays clear: close to the
+// largest empty axis-aligned box, which is all the fast path needs.
+Box largest_clear_box(const Field& f, Vec2 centre, float r) {
+  Box box{centre.x, centre.y, centre.x, centre.y};
+  if (!box_is_clear(f, box, r)) return Box{};
+  constexpr float kGrowth = 1e-3f;
+  bool grow[4] = {true, true, true, true};
+  while (grow[0] || grow[1] || grow[2] || grow[3]) {
+    for (int side = 0; side < 4; ++side) {
+      if (!grow[side]) continue;
+      Box next = box;
+      if (side == 0) next.x0 -= kGrowth;
+      if (side == 1) next.x1 += kGrowth;
+      if (side == 2) next.y0 -= kGrowth;
+      if (side == 3) next.y1 += kGrowth;
+      if (box_is_clear(f, next, r)) box = next;
+      else grow[side] = false;
+    }
+  }
+  return box;
+}
+
+// Time (from now) at which a point at q moving with w enters the circle of radius rr around the
+// origin, within max_dt; 0 when it is inside already, -1 when it does not.
+float circle_entry(float qx, float qy, float wx, float wy, float rr, float max_dt) {
+  const float c = qx * qx + qy * qy - rr * rr;
+  if (c < -2 * rr * kTolerance) return 0;
+  const float b = qx * wx + qy * wy;
+  if (b >= 0) return -1;
+  const float ww = wx * wx + wy * wy;
+  const float disc = b * b - ww * c;
+  if (disc < 0) return -1;
+  const float dt = std::max(0.0f, (-b - std::sqrt(disc)) / ww);
+  return dt <= max_dt ? dt : -1;
+}
+
+void consider(Hit& best, float t, HitKind kind, int index, float nx, float ny) {
+  if (t < best.t) best = Hit{t, kind, index, nx, ny};
+}
+
+}  // namespace
+
+Geometry::Geometry(const Field& f)
+    : r(f.ball_radius), e_wall(f.wall_restitution), e_body(f.body_restitution) {
+  for (const Segment& s : f.segments) {
+    const float dx = s.b.x - s.a.x, dy = s.b.y - s.a.y, l = norm(dx, dy);
+    ax.push_back(s.a.x), ay.push_back(s.a.y);
+    tx.push_back(dx / l), ty.push_back(dy / l);
+    nx.push_back(-dy / l), ny.push_back(dx / l);
+    len.push_back(l);
+    wall.push_back(s.wall);
+    sx0.push_back(std::min(s.a.x, s.b.x)), sx1.push_back(std::max(s.a.x, s.b.x));
+    sy0.push_back(std::min(s.a.y, s.b.y)), sy1.push_back(std::max(s.a.y, s.b.y));
+    for (Vec2 p : {s.a, s.b}) {
+      bool known = false;
+      for (size_t k = 0; k < vx.size(); ++k) known |= vx[k] == p.x && vy[k] == p.y;
+      if (!known) vx.push_back(p.x), vy.push_back(p.y), vwall.push_back(s.wall);
+    }
+  }
+  Vec2 centre{0, 0};
+  for (const Spot& s : f.spots) centre.x += s.at.x / f.spots.size(), centre.y += s.at.y / f.spots.size();
+  for (const Goal& gl : f.goals) {
+    const float dx = gl.b.x - gl.a.x, dy = gl.b.y - gl.a.y, l = norm(dx, dy);
+    float gnx_ = -dy / l, gny_ = dx / l;
+    // The goal's inside is the side away from the respawn spots.
+    if (dot(centre.x - gl.a.x, centre.y - gl.a.y, gnx_, gny_) > 0) gnx_ = -gnx_, gny_ = -gny_;
+    gax.push_back(gl.a.x), gay.push_back(gl.a.y);
+    gtx.push_back(dx / l), gty.push_back(dy / l);
+    gnx.push_back(gnx_), gny.push_back(gny_);
+    glen.push_back(l);
+    gx0.push_back(std::min(gl.a.x, gl.b.x)), gx1.push_back(std::max(gl.a.x, gl.b.x));
+    gy0.push_back(std::min(gl.a.y, gl.b.y)), gy1.push_back(std::max(gl.a.y, gl.b.y));
+  }
+  bounds = Box{f.bounds_min.x, f.bounds_min.y, f.bounds_max.x, f.bounds_max.y};
+  const Vec2 middle{(bounds.x0 + bounds.x1) / 2, (bounds.y0 + bounds.y1) / 2};
+  safe = largest_clear_box(f, middle, r);
+  if (safe.x0 > safe.x1) safe = largest_clear_box(f, centre, r);
+}
+
+Vec2 body_position(const BodyPath& b, float t) {
+  const float s = std::min(t, b.stop);
+  return {b.x + b.ux * s, b.y + b.uy * s};
+}
+
+Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Mover& m, float t0, float t1,
+             bool with_bodies) {
+  Hit best{kInf, HitKind::None, -1, 0, 0};
+  const float span = t1 - t0;
+  const float r = g.r;
+
+  // Only what the path's box (grown by the ball's radius) reaches can be hit: a step moves a few
+  // centimetres, so this rejects almost every primitive with four compares.
+  const float ex = m.x + m.ux * span, ey = m.y + m.uy * span;
+  const float bx0 = std::min(m.x, ex) - r, bx1 = std::max(m.x, ex) + r;
+  const float by0 = std::min(m.y, ey) - r, by1 = std::max(m.y, ey) + r;
+
+  // Walls: the ball's centre against each segment's two offset lines...
+  for (size_t k = 0; k < g.ax.size(); ++k) {
+    if (g.sx1[k] < bx0 || g.sx0[k] > bx1 || g.sy1[k] < by0 || g.sy0[k] > by1) continue;
+    const float d0 = dot(m.x - g.ax[k], m.y - g.ay[k], g.nx[k], g.ny[k]);
+    const float side = d0 >= 0 ? 1.0f : -1.0f;
+    const float approach = -side * dot(m.ux, m.uy, g.nx[k], g.ny[k]);
+    if (approach <= 0) continue;
+    const float dt = std::max(0.0f, (side * d0 - r) / approach);
+    if (t0 + dt >= best.t || dt > span) continue;
+    const float along = dot(m.x + m.ux * dt - g.ax[k], m.y + m.uy * dt - g.ay[k], g.tx[k], g.ty[k]);
+    if (along < 0 || along > g.len[k]) continue;
+    consider(best, t0 + dt, HitKind::Wall, g.wall[k], side * g.nx[k], side * g.ny[k]);
+  }
+  // ...and against the round caps at the segment ends (goal posts, convex corners).
+  for (size_t k = 0; k < g.vx.size(); ++k) {
+    if (g.vx[k] < bx0 || g.vx[k] > bx1 || g.vy[k] < by0 || g.vy[k] > by1) continue;
+    const float qx = m.x - g.vx[k], qy = m.y - g.vy[k];
+    const float dt = circle_entry(qx, qy, m.ux, m.uy, r, span);
+    if (dt < 0 || t0 + dt >= best.t) continue;
+    float hx = qx + m.ux * dt, hy = qy + m.uy * dt;
+    const float l = norm(hx, hy);
+    if (l <= 0) continue;
+    consider(best, t0 + dt, HitKind::Wall, g.vwall[k], hx / l, hy / l);
+  }
+  // Goal lines: the ball's centre crossing into the goal.
+  for (size_t k = 0; k < g.gax.size(); ++k) {
+    if (g.gx1[k] < bx0 || g.gx0[k] > bx1 || g.gy1[k] < by0 || g.gy0[k] > by1) continue;
+    const float d0 = dot(m.x - g.gax[k], m.y - g.gay[k], g.gnx[k], g.gny[k]);
+    const float approach = dot(m.ux, m.uy, g.gnx[k], g.gny[k]);
+    if (d0 > kTolerance || approach <= 0) continue;
+    const float dt = std::max(0.0f, -d0 / approach);
+    if (dt > span) continue;
+    const float along = dot(m.x + m.ux * dt - g.gax[k], m.y + m.uy * dt - g.gay[k], g.gtx[k], g.gty[k]);
+    if (along < 0 || along > g.glen[k]) continue;
+    consider(best, t0 + dt, HitKind::Goal, int(k), g.gnx[k], g.gny[k]);
+  }
+  // Bounds: leaving the box.
+  if (bx0 + r < g.bounds.x0 || bx1 - r > g.bounds.x1 || by0 + r < g.bounds.y0 || by1 - r > g.bounds.y1) {
+    float dt = kInf;
+    if (m.ux > 0) dt = std::min(dt, (g.bounds.x1 - m.x) / m.ux);
+    if (m.ux < 0) dt = std::min(dt, (g.bounds.x0 - m.x) / m.ux);
+    if (m.uy > 0) dt = std::min(dt, (g.bounds.y1 - m.y) / m.uy);
+    if (m.uy < 0) dt = std::min(dt, (g.bounds.y0 - m.y) / m.uy);
+    dt = std::max(0.0f, dt);
+    if (dt <= span) consider(best, t0 + dt, HitKind::Out, 0, 0, 0);
+  }
+  if (!with_bodies) return best;
+  // Bodies: two pieces of relative motion, while the body moves and after it stops.
+  for (int k = 0; k < n_bodies; ++k) {
+    const BodyPath& b = bodies[k];
+    const float rr = b.radius + r;
+    // Cull by the box the body sweeps over the interval, grown by its reach.
+    {
+      const Vec2 c0 = body_position(b, t0), c1 = body_position(b, t1);
+      const float reach = rr - r;
+      if (std::max(c0.x, c1.x) + reach < bx0 || std::min(c0.x, c1.x) - reach > bx1 ||
+          std::max(c0.y, c1.y) + reach < by0 || std::min(c0.y, c1.y) - reach > by1)
+        continue;
+    }
+    float hit_t = -1;
+    if (t0 < b.stop) {
+      const Vec2 c = body_position(b, t0);
+      const float dt = circle_entry(m.x - c.x, m.y - c.y, m.ux - b.ux, m.uy - b.uy, rr, std::min(t1, b.stop) - t0);
+      if (dt >= 0) hit_t = t0 + dt;
+    }
+    if (hit_t < 0 && t1 > b.stop) {
+      const float ts = std::max(t0, b.stop);
+      const Vec2 c = body_position(b, ts);
+      const float px = m.x + m.ux * (ts - t0), py = m.y + m.uy * (ts - t0);
+      const float dt = circle_entry(px - c.x, py - c.y, m.ux, m.uy, rr, t1 - ts);
+      if (dt >= 0) hit_t = ts + dt;
+    }
+    if (hit_t < 0 || hit_t >= best.t) continue;
+    const Vec2 c = body_position(b, hit_t);
+    float hx = m.x + m.ux * (hit_t - t0) - c.x, hy = m.y + m.uy * (hit_t - t0) - c.y;
+    float l = norm(hx, hy);
+    if (l <= 0) hx = 1, hy = 0, l = 1;  // dead centre: any direction is as good
+    consider(best, hit_t, HitKind::Body, k, hx / l, hy / l);
+  }
+  return best;
+}
+
+void resolve(const Geometry& g, const BodyPath* bodies, const Hit& hit, float t, Mover& m) {
+  if (hit.kind == HitKind::Wall) {
+    const float un = dot(m.ux, m.uy, hit.nx, hit.ny), vn = dot(m.vx, m.vy, hit.nx, hit.ny);
+    if (un < 0) m.ux -= (1 + g.e_wall) * un * hit.nx, m.uy -= (1 + g.e_wall) * un * hit.ny;
+    if (vn < 0) m.vx -= (1 + g.e_wall) * vn * hit.nx, m.vy -= (1 + g.e_wall) * vn * hit.ny;
+    m.x += kSkin * hit.nx, m.y += kSkin * hit.ny;
+  } else if (hit.kind == HitKind::Body) {
+    // A mallet is far heavier than a puck: the ball takes the body's velocity along the normal.
+    const BodyPath& b = bodies[hit.index];
+    const bool moving = t < b.stop;
+    const float bvx = moving ? b.vx : 0, bvy = moving ? b.vy : 0;
+    const float rn = dot(m.vx - bvx, m.vy - bvy, hit.nx, hit.ny);
+    if (rn < 0) m.vx -= (1 + g.e_body) * rn * hit.nx, m.vy -= (1 + g.e_body) * rn * hit.ny;
+    m.ux = m.vx, m.uy = m.vy;  // the rest of this step's Brownian drift is spent in the contact
+    const Vec2 c = body_position(b, t);
+    const float reach = b.radius + g.r + kSkin;
+    m.x = c.x + hit.nx * reach, m.y = c.y + hit.ny * reach;
+  }
+}
+
+Outcome trace_step(const Geometry& g, const BodyPath* bodies, int n_bodies, Mover& m, float dt) {
+  Outcome first{HitKind::None, -1};
+  float t = 0;
+  int contacts = 0;
+  for (; contacts < kMaxContactsPerStep; ++contacts) {
+    const Hit hit = next_hit(g, bodies, n_bodies, m, t, dt, first.kind == HitKind::None);
+    const float until = hit.kind == HitKind::None ? dt : hit.t;
+    m.x += m.ux * (until - t), m.y += m.uy * (until - t);
+    t = until;
+    if (hit.kind == HitKind::None) break;
+    if (hit.kind == HitKind::Goal || hit.kind == HitKind::Out) {
+      if (first.kind == HitKind::None) first = {hit.kind, hit.index};
+      return first;
+    }
+    resolve(g, bodies, hit, t, m);
+    if (hit.kind == HitKind::Body) first = {HitKind::Body, hit.index};
+  }
+  // Exact contacts keep a ball out of walls; only a body can push it into one (a squeeze).
+  if (first.kind != HitKind::Body && contacts < kMaxContactsPerStep) return first;
+  const Outcome settled = settle(g, bodies, n_bodies, dt, m, first.kind != HitKind::None);
+  return first.kind == HitKind::None ? settled : first;
+}
+
+Outcome settle(const Geometry& g, const BodyPath* bodies, int n_bodies, float t, Mover& m, bool push_from_bodies) {
+  const float r = g.r;
+  for (int pass = 0; pass < 4; ++pass) {
+    bool moved = false;
+    if (push_from_bodies) {
+      for (int k = 0; k < n_bodies; ++k) {
+        const Vec2 c = body_position(bodies[k], t);
+        const float hx = m.x - c.x, hy = m.y - c.y, l = norm(hx, hy), reach = bodies[k].radius + r;
+        if (l >= reach - kTolerance) continue;
+        const float nx = l > 0 ? hx / l : 1, ny = l > 0 ? hy / l : 0;
+        m.x = c.x + nx * (reach + kSkin), m.y = c.y + ny * (reach + kSkin);
+        moved = true;
+      }
+    }
+    for (size_t k = 0; k < g.ax.size(); ++k) {
+      const float px = m.x - g.ax[k], py = m.y - g.ay[k];
+      const float along = std::clamp(dot(px, py, g.tx[k], g.ty[k]), 0.0f, g.len[k]);
+      const float hx = px - along * g.tx[k], hy = py - along * g.ty[k], l = norm(hx, hy);
+      if (l >= r - kTolerance) continue;
+      const float nx = l > 0 ? hx / l : g.nx[k], ny = l > 0 ? hy / l : g.ny[k];
+      m.x += nx * (r + kSkin - l), m.y += ny * (r + kSkin - l);
+      const float vn = dot(m.vx, m.vy, nx, ny);
+      if (vn < 0) m.vx -= vn * nx, m.vy -= vn * ny;
+      m.ux = m.vx, m.uy = m.vy;
+      moved = true;
+    }
+    if (!moved) {
+      for (int k = 0; k < n_bodies; ++k) {
+        const Vec2 c = body_position(bodies[k], t);
+        if (norm(m.x - c.x, m.y - c.y) < bodies[k].radius + r - kTolerance)
+          return push_from_bodies ? Outcome{HitKind::Crushed, k} : Outcome{HitKind::Body, k};
+      }
+      if (!g.bounds.contains(m.x, m.y)) return {HitKind::Out, 0};
+      return {HitKind::None, -1};
+    }
+  }
+  return {HitKind::Crushed, -1};
+}
+
+}  // namespace quantum::detail

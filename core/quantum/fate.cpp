@@ -1,0 +1,182 @@
+#include "quantum/fate.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "quantum/contact.h"
+#include "quantum/world.h"
+#include "world_internals.h"
+
+namespace quantum {
+namespace {
+
+// A ball still rattling after this many contacts is taken to stay in the field.
+constexpr int kMaxFateContacts = 64;
+
+// Follows one particle from contact to contact. `visit` sees every point where the path turns.
+template <class Visit>
+Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
+                detail::Mover m, float horizon, Visit&& visit) {
+  Fate f;
+  float t = 0;
+  visit(m.x, m.y);
+  for (int contact = 0; contact < kMaxFateContacts; ++contact) {
+    const detail::Hit hit = detail::next_hit(g, bodies, nb, m, t, horizon, true);
+    const float until = hit.kind == detail::HitKind::None ? horizon : hit.t;
+    m.x += m.ux * (until - t), m.y += m.uy * (until - t);
+    t = until;
+    visit(m.x, m.y);
+    switch (hit.kind) {
+      case detail::HitKind::None: return f;
+      case detail::HitKind::Body: f.kind = FateKind::Body, f.target = hit.index; return f;
+      case detail::HitKind::Goal:
+        f.kind = own_goal[hit.index] ? FateKind::OwnGoal : FateKind::Goal, f.target = hit.index;
+        return f;
+      case detail::HitKind::Out: f.kind = FateKind::Out; return f;
+      default: break;
+    }
+    const uint16_t wall = uint16_t(hit.index);
+    if (f.path_len > 0 && f.path[f.path_len - 1] == wall) {
+      // bouncing along one wall (two pieces of one chain) reads as one touch
+    } else if (f.path_len < kMaxPath) {
+      f.path[f.path_len++] = wall;
+    } else {
+      f.path_more = true;
+    }
+    detail::resolve(g, bodies, hit, t, m);
+  }
+  return f;
+}
+
+}  // namespace
+
+const char* to_string(FateKind kind) {
+  switch (kind) {
+    case FateKind::Goal: return "goal";
+    case FateKind::OwnGoal: return "own_goal";
+    case FateKind::Body: return "body";
+    case FateKind::Out: return "out";
+    case FateKind::Field: return "field";
+  }
+  return "?";
+}
+
+uint64_t Fate::key() const {
+  uint64_t k = uint64_t(kind) | uint64_t(uint16_t(target + 1)) << 3 | uint64_t(path_len) << 19 |
+               uint64_t(path_more) << 22;
+  for (int i = 0; i < path_len; ++i) k |= uint64_t(path[i] & 0x3FF) << (23 + 10 * i);
+  return k;
+}
+
+std::string describe(const Fate& f, const Field& field) {
+  std::string s;
+  switch (f.kind) {
+    case FateKind::Goal: s = "goal (" + field.goals[f.target].name + ")"; break;
+    case FateKind::OwnGoal: s = "own goal (" + field.goals[f.target].name + ")"; break;
+    case FateKind::Body: s = field.bodies[f.target].name; break;
+    case FateKind::Out: s = "out"; break;
+    case FateKind::Field: s = "stays in field"; break;
+  }
+  for (int i = 0; i < f.path_len; ++i) s += (i == 0 ? " via " : ", ") + field.wall_names[f.path[i]];
+  if (f.path_more) s += ", ...";
+  return s;
+}
+
+std::vector<double> factors_by_kind(const FateReport& report, const KindFactors& k) {
+  std::vector<double> out;
+  for (const FateGroup& g : report.groups) {
+    switch (g.fate.kind) {
+      case FateKind::Goal: out.push_back(k.goal); break;
+      case FateKind::OwnGoal: out.push_back(k.own_goal); break;
+      case FateKind::Body: out.push_back(k.body); break;
+      case FateKind::Out: out.push_back(k.out); break;
+      case FateKind::Field: out.push_back(k.field); break;
+    }
+  }
+  return out;
+}
+
+void World::check_horizon(float horizon) const {
+  if (!(std::isfinite(horizon) && horizon > 0 && horizon <= 600))
+    throw std::invalid_argument("prediction horizon must be in (0, 600] seconds, got " + std::to_string(horizon));
+}
+
+// Bodies keep their last velocity for the lookahead, then hold: players rarely keep running in
+// a straight line, and a body extrapolated for seconds would leave the field.
+static std::vector<detail::BodyPath> predicted_bodies(const Field& field, const std::vector<Vec2>& pos,
+                                                      const std::vector<Vec2>& vel, float lookahead) {
+  std::vector<detail::BodyPath> bodies(field.bodies.size());
+  for (size_t k = 0; k < bodies.size(); ++k)
+    bodies[k] = {pos[k].x, pos[k].y, vel[k].x, vel[k].y, lookahead, vel[k].x, vel[k].y, field.bodies[k].radius};
+  return bodies;
+}
+
+std::vector<Vec2> World::predict_path(size_t i, float horizon) const {
+  check_horizon(horizon);
+  if (i >= cloud_.size()) throw std::out_of_range("no live particle " + std::to_string(i));
+  const auto bodies = predicted_bodies(field_, body_pos_, body_vel_, config_.body_lookahead);
+  const std::vector<uint8_t> own = own_goals();
+  std::vector<Vec2> path;
+  const detail::Mover m{cloud_.x[i], cloud_.y[i], cloud_.vx[i], cloud_.vy[i], cloud_.vx[i], cloud_.vy[i]};
+  trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), own.data(), m, horizon,
+             [&](float px, float py) { path.push_back({px, py}); });
+  return path;
+}
+
+FateReport World::predict(float horizon) const {
+  check_horizon(horizon);
+  const detail::Geometry& g = internals_->geometry;
+  const int nb = int(field_.bodies.size());
+  const auto bodies = predicted_bodies(field_, body_pos_, body_vel_, config_.body_lookahead);
+  const std::vector<uint8_t> own = own_goals();
+  FateReport report;
+  report.horizon = horizon;
+  report.cloud_version = version_;
+  report.group_of.resize(cloud_.size());
+  std::unordered_map<uint64_t, uint32_t> index;
+  auto ignore = [](float, float) {};
+  for (size_t i = 0; i < cloud_.size(); ++i) {
+    const detail::Mover m{cloud_.x[i], cloud_.y[i], cloud_.vx[i], cloud_.vy[i], cloud_.vx[i], cloud_.vy[i]};
+    const Fate f = trace_fate(g, bodies.data(), nb, own.data(), m, horizon, ignore);
+    auto [it, fresh] = index.try_emplace(f.key(), uint32_t(report.groups.size()));
+    if (fresh) report.groups.push_back({f, 0, 0, 0, uint32_t(i), {}});
+    FateGroup& group = report.groups[it->second];
+    group.mass += cloud_.w[i];
+    group.tweaked_mass += cloud_.tw[i];
+    ++group.count;
+    if (cloud_.w[i] > cloud_.w[group.representative]) group.representative = uint32_t(i);
+    report.group_of[i] = it->second;
+  }
+  for (FateGroup& group : report.groups) {
+    group.mass /= cloud_.mass;
+    group.tweaked_mass /= cloud_.tmass;
+    group.trajectory = predict_path(group.representative, horizon);
+  }
+  return report;
+}
+
+void World::tweak(FateReport& report, std::span<const double> factors) {
+  if (report.cloud_version != version_ || report.group_of.size() != cloud_.size())
+    throw std::logic_error("fate report is stale: the cloud changed since it was predicted");
+  if (factors.size() != report.groups.size())
+    throw std::invalid_argument("got " + std::to_string(factors.size()) + " fate factors for " +
+                                std::to_string(report.groups.size()) + " fate groups");
+  for (size_t k = 0; k < factors.size(); ++k)
+    if (!(std::isfinite(factors[k]) && factors[k] >= 0))
+      throw std::invalid_argument("fate factor " + std::to_string(k) + " must be a finite number >= 0");
+  double sum = 0;
+  for (size_t i = 0; i < cloud_.size(); ++i) {
+    cloud_.tw[i] = cloud_.w[i] * factors[report.group_of[i]];
+    sum += cloud_.tw[i];
+  }
+  if (!(sum > 0)) {
+    cloud_.reset_tweak();
+    throw std::invalid_argument("fate factors leave every particle with zero weight");
+  }
+  cloud_.tmass = sum;
+  for (FateGroup& group : report.groups) group.tweaked_mass = 0;
+  for (size_t i = 0; i < cloud_.size(); ++i) report.groups[report.group_of[i]].tweaked_mass += cloud_.tw[i] / sum;
+}
+
+}  // namespace quantum

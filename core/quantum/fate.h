@@ -1,0 +1,52 @@
+// Fate prediction: where every particle's trajectory ends and how it gets there.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "quantum/field.h"
+
+namespace quantum {
+
+enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field };
+const char* to_string(FateKind kind);  // "goal", "own_goal", "body", "out", "field"
+
+constexpr int kMaxPath = 4;
+
+struct Fate {
+  FateKind kind = FateKind::Field;
+  int target = -1;         // goal index (Goal, OwnGoal) or body index (Body)
+  uint8_t path_len = 0;    // walls touched before the end, in order, repeats folded
+  bool path_more = false;  // more than kMaxPath walls
+  uint16_t path[kMaxPath] = {};
+
+  uint64_t key() const;  // equal keys, equal fates
+};
+
+struct FateGroup {
+  Fate fate;
+  double mass = 0;          // Newtonian probability: the untweaked weight of the group
+  double tweaked_mass = 0;  // probability after fate factors; equals mass until tweaked
+  uint32_t count = 0;
+  uint32_t representative = 0;    // heaviest particle of the group
+  std::vector<Vec2> trajectory;   // its predicted path: start, every contact, end
+};
+
+struct FateReport {
+  float horizon = 0;
+  uint64_t cloud_version = 0;       // the cloud this report describes; tweak() checks it
+  std::vector<FateGroup> groups;    // in order of first appearance in the cloud
+  std::vector<uint32_t> group_of;   // group index of every live particle
+};
+
+// "goal (red goal) via left wall", "blue mallet", "stays in field", ...
+std::string describe(const Fate& fate, const Field& field);
+
+// Per-kind fate factors, the paper's example as defaults.
+struct KindFactors {
+  double goal = 5, own_goal = 0.1, body = 5, out = 1, field = 1;
+};
+std::vector<double> factors_by_kind(const FateReport& report, const KindFactors& factors);
+
+}  // namespace quantum

@@ -1,0 +1,68 @@
+// The field a quantum ball lives on: walls, goal mouths, respawn spots and player bodies.
+// Fields are data (rules/<sport>/field.lua); this is their in-memory form.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace quantum {
+
+struct Vec2 {
+  float x = 0, y = 0;
+};
+
+// One straight piece of wall. Chains in the field file become several segments that share the
+// chain's wall id, so a fate's path reads "via left wall" whichever piece was touched.
+struct Segment {
+  Vec2 a, b;
+  int wall = 0;  // index into Field::wall_names
+};
+
+// A goal mouth is the line the ball's centre must cross; `team` is the team defending it.
+struct Goal {
+  std::string name, team;
+  Vec2 a, b;
+};
+
+struct Spot {
+  std::string name, team;
+  Vec2 at;
+};
+
+// A circle moved every frame from input: a mallet, or a player seen from above.
+struct BodySpec {
+  std::string name, team;
+  float radius = 0;
+  Vec2 start;
+};
+
+struct Field {
+  std::string name;
+  float ball_radius = 0.03f;
+  float wall_restitution = 0.9f;
+  float body_restitution = 0.9f;
+  float brownian = 0.0f;        // diffusion of the players' knowledge of the ball, m/sqrt(s)
+  float max_body_speed = 30.0f;  // m/s; faster input is a tracking fault, not a player
+  std::vector<std::string> wall_names;
+  std::vector<Segment> segments;
+  std::vector<Goal> goals;
+  std::vector<Spot> spots;
+  std::vector<BodySpec> bodies;
+  Vec2 bounds_min, bounds_max;  // leaving this box is "out"
+  bool has_bounds = false;      // false: derived from the geometry by finish_field()
+
+  int spot_of_team(const std::string& team) const;  // -1 when the team has none
+};
+
+// A field that is not usable. `place` says where, e.g. "walls[2].points[3]".
+struct FieldError : std::runtime_error {
+  FieldError(std::string place, std::string message);
+  std::string place, message;
+};
+
+// Checks every number and reference and derives the bounds when none were given.
+// Throws FieldError naming the first problem.
+void finish_field(Field& field);
+
+}  // namespace quantum

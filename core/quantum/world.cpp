@@ -1,0 +1,285 @@
+#include "quantum/world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "world_internals.h"
+
+namespace quantum {
+
+const char* to_string(EventType type) {
+  switch (type) {
+    case EventType::Drop: return "drop";
+    case EventType::Hit: return "hit";
+    case EventType::Goal: return "goal";
+    case EventType::OwnGoal: return "own_goal";
+    case EventType::Out: return "out";
+  }
+  return "?";
+}
+
+World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
+    : field_(std::move(field)), config_(config), rng_(config.seed) {
+  finish_field(field_);
+  if (config_.particles < 1) throw std::invalid_argument("the cloud needs at least one particle");
+  if (config_.purgatory_frames < 1) throw std::invalid_argument("purgatory needs at least one frame");
+  if (!(config_.split_jitter >= 0 && config_.split_jitter < 1.6f))
+    throw std::invalid_argument("split jitter must be between 0 and 1.6 rad");
+  if (!(config_.body_lookahead >= 0)) throw std::invalid_argument("body lookahead must be >= 0");
+  internals_ = std::make_unique<WorldInternals>(field_);
+  internals_->tally.resize(field_.bodies.size() + field_.goals.size() + 1);
+  internals_->resting.resize(field_.bodies.size());
+  backend_ = backend ? std::move(backend) : make_fast_backend(field_);
+  const size_t nb = field_.bodies.size();
+  for (const BodySpec& b : field_.bodies) body_pos_.push_back(b.start), body_vel_.push_back({0, 0});
+  motion_.resize(nb);
+  purgatory_.resize(nb * config_.purgatory_frames);
+  slot_step_.assign(config_.purgatory_frames, 0);
+  cloud_.reserve(config_.particles);
+  scratch_.reserve(config_.particles);
+  contacts_.reserve(config_.particles);
+  removed_.reserve(config_.particles);
+}
+
+World::~World() = default;
+
+size_t World::purgatory_size(int body) const {
+  size_t n = 0;
+  for (uint32_t s = 0; s < config_.purgatory_frames; ++s) n += purgatory_[body * config_.purgatory_frames + s].size();
+  return n;
+}
+
+void World::clear_purgatory() {
+  for (Cloud& slot : purgatory_) slot.clear();
+}
+
+void World::drop(int spot, std::vector<Event>& events) {
+  if (spot < 0 || spot >= int(field_.spots.size()))
+    throw std::invalid_argument("no respawn spot " + std::to_string(spot) + " (the field has " +
+                                std::to_string(field_.spots.size()) + ")");
+  const Vec2 at = field_.spots[spot].at;
+  cloud_.clear();
+  cloud_.push(at.x, at.y, 0, 0, 1, 1);
+  clear_purgatory();
+  live_ = true;
+  last_touch_ = -1;
+  ++version_;
+  events.push_back({time_, EventType::Drop, spot, 1, 1, 1, at});
+}
+
+void World::set_cloud(Cloud c) {
+  const detail::Geometry& g = internals_->geometry;
+  for (size_t i = 0; i < c.size(); ++i) {
+    const std::string which = "particle " + std::to_string(i) + ": ";
+    if (!std::isfinite(c.x[i]) || !std::isfinite(c.y[i]) || !std::isfinite(c.vx[i]) || !std::isfinite(c.vy[i]))
+      throw std::invalid_argument(which + "position and velocity must be finite");
+    if (!(c.w[i] >= 0 && std::isfinite(c.w[i]) && c.tw[i] >= 0 && std::isfinite(c.tw[i])))
+      throw std::invalid_argument(which + "weights must be finite and >= 0");
+    detail::Mover m{c.x[i], c.y[i], 0, 0, 0, 0};
+    if (!g.bounds.contains(m.x, m.y)) throw std::invalid_argument(which + "lies outside the field's bounds");
+    if (detail::settle(g, nullptr, 0, 0, m, false).kind != detail::HitKind::None || m.x != c.x[i] || m.y != c.y[i])
+      throw std::invalid_argument(which + "overlaps a wall");
+  }
+  c.normalize();
+  if (c.empty() || c.mass != 1) throw std::invalid_argument("the cloud needs particles with positive total weight");
+  cloud_ = std::move(c);
+  clear_purgatory();
+  live_ = true;
+  ++version_;
+}
+
+void World::check_input(float dt, std::span<const BodyInput> input) const {
+  if (!(std::isfinite(dt) && dt > 0 && dt <= 0.1f))
+    throw InputError("step length must be a finite number of seconds in (0, 0.1], got " + std::to_string(dt));
+  if (input.size() != field_.bodies.size())
+    throw InputError("the field has " + std::to_string(field_.bodies.size()) + " bodies but the input moves " +
+                     std::to_string(input.size()));
+  // A body further than a field's size beyond the bounds is a tracking fault, not a player.
+  const float slack = std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
+  for (size_t k = 0; k < input.size(); ++k) {
+    const BodyInput& in = input[k];
+    const std::string who = "body " + std::to_string(k) + " (" + field_.bodies[k].name + "): ";
+    const std::string pos = "(" + std::to_string(in.position.x) + ", " + std::to_string(in.position.y) + ")";
+    if (!std::isfinite(in.position.x) || !std::isfinite(in.position.y))
+      throw InputError(who + "position " + pos + " is not finite");
+    if (!std::isfinite(in.velocity.x) || !std::isfinite(in.velocity.y))
+      throw InputError(who + "velocity is not finite");
+    if (in.position.x < field_.bounds_min.x - slack || in.position.x > field_.bounds_max.x + slack ||
+        in.position.y < field_.bounds_min.y - slack || in.position.y > field_.bounds_max.y + slack)
+      throw InputError(who + "position " + pos + " is far outside the field");
+    const float speed = std::hypot(in.velocity.x, in.velocity.y);
+    if (speed > field_.max_body_speed)
+      throw InputError(who + "speed " + std::to_string(speed) + " m/s is above the field's max_body_speed " +
+                       std::to_string(field_.max_body_speed));
+  }
+}
+
+void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>& events) {
+  check_input(dt, input);
+  const int nb = int(field_.bodies.size());
+  for (int k = 0; k < nb; ++k)
+    motion_[k] = {body_pos_[k], input[k].position, input[k].velocity, field_.bodies[k].radius};
+  ++step_;
+  time_ += dt;
+  // The oldest purgatory slot falls out; this step's contacts go in its place.
+  const uint32_t slot = step_ % config_.purgatory_frames;
+  for (int k = 0; k < nb; ++k) purgatory_[k * config_.purgatory_frames + slot].clear();
+  slot_step_[slot] = step_;
+  if (live_) {
+    contacts_.clear();
+    const StepContext ctx{dt, motion_.data(), nb, step_key(config_.seed, step_),
+                          noise_amplitude(field_.brownian, dt)};
+    backend_->advance(cloud_, ctx, contacts_);
+    ++version_;
+    decide(dt, events);
+  }
+  for (int k = 0; k < nb; ++k) body_pos_[k] = input[k].position, body_vel_[k] = input[k].velocity;
+  if (live_ && cloud_.size() < config_.particles) split_round(false);
+}
+
+void World::decide(float dt, std::vector<Event>& events) {
+  if (contacts_.empty()) return;
+  const int nb = int(field_.bodies.size()), ng = int(field_.goals.size());
+  const int n_targets = nb + ng + 1;
+  std::vector<Tally>& tally = internals_->tally;
+  std::fill(tally.begin(), tally.end(), Tally{});
+  const uint32_t slot = step_ % config_.purgatory_frames;
+  removed_.clear();
+  double removed_tweaked = 0;
+  for (const Contact& c : contacts_) {
+    removed_.push_back(c.particle);
+    removed_tweaked += cloud_.tw[c.particle];
+    if (c.target == kCrushed) continue;
+    Tally& t = tally[c.target];
+    const double w = cloud_.w[c.particle];
+    t.tweaked += cloud_.tw[c.particle], t.newtonian += w, ++t.count;
+    t.cx += w * cloud_.x[c.particle], t.cy += w * cloud_.y[c.particle];
+    if (c.target < nb) purgatory_[c.target * config_.purgatory_frames + slot].push_from(cloud_, c.particle);
+  }
+  // The chance that the ball met target k is the tweaked mass that met it. When nothing is left
+  // in the field something must have happened, so the draw is conditioned on the contacts.
+  const bool nothing_left = removed_.size() == cloud_.size();
+  double total = cloud_.tmass, total_newtonian = cloud_.mass;
+  if (nothing_left) {
+    total = total_newtonian = 0;
+    for (const Tally& t : tally) total += t.tweaked, total_newtonian += t.newtonian;
+  }
+  int realized = -1;
+  if (total > 0) {
+    const double u = rng_.uniform() * total;
+    double cumulative = 0;
+    for (int k = 0; k < n_targets && realized < 0; ++k) {
+      if (tally[k].count == 0) continue;
+      cumulative += tally[k].tweaked;
+      if (u < cumulative) realized = k;
+    }
+    // Rounding may leave u a hair above the sum when the contacts are all there is.
+    if (realized < 0 && nothing_left)
+      for (int k = n_targets; k-- > 0 && realized < 0;)
+        if (tally[k].count > 0) realized = k;
+  }
+  if (realized < 0) {
+    cloud_.remove_sorted(removed_);
+    if (cloud_.empty()) {
+      end_ball();
+    } else if (!(cloud_.mass > 0 && cloud_.tmass > 0) || cloud_.mass < 1e-6 || cloud_.tmass < 1e-6) {
+      cloud_.normalize();  // re-sum before subtraction loses precision
+    }
+    return;
+  }
+  const Tally& t = tally[realized];
+  Event e{time_, EventType::Hit, realized, t.tweaked / total, t.newtonian / total_newtonian, t.count,
+          Vec2{float(t.cx / t.newtonian), float(t.cy / t.newtonian)}};
+  if (realized < nb) {
+    realize_body(realized, dt);
+  } else if (realized < nb + ng) {
+    const int goal = realized - nb;
+    e.actor = goal;
+    const bool own = last_touch_ >= 0 && field_.bodies[last_touch_].team == field_.goals[goal].team;
+    e.type = own ? EventType::OwnGoal : EventType::Goal;
+    end_ball();
+  } else {
+    e.type = EventType::Out;
+    e.actor = -1;
+    end_ball();
+  }
+  events.push_back(e);
+}
+
+void World::end_ball() {
+  cloud_.clear();
+  clear_purgatory();
+  live_ = false;
+}
+
+void World::realize_body(int body, float dt) {
+  // The shot is every particle this body touched within the purgatory window. Older ones are
+  // carried forward to now (walls only: they are the ball after this contact) and lifted out of
+  // any body that has since moved over them.
+  const detail::Geometry& g = internals_->geometry;
+  const int nb = int(field_.bodies.size());
+  std::vector<detail::BodyPath>& now = internals_->resting;
+  for (int k = 0; k < nb; ++k) {
+    const Vec2 p = motion_[k].to;
+    now[k] = {p.x, p.y, 0, 0, 0, 0, 0, field_.bodies[k].radius};
+  }
+  scratch_.clear();
+  for (uint32_t age = config_.purgatory_frames; age-- > 0;) {
+    if (age >= step_) continue;
+    const uint32_t slot = (step_ - age) % config_.purgatory_frames;
+    if (slot_step_[slot] != step_ - age) continue;
+    const Cloud& from = purgatory_[body * config_.purgatory_frames + slot];
+    for (size_t i = 0; i < from.size(); ++i) {
+      detail::Mover m{from.x[i], from.y[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i]};
+      if (age > 0 && detail::trace_step(g, nullptr, 0, m, float(age) * dt).kind != detail::HitKind::None) continue;
+      if (detail::settle(g, now.data(), nb, 0, m, true).kind != detail::HitKind::None) continue;
+      scratch_.push(m.x, m.y, m.vx, m.vy, from.w[i], from.w[i]);
+    }
+  }
+  std::swap(cloud_, scratch_);
+  clear_purgatory();
+  last_touch_ = body;
+  ++version_;
+  if (cloud_.empty()) {  // every particle of the shot went in or out while catching up
+    end_ball();
+    return;
+  }
+  cloud_.normalize();
+  // Particles split at the moment of collision leave in slightly different directions (a mallet's
+  // rough surface), so the shot fans out instead of repeating one path.
+  while (cloud_.size() < config_.particles) {
+    const size_t before = cloud_.size();
+    split_round(true);
+    if (cloud_.size() == before) break;
+  }
+}
+
+void World::split_round(bool jitter) {
+  const size_t target = config_.particles, n = cloud_.size();
+  const double threshold = cloud_.mass / double(target);
+  for (size_t i = 0; i < n && cloud_.size() < target; ++i) {
+    if (cloud_.w[i] <= threshold) continue;
+    cloud_.w[i] *= 0.5, cloud_.tw[i] *= 0.5;
+    float cvx = cloud_.vx[i], cvy = cloud_.vy[i];
+    if (jitter) {
+      const float a = float((2 * rng_.uniform() - 1) * config_.split_jitter);
+      const float c = std::cos(a), s = std::sin(a);
+      const float rx = c * cvx - s * cvy, ry = s * cvx + c * cvy;
+      cvx = rx, cvy = ry;
+    }
+    // push() adds the copy's weight to the sums, which the halving above already kept.
+    cloud_.push(cloud_.x[i], cloud_.y[i], cvx, cvy, cloud_.w[i], cloud_.tw[i]);
+    cloud_.mass -= cloud_.w[i], cloud_.tmass -= cloud_.tw[i];
+  }
+  ++version_;
+}
+
+std::vector<uint8_t> World::own_goals() const {
+  std::vector<uint8_t> own(field_.goals.size(), 0);
+  if (last_touch_ >= 0)
+    for (size_t g = 0; g < own.size(); ++g) own[g] = field_.goals[g].team == field_.bodies[last_touch_].team;
+  return own;
+}
+
+}  // namespace quantum

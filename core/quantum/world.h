@@ -1,0 +1,118 @@
+// The quantum core: a field, the particle cloud on it, the bodies that move through it, and the
+// decisions that turn particle contacts into announced events.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "quantum/backend.h"
+#include "quantum/cloud.h"
+#include "quantum/fate.h"
+#include "quantum/field.h"
+#include "quantum/noise.h"
+
+namespace quantum {
+
+struct WorldConfig {
+  uint32_t particles = 1000;      // target cloud size; splitting grows the cloud to it
+  uint32_t purgatory_frames = 3;  // how many steps a body keeps the particles it touched
+  uint64_t seed = 1;
+  float split_jitter = 0.05f;     // rad: largest turn given to a particle split at a collision
+  float body_lookahead = 0.25f;   // s: prediction moves bodies on their velocity this long, then holds them
+};
+
+enum class EventType { Drop, Hit, Goal, OwnGoal, Out };
+const char* to_string(EventType type);  // "drop", "hit", "goal", "own_goal", "out"
+
+struct Event {
+  double t;
+  EventType type;
+  int actor;            // spot (drop), body (hit), goal (goal, own goal); -1 for out
+  double p;             // probability with which this outcome was drawn (fate factors applied)
+  double p_newtonian;   // the same without fate factors
+  uint32_t particles;   // particles that carried the outcome
+  Vec2 at;              // weighted centre of those particles
+};
+
+struct BodyInput {
+  Vec2 position, velocity;
+};
+
+// Bad input to step(): the message names the body and the value.
+struct InputError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+class World {
+ public:
+  // Throws FieldError for an invalid field. Without a backend the fast one is used.
+  World(Field field, WorldConfig config, std::unique_ptr<Backend> backend = nullptr);
+  ~World();
+
+  // Puts the ball back: one particle of weight 1 at the spot, grown by splitting in later steps.
+  void drop(int spot, std::vector<Event>& events);
+
+  // Replaces the ball with the given particles (a scene set up by a test, a benchmark or a
+  // tool). Throws std::invalid_argument for non-finite values, particles outside the bounds or
+  // inside a wall, or weights that are negative or sum to zero.
+  void set_cloud(Cloud cloud);
+
+  // One frame: bodies move to their new input, particles diffuse, move and collide, and every
+  // body, goal and the bounds that particles reached is drawn against. Realized outcomes are
+  // appended to `events`. Throws InputError (and changes nothing) for bad input.
+  void step(float dt, std::span<const BodyInput> input, std::vector<Event>& events);
+
+  // Forward-simulates every live particle without noise up to `horizon` seconds, jumping from
+  // contact to contact; bodies move on their last velocity for config.body_lookahead, then hold.
+  FateReport predict(float horizon = 3.0f) const;
+
+  // The predicted path of one live particle, as predict() traces it: start, contacts, end.
+  std::vector<Vec2> predict_path(size_t particle, float horizon = 3.0f) const;
+
+  // Multiplies every particle's Newtonian weight by its group's factor; later decisions draw
+  // from the result. Updates the groups' tweaked masses. The report must be of the current cloud.
+  void tweak(FateReport& report, std::span<const double> group_factors);
+
+  const Field& field() const { return field_; }
+  const WorldConfig& config() const { return config_; }
+  const Cloud& cloud() const { return cloud_; }
+  double time() const { return time_; }
+  uint64_t steps() const { return step_; }
+  bool live() const { return live_; }
+  int last_touch() const { return last_touch_; }  // body of the last realized hit, -1 after a drop
+  const std::vector<Vec2>& body_positions() const { return body_pos_; }
+  const std::vector<Vec2>& body_velocities() const { return body_vel_; }
+  size_t purgatory_size(int body) const;
+
+ private:
+  void check_input(float dt, std::span<const BodyInput> input) const;
+  void decide(float dt, std::vector<Event>& events);
+  void realize_body(int body, float dt);
+  void end_ball();
+  void split_round(bool jitter);
+  void clear_purgatory();
+  std::vector<uint8_t> own_goals() const;
+  void check_horizon(float horizon) const;
+
+  Field field_;
+  WorldConfig config_;
+  std::unique_ptr<Backend> backend_;
+  std::unique_ptr<struct WorldInternals> internals_;
+  Cloud cloud_, scratch_;
+  std::vector<Cloud> purgatory_;          // body * purgatory_frames + slot
+  std::vector<uint64_t> slot_step_;       // the step each slot was filled in
+  std::vector<Vec2> body_pos_, body_vel_;
+  std::vector<BodyMotion> motion_;
+  std::vector<Contact> contacts_;
+  std::vector<uint32_t> removed_;
+  DecisionRng rng_;
+  double time_ = 0;
+  uint64_t step_ = 0;
+  uint64_t version_ = 0;
+  bool live_ = false;
+  int last_touch_ = -1;
+};
+
+}  // namespace quantum

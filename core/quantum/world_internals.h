@@ -1,0 +1,22 @@
+// World's private working state that needs the internal contact types.
+#pragma once
+
+#include <vector>
+
+#include "quantum/contact.h"
+
+namespace quantum {
+
+struct Tally {
+  double tweaked = 0, newtonian = 0, cx = 0, cy = 0;
+  uint32_t count = 0;
+};
+
+struct WorldInternals {
+  explicit WorldInternals(const Field& field) : geometry(field) {}
+  detail::Geometry geometry;
+  std::vector<detail::BodyPath> resting;  // bodies held at their current positions
+  std::vector<Tally> tally;               // per decision target, reused every step
+};
+
+}  // namespace quantum

@@ -1,0 +1,164 @@
+#include "box2d_backend.h"
+
+#include <box2d/box2d.h>
+
+#include <cmath>
+
+#include "quantum/noise.h"
+
+namespace quantum {
+namespace {
+
+constexpr uint16_t kSolid = 0x0001;     // walls and bodies
+constexpr uint16_t kParticle = 0x0002;  // collide with solids, never with each other
+constexpr uintptr_t kBodyTag = uintptr_t(1) << 40;
+
+// Box2D edges carry a skin of b2_polygonRadius. Shrinking the particle by it keeps wall contact
+// at the ball's radius; growing bodies by it keeps body contact there too.
+constexpr float kSkin = b2_polygonRadius;
+
+// Which particle first touched which body during one Step.
+class BodyContacts final : public b2ContactListener {
+ public:
+  std::vector<int32_t>* first = nullptr;  // per particle: body index or -1
+
+  void BeginContact(b2Contact* c) override {
+    const uintptr_t a = c->GetFixtureA()->GetUserData().pointer, b = c->GetFixtureB()->GetUserData().pointer;
+    record(a, b);
+    record(b, a);
+  }
+
+ private:
+  void record(uintptr_t particle, uintptr_t body) {
+    if (particle == 0 || particle >= kBodyTag || body < kBodyTag) return;
+    int32_t& slot = (*first)[particle - 1];
+    if (slot < 0) slot = int32_t(body - kBodyTag);
+  }
+};
+
+// Whether the straight move p->q crosses goal line a-b toward the side away from `inside`.
+bool crosses(Vec2 p, Vec2 q, const Goal& g, Vec2 inside) {
+  const float ex = g.b.x - g.a.x, ey = g.b.y - g.a.y;
+  auto side = [&](Vec2 s) { return ex * (s.y - g.a.y) - ey * (s.x - g.a.x); };
+  const float sp = side(p), sq = side(q), si = side(inside);
+  if (sp * si < 0 || sq * si > 0 || sp == sq) return false;  // must go from the field side to the goal side
+  const float t = sp / (sp - sq);
+  const float along = ((p.x + t * (q.x - p.x) - g.a.x) * ex + (p.y + t * (q.y - p.y) - g.a.y) * ey) / (ex * ex + ey * ey);
+  return along >= 0 && along <= 1;
+}
+
+class Box2DBackend final : public Backend {
+ public:
+  explicit Box2DBackend(const Field& field) : field_(field), world_(b2Vec2(0, 0)) {
+    world_.SetAllowSleeping(false);
+    world_.SetContactListener(&listener_);
+    b2BodyDef ground_def;
+    b2Body* ground = world_.CreateBody(&ground_def);
+    for (const Segment& s : field.segments) {
+      b2EdgeShape edge;
+      edge.SetTwoSided(b2Vec2(s.a.x, s.a.y), b2Vec2(s.b.x, s.b.y));
+      b2FixtureDef fd;
+      fd.shape = &edge;
+      fd.friction = 0;
+      fd.restitution = field.wall_restitution;
+      fd.restitutionThreshold = 0;
+      fd.filter.categoryBits = kSolid;
+      ground->CreateFixture(&fd);
+    }
+    for (size_t k = 0; k < field.bodies.size(); ++k) {
+      b2BodyDef bd;
+      bd.type = b2_kinematicBody;
+      bd.position.Set(field.bodies[k].start.x, field.bodies[k].start.y);
+      b2Body* body = world_.CreateBody(&bd);
+      b2CircleShape circle;
+      circle.m_radius = field.bodies[k].radius + kSkin;
+      b2FixtureDef fd;
+      fd.shape = &circle;
+      fd.friction = 0;
+      fd.restitution = field.body_restitution;
+      fd.restitutionThreshold = 0;
+      fd.filter.categoryBits = kSolid;
+      fd.userData.pointer = kBodyTag + k;
+      body->CreateFixture(&fd);
+      bodies_.push_back(body);
+    }
+    for (const Spot& s : field.spots) inside_.x += s.at.x / field.spots.size(), inside_.y += s.at.y / field.spots.size();
+  }
+
+  void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) override {
+    const size_t n = cloud.size();
+    while (particles_.size() < n) add_particle();
+    while (particles_.size() > n) {
+      world_.DestroyBody(particles_.back());
+      particles_.pop_back();
+    }
+    for (int k = 0; k < ctx.n_bodies; ++k) {
+      const BodyMotion& m = ctx.bodies[k];
+      bodies_[k]->SetTransform(b2Vec2(m.from.x, m.from.y), 0);
+      bodies_[k]->SetLinearVelocity(b2Vec2((m.to.x - m.from.x) / ctx.dt, (m.to.y - m.from.y) / ctx.dt));
+    }
+    start_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      float dx, dy;
+      noise_offsets(noise_bits(uint32_t(i), ctx.noise_key), ctx.noise_amplitude, dx, dy);
+      start_[i] = {cloud.x[i] + dx, cloud.y[i] + dy};
+      particles_[i]->SetTransform(b2Vec2(start_[i].x, start_[i].y), 0);
+      particles_[i]->SetLinearVelocity(b2Vec2(cloud.vx[i], cloud.vy[i]));
+    }
+    first_body_.assign(n, -1);
+    listener_.first = &first_body_;
+    world_.Step(ctx.dt, 8, 3);
+    const int nb = ctx.n_bodies, ng = int(field_.goals.size());
+    for (size_t i = 0; i < n; ++i) {
+      const b2Vec2 p = particles_[i]->GetPosition(), v = particles_[i]->GetLinearVelocity();
+      cloud.x[i] = p.x, cloud.y[i] = p.y, cloud.vx[i] = v.x, cloud.vy[i] = v.y;
+      int32_t target = first_body_[i];
+      for (int g = 0; g < ng && target < 0; ++g)
+        if (crosses(start_[i], {p.x, p.y}, field_.goals[g], inside_)) target = nb + g;
+      if (target < 0 && (p.x < field_.bounds_min.x || p.x > field_.bounds_max.x || p.y < field_.bounds_min.y ||
+                         p.y > field_.bounds_max.y))
+        target = nb + ng;
+      if (target >= 0) contacts.push_back({uint32_t(i), target});
+    }
+  }
+
+ private:
+  void add_particle() {
+    b2BodyDef bd;
+    bd.type = b2_dynamicBody;
+    bd.fixedRotation = true;
+    b2Body* body = world_.CreateBody(&bd);
+    b2CircleShape circle;
+    circle.m_radius = field_.ball_radius - kSkin;
+    b2FixtureDef fd;
+    fd.shape = &circle;
+    fd.density = 1;
+    fd.friction = 0;
+    fd.restitution = 0;  // Box2D mixes restitution by max: the wall's or body's value applies
+    fd.restitutionThreshold = 0;
+    fd.filter.categoryBits = kParticle;
+    fd.filter.maskBits = kSolid;
+    fd.userData.pointer = particles_.size() + 1;
+    body->CreateFixture(&fd);
+    particles_.push_back(body);
+  }
+
+  Field field_;
+  b2World world_;
+  BodyContacts listener_;
+  std::vector<b2Body*> particles_, bodies_;
+  std::vector<Vec2> start_;
+  std::vector<int32_t> first_body_;
+  Vec2 inside_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_box2d_backend(const Field& field) {
+  if (field.ball_radius <= kSkin)
+    throw FieldError("ball.radius", "the Box2D reference needs a ball radius above its skin of " +
+                                        std::to_string(kSkin) + " m");
+  return std::make_unique<Box2DBackend>(field);
+}
+
+}  // namespace quantum

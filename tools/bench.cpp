@@ -1,0 +1,71 @@
+// Speed of the quantum core on the air hockey table with two scripted mallets, single thread.
+// Run: build/quantum-bench   (figures and how to read them: docs/PERFORMANCE.md)
+#include <benchmark/benchmark.h>
+
+#include "box2d_backend.h"
+#include "field_loader.h"
+#include "quantum/world.h"
+#include "scenes.h"
+
+namespace {
+
+using namespace quantum;
+
+const Field& airhockey() {
+  static const Field field = lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  return field;
+}
+
+// Steps a spread cloud with moving mallets, decisions included: a realized hit collapses the
+// cloud to the mallet's purgatory and splits it back to N, as in play. A ball that ends in a goal
+// is spread again outside the timed region.
+void step_scene(benchmark::State& state, bool box2d) {
+  const Field& field = airhockey();
+  const uint32_t n = uint32_t(state.range(0));
+  WorldConfig config;
+  config.particles = n;
+  World world(field, config, box2d ? make_box2d_backend(field) : nullptr);
+  world.set_cloud(tools::spread_cloud(field, n, 7));
+  std::vector<Event> events;
+  const float dt = 1.0f / 60;
+  int64_t particle_steps = 0, realized = 0;
+  for (auto _ : state) {
+    realized += int64_t(events.size());
+    events.clear();
+    particle_steps += int64_t(world.cloud().size());
+    world.step(dt, tools::scripted_mallets(field, world.time() + dt), events);
+    if (!world.live()) {
+      state.PauseTiming();
+      world.set_cloud(tools::spread_cloud(field, n, world.steps()));
+      state.ResumeTiming();
+    }
+  }
+  state.counters["particle_steps/s"] = benchmark::Counter(double(particle_steps), benchmark::Counter::kIsRate);
+  // How often a decision realized an outcome (each one collapses and re-splits the cloud).
+  state.counters["events/step"] = benchmark::Counter(double(realized), benchmark::Counter::kAvgIterations);
+}
+
+void BM_Step(benchmark::State& state) { step_scene(state, false); }
+void BM_Box2DStep(benchmark::State& state) { step_scene(state, true); }
+
+void BM_FateReport(benchmark::State& state) {
+  const Field& field = airhockey();
+  const uint32_t n = uint32_t(state.range(0));
+  WorldConfig config;
+  config.particles = n;
+  World world(field, config);
+  world.set_cloud(tools::spread_cloud(field, n, 7));
+  std::vector<Event> events;
+  // Mallets in motion, so prediction extrapolates them.
+  world.step(1.0f / 60, tools::scripted_mallets(field, 1.0 / 60), events);
+  for (auto _ : state) benchmark::DoNotOptimize(world.predict(3.0f));
+  state.counters["particles"] = double(world.cloud().size());
+}
+
+}  // namespace
+
+BENCHMARK(BM_Step)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Box2DStep)->Arg(1'000)->Arg(10'000)->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();

@@ -1,0 +1,38 @@
+// The `quantum` command.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "simulate.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
+  app.require_subcommand(1);
+
+  quantum::tools::SimulateOptions sim;
+  CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets and report every event");
+  simulate->add_option("FIELD", sim.field, "field file, or a sport folder such as rules/airhockey")->required();
+  simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str();
+  simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str()
+      ->check(CLI::Range(1u, 10'000'000u));
+  simulate->add_option("--seed", sim.seed, "seed of every random choice")->capture_default_str();
+  simulate->add_option("--backend", sim.backend, "fast, or box2d (the reference: one Box2D body per particle)")
+      ->capture_default_str()->check(CLI::IsMember({"fast", "box2d"}));
+  simulate->add_option("--events", sim.events, "write one JSON object per event to FILE (- for stdout)");
+  simulate->add_option("--snapshot", sim.snapshot, "draw the cloud and its predicted fates to a PNG");
+  simulate->add_option("--fps", sim.fps, "steps per second")->capture_default_str();
+  simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
+      ->capture_default_str()->check(CLI::Range(1u, 600u));
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (simulate->parsed()) {
+      // With events on stdout the summary moves to stderr, keeping stdout pure JSON lines.
+      quantum::tools::simulate(sim, sim.events == "-" ? std::cerr : std::cout);
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "quantum: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}

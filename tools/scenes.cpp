@@ -1,0 +1,49 @@
+#include "scenes.h"
+
+#include <cmath>
+
+#include "quantum/noise.h"
+
+namespace quantum::tools {
+
+std::vector<BodyInput> scripted_mallets(const Field& field, double t) {
+  std::vector<BodyInput> out;
+  const float cx = 0.5f * (field.bounds_min.x + field.bounds_max.x);
+  const float half_width = 0.5f * (field.bounds_max.y - field.bounds_min.y);
+  for (size_t k = 0; k < field.bodies.size(); ++k) {
+    const BodySpec& b = field.bodies[k];
+    const float toward_middle = b.start.x < cx ? 1.0f : -1.0f;
+    const double phase = 1.7 * double(k);
+    // Sideways sweep over most of the width, forward lunge of up to 45 cm.
+    const double sweep_w = 2.1 + 0.3 * double(k), lunge_w = 1.3 + 0.2 * double(k);
+    const float sweep = 0.6f * (half_width - b.radius);
+    const double s = std::sin(sweep_w * t + phase), ds = sweep_w * std::cos(sweep_w * t + phase);
+    const double l = std::sin(lunge_w * t + phase), dl = lunge_w * std::cos(lunge_w * t + phase);
+    const double lunge = l > 0 ? l * l * l : 0, dlunge = l > 0 ? 3 * l * l * dl : 0;
+    BodyInput in;
+    in.position = {float(b.start.x + toward_middle * 0.45 * lunge), float(b.start.y + sweep * s)};
+    in.velocity = {float(toward_middle * 0.45 * dlunge), float(sweep * ds)};
+    out.push_back(in);
+  }
+  return out;
+}
+
+Cloud spread_cloud(const Field& f, uint32_t n, uint64_t seed) {
+  DecisionRng rng(seed);
+  // Keep clear of walls and goal lines by a ball radius: the cloud starts in valid places.
+  float x0 = f.bounds_max.x, x1 = f.bounds_min.x, y0 = f.bounds_max.y, y1 = f.bounds_min.y;
+  for (const Segment& s : f.segments)
+    for (Vec2 p : {s.a, s.b}) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  const float m = 2 * f.ball_radius;
+  Cloud c;
+  c.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    const float x = float(x0 + m + (x1 - x0 - 2 * m) * rng.uniform());
+    const float y = float(y0 + m + (y1 - y0 - 2 * m) * rng.uniform());
+    const double angle = 2 * M_PI * rng.uniform(), speed = 0.5 + 2.5 * rng.uniform();
+    c.push(x, y, float(speed * std::cos(angle)), float(speed * std::sin(angle)), 1.0 / n, 1.0 / n);
+  }
+  return c;
+}
+
+}  // namespace quantum::tools

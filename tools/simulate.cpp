@@ -1,0 +1,130 @@
+#include "simulate.h"
+
+#include <fstream>
+#include <iostream>
+#include <map>
+
+#include "box2d_backend.h"
+#include "event_log.h"
+#include "field_loader.h"
+#include "quantum/world.h"
+#include "scenes.h"
+#include "snapshot.h"
+
+namespace quantum::tools {
+namespace {
+
+constexpr double kRespawnDelay = 1.0;     // s between a goal and the next drop
+constexpr double kRepredictEvery = 0.5;   // s: fates drift as the cloud spreads and mallets move
+
+// Fates of the current cloud, tweaked with the options' factors.
+void retweak(World& world, const KindFactors& factors) {
+  if (!world.live() || world.cloud().empty()) return;
+  FateReport report = world.predict();
+  world.tweak(report, factors_by_kind(report, factors));
+}
+
+// The spot a ball restarts from: the conceding team's after a goal, the nearest after out.
+int respawn_spot(const Field& f, const Event& e) {
+  if (e.type == EventType::Goal || e.type == EventType::OwnGoal) {
+    const int spot = f.spot_of_team(f.goals[e.actor].team);
+    if (spot >= 0) return spot;
+  }
+  int best = 0;
+  float best_d = 1e30f;
+  for (size_t s = 0; s < f.spots.size(); ++s) {
+    const float d = std::hypot(f.spots[s].at.x - e.at.x, f.spots[s].at.y - e.at.y);
+    if (d < best_d) best_d = d, best = int(s);
+  }
+  return best;
+}
+
+}  // namespace
+
+void simulate(const SimulateOptions& o, std::ostream& summary) {
+  if (!(o.seconds > 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
+  if (!(o.fps >= 10 && o.fps <= 1000)) throw std::invalid_argument("--fps must be in [10, 1000]");
+  if (o.backend != "fast" && o.backend != "box2d")
+    throw std::invalid_argument("--backend must be fast or box2d, not '" + o.backend + "'");
+  Field field = lua::load_field(o.field);
+  finish_field(field);
+  WorldConfig config;
+  config.particles = o.particles;
+  config.seed = o.seed;
+  config.purgatory_frames = o.purgatory;
+  World world(field, config, o.backend == "box2d" ? make_box2d_backend(field) : nullptr);
+
+  std::ofstream file;
+  std::ostream* log = nullptr;
+  if (o.events == "-") {
+    log = &std::cout;
+  } else if (!o.events.empty()) {
+    file.open(o.events);
+    if (!file) throw std::runtime_error("cannot write events to " + o.events);
+    log = &file;
+  }
+
+  std::vector<Event> events;
+  std::map<std::string, int> counts, conceded;
+  double respawn_at = 0.0;  // negative: no respawn pending
+  int respawn_to = 0;
+  double next_tweak = 0;
+  bool have_snapshot_moment = false;
+  auto flush = [&]() {
+    for (const Event& e : events) {
+      if (log) *log << event_json(e, world.field()) << '\n';
+      ++counts[to_string(e.type)];
+      if (e.type == EventType::Goal || e.type == EventType::OwnGoal) ++conceded[world.field().goals[e.actor].name];
+      if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out) {
+        respawn_at = world.time() + kRespawnDelay;
+        respawn_to = respawn_spot(world.field(), e);
+      }
+    }
+  };
+
+  const float dt = float(1.0 / o.fps);
+  const uint64_t steps = uint64_t(o.seconds * o.fps + 0.5);
+  for (uint64_t s = 0; s < steps; ++s) {
+    events.clear();
+    if (respawn_at >= 0 && world.time() >= respawn_at - 1e-9) {
+      world.drop(respawn_to, events);
+      respawn_at = -1;
+    }
+    world.step(dt, scripted_mallets(world.field(), world.time() + dt), events);
+    const bool decided = !events.empty();
+    flush();
+    if (!world.live() && respawn_at < 0) {  // every particle crushed: the ball is lost, restart it
+      respawn_at = world.time() + kRespawnDelay;
+      respawn_to = 0;
+    }
+    if (decided || world.time() >= next_tweak) {
+      retweak(world, o.factors);
+      next_tweak = world.time() + kRepredictEvery;
+    }
+    // The picture is taken right after the last realized hit: a fresh shot fanning out.
+    if (!o.snapshot.empty() && world.live()) {
+      bool hit = false;
+      for (const Event& e : events) hit |= e.type == EventType::Hit;
+      if (hit || (!have_snapshot_moment && s + 1 == steps)) {
+        write_snapshot(world, o.snapshot);
+        have_snapshot_moment = true;
+      }
+    }
+  }
+  if (log) log->flush();
+
+  summary << "simulated " << o.seconds << " s of " << world.field().name << " (" << o.backend << " backend, "
+          << o.particles << " particles, seed " << o.seed << ")\n";
+  summary << "events:";
+  for (const char* type : {"drop", "hit", "goal", "own_goal", "out"}) summary << ' ' << type << ' ' << counts[type];
+  summary << '\n';
+  if (!conceded.empty()) {
+    summary << "conceded:";
+    for (const auto& [goal, n] : conceded) summary << ' ' << goal << ' ' << n << ';';
+    summary << '\n';
+  }
+  if (!o.snapshot.empty())
+    summary << (have_snapshot_moment ? "snapshot: " + o.snapshot : "snapshot: none (the ball was never live)") << '\n';
+}
+
+}  // namespace quantum::tools

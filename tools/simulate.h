@@ -1,0 +1,29 @@
+// `quantum simulate`: a field, a cloud and two scripted mallets, with decisions, fate factors
+// and respawns, written out as JSON-lines events and a short summary.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+
+#include "quantum/fate.h"
+
+namespace quantum::tools {
+
+struct SimulateOptions {
+  std::string field;           // field file or sport folder
+  double seconds = 20;
+  uint32_t particles = 1000;
+  uint64_t seed = 1;
+  std::string backend = "fast";  // fast | box2d
+  std::string events;          // JSON-lines file, "-" for stdout, empty for none
+  std::string snapshot;        // PNG, empty for none
+  double fps = 60;
+  uint32_t purgatory = 3;
+  KindFactors factors;
+};
+
+// Runs the simulation; the summary goes to `summary`. Throws on bad options or a bad field.
+void simulate(const SimulateOptions& options, std::ostream& summary);
+
+}  // namespace quantum::tools
