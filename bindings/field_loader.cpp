@@ -240,20 +240,21 @@ Field load_field(const std::string& path) {
   lua_call(L, 1, 1);
   const int math = lua_gettop(L);
 
-  if (luaL_loadfilex(L, file.c_str(), "t") != 0) {
-    // Lua's message starts with "file:line:" already.
-    const std::string message = lua_tostring(L, -1);
-    throw FieldError("", message);
-  }
+  // Lua's own messages start with "file:line:"; the others get the file put in front.
+  auto lua_error = [&](const char* message) {
+    const std::string m = message ? message : "not enough memory";
+    return m.rfind(file, 0) == 0 ? FieldError("", m) : FieldError(file, m);
+  };
+  const int status = luaL_loadfilex(L, file.c_str(), "t");
+  if (status == LUA_ERRSYNTAX && std::string(lua_tostring(L, -1)).find("wrong mode") != std::string::npos)
+    throw FieldError(file, "binary chunk (precompiled bytecode) refused: field files must be Lua text");
+  if (status != 0) throw lua_error(lua_tostring(L, -1));
   lua_newtable(L);  // the sandbox: math and nothing else
   lua_pushvalue(L, math);
   lua_setfield(L, -2, "math");
   lua_setfenv(L, -2);
   lua_sethook(L, on_budget_spent, LUA_MASKCOUNT, kInstructionBudget);
-  if (lua_pcall(L, 0, 1, 0) != 0) {
-    const char* message = lua_tostring(L, -1);
-    throw FieldError("", message ? message : "not enough memory");
-  }
+  if (lua_pcall(L, 0, 1, 0) != 0) throw lua_error(lua_tostring(L, -1));
   lua_sethook(L, nullptr, 0, 0);
   if (!lua_istable(L, -1)) throw FieldError(file, std::string("must return a table, returned ") + luaL_typename(L, -1));
   Reader reader(L);

@@ -92,6 +92,7 @@ class Box2DBackend final : public Backend {
       world_.DestroyBody(particles_.back());
       particles_.pop_back();
     }
+    mirrored_.resize(n, Mirror{NAN, NAN, NAN, NAN});
     for (int k = 0; k < ctx.n_bodies; ++k) {
       const BodyMotion& m = ctx.bodies[k];
       bodies_[k]->SetTransform(b2Vec2(m.from.x, m.from.y), 0);
@@ -99,11 +100,16 @@ class Box2DBackend final : public Backend {
     }
     start_.resize(n);
     for (size_t i = 0; i < n; ++i) {
-      float dx, dy;
-      noise_offsets(noise_bits(uint32_t(i), ctx.noise_key), ctx.noise_amplitude, dx, dy);
+      float dx = 0, dy = 0;
+      if (ctx.noise_amplitude > 0) noise_offsets(noise_bits(uint32_t(i), ctx.noise_key), ctx.noise_amplitude, dx, dy);
       start_[i] = {cloud.x[i] + dx, cloud.y[i] + dy};
-      particles_[i]->SetTransform(b2Vec2(start_[i].x, start_[i].y), 0);
-      particles_[i]->SetLinearVelocity(b2Vec2(cloud.vx[i], cloud.vy[i]));
+      // Teleporting a body makes Box2D re-pair it in the broadphase: only do it when the engine
+      // changed the particle (split, removal, realized shot) or Brownian motion moved it.
+      const Mirror& seen = mirrored_[i];
+      if (dx != 0 || dy != 0 || seen.x != cloud.x[i] || seen.y != cloud.y[i])
+        particles_[i]->SetTransform(b2Vec2(start_[i].x, start_[i].y), 0);
+      if (seen.vx != cloud.vx[i] || seen.vy != cloud.vy[i])
+        particles_[i]->SetLinearVelocity(b2Vec2(cloud.vx[i], cloud.vy[i]));
     }
     first_body_.assign(n, -1);
     listener_.first = &first_body_;
@@ -112,6 +118,7 @@ class Box2DBackend final : public Backend {
     for (size_t i = 0; i < n; ++i) {
       const b2Vec2 p = particles_[i]->GetPosition(), v = particles_[i]->GetLinearVelocity();
       cloud.x[i] = p.x, cloud.y[i] = p.y, cloud.vx[i] = v.x, cloud.vy[i] = v.y;
+      mirrored_[i] = {p.x, p.y, v.x, v.y};
       int32_t target = first_body_[i];
       for (int g = 0; g < ng && target < 0; ++g)
         if (crosses(start_[i], {p.x, p.y}, field_.goals[g], inside_)) target = nb + g;
@@ -147,6 +154,10 @@ class Box2DBackend final : public Backend {
   b2World world_;
   BodyContacts listener_;
   std::vector<b2Body*> particles_, bodies_;
+  struct Mirror {
+    float x, y, vx, vy;  // what Box2D holds for the particle, as last copied into the cloud
+  };
+  std::vector<Mirror> mirrored_;
   std::vector<Vec2> start_;
   std::vector<int32_t> first_body_;
   Vec2 inside_;

@@ -1,0 +1,121 @@
+// `quantum simulate` as other tools use it: exit codes, JSON lines, the snapshot, errors.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+struct Outcome {
+  int status;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+Outcome quantum(const std::string& args) {
+  const std::string err_file = std::filesystem::temp_directory_path() / "quantum_cli_stderr.txt";
+  const std::string cmd = std::string(QUANTUM_BINARY) + " " + args + " 2>" + err_file;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  Outcome run{-1, "", ""};
+  if (!pipe) return run;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) run.out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(err_file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  run.err = ss.str();
+  return run;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const std::string kTable = QUANTUM_SOURCE_DIR "/rules/airhockey";
+
+TEST(Cli, SimulateWritesJsonLinesAndASummary) {
+  const std::string events = std::filesystem::temp_directory_path() / "quantum_cli_events.jsonl";
+  const Outcome r = quantum("simulate " + kTable + " --seconds 20 --seed 3 --events " + events);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("simulated 20 s of Quantum air hockey table"), std::string::npos) << r.out;
+  std::istringstream lines(slurp(events));
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    for (const char* key : {"t", "type", "actor", "p", "particles"}) EXPECT_TRUE(j.contains(key)) << line;
+    EXPECT_GE(j["p"].get<double>(), 0.0);
+    EXPECT_LE(j["p"].get<double>(), 1.0);
+    if (n == 0) {
+      EXPECT_EQ(j["type"], "drop");
+    }
+    ++n;
+  }
+  EXPECT_GT(n, 3);
+}
+
+TEST(Cli, EventsToStdoutKeepStdoutPureJson) {
+  const Outcome r = quantum("simulate " + kTable + " --seconds 10 --events -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  while (std::getline(lines, line)) EXPECT_NO_THROW(nlohmann::json::parse(line)) << line;
+  EXPECT_NE(r.err.find("events:"), std::string::npos);
+}
+
+TEST(Cli, SameSeedSameLog) {
+  const Outcome a = quantum("simulate " + kTable + " --seconds 15 --seed 9 --events -");
+  const Outcome b = quantum("simulate " + kTable + " --seconds 15 --seed 9 --events -");
+  ASSERT_EQ(a.status, 0);
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_FALSE(a.out.empty());
+}
+
+TEST(Cli, SnapshotIsAPicture) {
+  const std::string png = std::filesystem::temp_directory_path() / "quantum_cli_snapshot.png";
+  std::filesystem::remove(png);
+  const Outcome r = quantum("simulate " + kTable + " --seconds 8 --particles 500 --snapshot " + png);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const cv::Mat img = cv::imread(png);
+  ASSERT_FALSE(img.empty());
+  EXPECT_EQ(img.cols, int((2.0 + 4 * 0.0315) * 450) + 60);
+  EXPECT_GT(img.rows, 500);
+}
+
+TEST(Cli, Box2DBackendRuns) {
+  const Outcome r = quantum("simulate " + kTable + " --seconds 3 --particles 200 --backend box2d --events -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"type\":\"drop\""), std::string::npos);
+}
+
+TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
+  Outcome r = quantum("simulate /nonexistent/field.lua");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/nonexistent/field.lua: no such field file"), std::string::npos) << r.err;
+  const std::string bad = std::filesystem::temp_directory_path() / "quantum_cli_bad.lua";
+  std::ofstream(bad) << "return { spots = { { at = { 0, 'x' } } } }";
+  r = quantum("simulate " + bad);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(bad + ": spots[1].at: expected a number for y"), std::string::npos) << r.err;
+  r = quantum("simulate " + kTable + " --backend physx");
+  EXPECT_NE(r.status, 0);
+  r = quantum("simulate " + kTable + " --particles 0");
+  EXPECT_NE(r.status, 0);
+  r = quantum("simulate " + kTable + " --snapshot /nonexistent/dir/x.png --seconds 2");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/nonexistent/dir/x.png"), std::string::npos) << r.err;
+}
+
+}  // namespace

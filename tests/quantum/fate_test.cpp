@@ -1,0 +1,181 @@
+// Fate prediction: terminal and path of single shots, report bookkeeping, tweaking.
+#include <gtest/gtest.h>
+
+#include "test_scenes.h"
+
+namespace quantum {
+namespace {
+
+constexpr float kDt = 1.0f / 60;
+
+// The fate of one particle shot from (x, y) with velocity (vx, vy); bodies at rest at `at`.
+Fate fate_of(float x, float y, float vx, float vy, std::vector<Vec2> at = {}) {
+  Field f = test::quiet_airhockey();
+  if (at.empty()) f.bodies.clear();
+  for (size_t k = 0; k < at.size(); ++k) f.bodies[k].start = at[k];
+  World world(f, WorldConfig{.particles = 1});
+  world.set_cloud(test::single(x, y, vx, vy));
+  const FateReport r = world.predict();
+  EXPECT_EQ(r.groups.size(), 1u);
+  return r.groups[0].fate;
+}
+
+TEST(Fate, StraightShotScores) {
+  const Fate f = fate_of(0, 0, 2, 0);
+  EXPECT_EQ(f.kind, FateKind::Goal);
+  EXPECT_EQ(f.target, 1);
+  EXPECT_EQ(f.path_len, 0);
+  EXPECT_EQ(describe(f, test::airhockey()), "goal (Red's goal)");
+}
+
+TEST(Fate, BankShotNamesTheWall) {
+  // From (0, 0) to the red mouth's centre (1, 0) via the left wall (y = 0.5): the ball's centre
+  // turns at y = 0.5 - r, halfway along x.
+  const float turn_y = 0.5f - 0.0315f;
+  const Fate f = fate_of(0, 0, 0.5f, turn_y);
+  EXPECT_EQ(f.kind, FateKind::Goal);
+  ASSERT_EQ(f.path_len, 1);
+  EXPECT_EQ(describe(f, test::airhockey()), "goal (Red's goal) via left wall");
+}
+
+TEST(Fate, MalletInTheWayIntercepts) {
+  const Fate f = fate_of(0, 0, 2, 0, {{-0.85f, 0}, {0.85f, 0}});
+  EXPECT_EQ(f.kind, FateKind::Body);
+  EXPECT_EQ(f.target, 1);
+  EXPECT_EQ(describe(f, test::airhockey()), "Red's mallet");
+}
+
+TEST(Fate, SlowBallStaysInTheField) {
+  const Fate f = fate_of(0, 0, 0.1f, 0);  // 30 cm in 3 s
+  EXPECT_EQ(f.kind, FateKind::Field);
+  EXPECT_EQ(describe(f, test::airhockey()), "stays in field");
+}
+
+TEST(Fate, LongRallyPathIsCappedAndMarked) {
+  // Almost straight up and down: bounces between the side walls for the whole horizon.
+  const Fate f = fate_of(0, 0, 0.02f, 3.0f);
+  EXPECT_EQ(f.kind, FateKind::Field);
+  EXPECT_EQ(f.path_len, kMaxPath);
+  EXPECT_TRUE(f.path_more);
+  EXPECT_EQ(describe(f, test::airhockey()), "stays in field via left wall, right wall, left wall, right wall, ...");
+}
+
+TEST(Fate, ShotIntoOwnGoalAfterATouchIsAnOwnGoal) {
+  // Blue's mallet hits a resting puck toward Blue's own goal.
+  Field f = test::quiet_airhockey();
+  f.bodies[0].start = {-0.5f, 0};
+  World world(f, WorldConfig{.particles = 1});
+  world.set_cloud(test::single(-0.7f, 0, 0, 0));
+  std::vector<Event> events;
+  std::vector<BodyInput> in = test::resting(f);
+  Vec2 blue{-0.5f, 0.0f};
+  for (int s = 0; s < 30 && events.empty(); ++s) {
+    blue.x -= 1.5f * kDt;
+    in[0] = {blue, {-1.5f, 0}};
+    world.step(kDt, in, events);
+  }
+  ASSERT_EQ(world.last_touch(), 0);
+  in[0].velocity = {0, 0};
+  world.step(kDt, in, events);  // the mallet stops; the puck flies on
+  const FateReport r = world.predict();
+  ASSERT_EQ(r.groups.size(), 1u);
+  EXPECT_EQ(r.groups[0].fate.kind, FateKind::OwnGoal);
+  EXPECT_EQ(describe(r.groups[0].fate, f), "own goal (Blue's goal)");
+  // And the step agrees.
+  events.clear();
+  for (int s = 0; s < 60 && events.empty(); ++s) world.step(kDt, in, events);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].type, EventType::OwnGoal);
+}
+
+TEST(Fate, BodiesAreExtrapolatedForTheLookaheadThenHeld) {
+  // A slow shot along y = 0 toward Red's goal, Red's mallet at y = -0.3 moving up at 1 m/s.
+  // With a 0.25 s lookahead it stops at y = -0.05: still in the way (reach 0.0795).
+  Field f = test::quiet_airhockey();
+  WorldConfig config;
+  config.particles = 1;
+  World world(f, config);
+  world.set_cloud(test::single(0.3f, 0, 1.0f, 0));
+  std::vector<Event> events;
+  std::vector<BodyInput> in = test::resting(f);
+  in[1] = {{0.85f, -0.3f}, {0, 1.0f}};
+  world.step(kDt, in, events);
+  EXPECT_EQ(world.predict().groups[0].fate.kind, FateKind::Body);
+  // With a 0.1 s lookahead it holds at y = -0.2: the shot goes past it.
+  config.body_lookahead = 0.1f;
+  World short_sighted(f, config);
+  short_sighted.set_cloud(test::single(0.3f, 0, 1.0f, 0));
+  short_sighted.step(kDt, in, events);
+  EXPECT_EQ(short_sighted.predict().groups[0].fate.kind, FateKind::Goal);
+}
+
+TEST(Fate, ReportGroupsCountsMassesAndTrajectories) {
+  const Field f = test::quiet_airhockey();
+  WorldConfig config;
+  config.particles = 300;
+  World world(f, config);
+  world.set_cloud(test::fan(0.2f, 0, 2.0f, -1.2f, 1.2f, 300));
+  const FateReport r = world.predict(3.0f);
+  ASSERT_GE(r.groups.size(), 3u);
+  double mass = 0, tweaked = 0;
+  uint32_t count = 0;
+  for (size_t g = 0; g < r.groups.size(); ++g) {
+    const FateGroup& group = r.groups[g];
+    mass += group.mass, tweaked += group.tweaked_mass, count += group.count;
+    EXPECT_DOUBLE_EQ(group.mass, group.tweaked_mass);  // nothing tweaked yet
+    EXPECT_EQ(r.group_of[group.representative], g);
+    ASSERT_GE(group.trajectory.size(), 2u);
+    EXPECT_FLOAT_EQ(group.trajectory.front().x, 0.2f);
+    EXPECT_GE(group.trajectory.size(), size_t(group.fate.path_len) + 2);  // start, walls, end
+    if (group.fate.kind == FateKind::Goal) EXPECT_NEAR(std::fabs(group.trajectory.back().x), 1.0f, 1e-4);
+  }
+  EXPECT_NEAR(mass, 1.0, 1e-12);
+  EXPECT_NEAR(tweaked, 1.0, 1e-12);
+  EXPECT_EQ(count, 300u);
+  for (size_t i = 0; i < world.cloud().size(); ++i) EXPECT_LT(r.group_of[i], r.groups.size());
+}
+
+TEST(Fate, TweakMultipliesByFateAndKeepsTheNewtonianMass) {
+  const Field f = test::quiet_airhockey();
+  World world(f, WorldConfig{.particles = 300});
+  world.set_cloud(test::fan(0.2f, 0, 2.0f, -1.2f, 1.2f, 300));
+  FateReport r = world.predict();
+  const std::vector<double> newtonian = world.cloud().w;
+  const KindFactors paper;
+  const std::vector<double> factors = factors_by_kind(r, paper);
+  world.tweak(r, factors);
+  double norm = 0;
+  for (size_t g = 0; g < r.groups.size(); ++g) norm += r.groups[g].mass * factors[g];
+  double tweaked = 0;
+  for (size_t g = 0; g < r.groups.size(); ++g) {
+    EXPECT_NEAR(r.groups[g].tweaked_mass, r.groups[g].mass * factors[g] / norm, 1e-12);
+    tweaked += r.groups[g].tweaked_mass;
+  }
+  EXPECT_NEAR(tweaked, 1.0, 1e-12);
+  EXPECT_EQ(world.cloud().w, newtonian);
+  EXPECT_NEAR(test::tweaked_sum(world.cloud()), 1.0, 1e-12);
+  // A new prediction sees the tweak as tweaked mass and the untouched Newtonian mass.
+  const FateReport again = world.predict();
+  for (size_t g = 0; g < r.groups.size(); ++g) {
+    EXPECT_NEAR(again.groups[g].mass, r.groups[g].mass, 1e-12);
+    EXPECT_NEAR(again.groups[g].tweaked_mass, r.groups[g].tweaked_mass, 1e-12);
+  }
+}
+
+TEST(Fate, BadTweaksAreRefused) {
+  World world(test::quiet_airhockey(), WorldConfig{.particles = 10});
+  world.set_cloud(test::fan(0.2f, 0, 2.0f, -1.2f, 1.2f, 10));
+  FateReport r = world.predict();
+  EXPECT_THROW(world.tweak(r, std::vector<double>(r.groups.size() + 1, 1.0)), std::invalid_argument);
+  EXPECT_THROW(world.tweak(r, std::vector<double>(r.groups.size(), -1.0)), std::invalid_argument);
+  EXPECT_THROW(world.tweak(r, std::vector<double>(r.groups.size(), NAN)), std::invalid_argument);
+  EXPECT_THROW(world.tweak(r, std::vector<double>(r.groups.size(), 0.0)), std::invalid_argument);
+  EXPECT_NEAR(test::tweaked_sum(world.cloud()), 1.0, 1e-12);
+  std::vector<Event> events;
+  world.step(kDt, test::resting(world.field()), events);
+  EXPECT_THROW(world.tweak(r, std::vector<double>(r.groups.size(), 1.0)), std::logic_error);
+  EXPECT_THROW(world.predict(-1), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace quantum

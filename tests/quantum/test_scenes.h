@@ -1,0 +1,65 @@
+// Small fields and scenes the core's tests share.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "field_loader.h"
+#include "quantum/world.h"
+
+namespace quantum::test {
+
+inline Field airhockey() { return lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey"); }
+
+// The air hockey table with Brownian motion off: trajectories are exactly what prediction says.
+inline Field quiet_airhockey() {
+  Field f = airhockey();
+  f.brownian = 0;
+  return f;
+}
+
+inline Cloud single(float x, float y, float vx, float vy) {
+  Cloud c;
+  c.push(x, y, vx, vy, 1, 1);
+  return c;
+}
+
+// n particles at one point, fanned over [a0, a1] radians at one speed.
+inline Cloud fan(float x, float y, float speed, float a0, float a1, int n) {
+  Cloud c;
+  for (int i = 0; i < n; ++i) {
+    const float a = a0 + (a1 - a0) * (float(i) + 0.5f) / float(n);
+    c.push(x, y, speed * std::cos(a), speed * std::sin(a), 1.0 / n, 1.0 / n);
+  }
+  return c;
+}
+
+// Every body held at its start position.
+inline std::vector<BodyInput> resting(const Field& f) {
+  std::vector<BodyInput> in;
+  for (const BodySpec& b : f.bodies) in.push_back({b.start, {0, 0}});
+  return in;
+}
+
+inline double weight_sum(const Cloud& c) {
+  double s = 0;
+  for (size_t i = 0; i < c.size(); ++i) s += c.weight(i);
+  return s;
+}
+
+inline double tweaked_sum(const Cloud& c) {
+  double s = 0;
+  for (size_t i = 0; i < c.size(); ++i) s += c.tweaked(i);
+  return s;
+}
+
+// Distance from p to segment a-b.
+inline float segment_distance(Vec2 p, Vec2 a, Vec2 b) {
+  const float ex = b.x - a.x, ey = b.y - a.y;
+  float t = ((p.x - a.x) * ex + (p.y - a.y) * ey) / (ex * ex + ey * ey);
+  t = std::fmax(0.0f, std::fmin(1.0f, t));
+  return std::hypot(p.x - a.x - t * ex, p.y - a.y - t * ey);
+}
+
+}  // namespace quantum::test
