@@ -64,8 +64,14 @@ void BM_FateReport(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_Step)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMicrosecond);
+// Fixed iteration counts: every run replays the same seeded match (about 10 s of play per size,
+// 2 s at 1M), so runs differ only by the machine, not by how far into the game they got.
+BENCHMARK(BM_Step)->Arg(1'000)->Iterations(3000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step)->Arg(10'000)->Iterations(1200)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Box2DStep)->Arg(1'000)->Arg(10'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Box2DStep)->Arg(10'000)->Iterations(20)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

@@ -130,6 +130,47 @@ Geometry::Geometry(const Field& f)
   const Vec2 middle{(bounds.x0 + bounds.x1) / 2, (bounds.y0 + bounds.y1) / 2};
   safe = largest_clear_box(f, middle, r);
   if (safe.x0 > safe.x1) safe = largest_clear_box(f, centre, r);
+  build_grid(f);
+}
+
+void Geometry::build_grid(const Field& f) {
+  cell = 0.05f;
+  inv_cell = 1 / cell;
+  grid_reach = cell;
+  cols = std::max(1, int(std::ceil((bounds.x1 - bounds.x0) / cell)));
+  rows = std::max(1, int(std::ceil((bounds.y1 - bounds.y0) / cell)));
+  const size_t most = std::max({ax.size(), vx.size(), gax.size(), size_t(1)});
+  for (size_t k = 0; k < most; ++k) all_items.push_back(uint16_t(k));
+  cell_start.push_back(0);
+  for (int row = 0; row < rows; ++row) {
+    for (int col = 0; col < cols; ++col) {
+      const Box c{bounds.x0 + col * cell, bounds.y0 + row * cell, bounds.x0 + (col + 1) * cell,
+                  bounds.y0 + (row + 1) * cell};
+      // Conservative: a square grown by the reach stands in for the rounded one.
+      const Box wall_zone = grown(c, r + grid_reach + 1e-3f), goal_zone = grown(c, grid_reach + 1e-3f);
+      for (size_t k = 0; k < ax.size(); ++k)
+        if (segment_touches_box(f.segments[k].a, f.segments[k].b, wall_zone)) cell_items.push_back(uint16_t(k));
+      cell_start.push_back(uint32_t(cell_items.size()));
+      for (size_t k = 0; k < vx.size(); ++k)
+        if (wall_zone.contains(vx[k], vy[k])) cell_items.push_back(uint16_t(k));
+      cell_start.push_back(uint32_t(cell_items.size()));
+      for (size_t k = 0; k < gax.size(); ++k)
+        if (segment_touches_box(f.goals[k].a, f.goals[k].b, goal_zone)) cell_items.push_back(uint16_t(k));
+      cell_start.push_back(uint32_t(cell_items.size()));
+      cell_near_bounds.push_back(goal_zone.x0 < bounds.x0 || goal_zone.y0 < bounds.y0 || goal_zone.x1 > bounds.x1 ||
+                                 goal_zone.y1 > bounds.y1);
+    }
+  }
+}
+
+Geometry::Candidates Geometry::candidates(float x, float y, float travel2) const {
+  const int col = int(std::floor((x - bounds.x0) * inv_cell)), row = int(std::floor((y - bounds.y0) * inv_cell));
+  if (travel2 > grid_reach * grid_reach || col < 0 || row < 0 || col >= cols || row >= rows)
+    return {all_items.data(), all_items.data(), all_items.data(), uint16_t(ax.size()), uint16_t(vx.size()),
+            uint16_t(gax.size()), true};
+  const uint32_t* at = &cell_start[3 * size_t(row * cols + col)];
+  return {&cell_items[at[0]], &cell_items[at[1]], &cell_items[at[2]], uint16_t(at[1] - at[0]),
+          uint16_t(at[2] - at[1]), uint16_t(at[3] - at[2]), cell_near_bounds[row * cols + col] != 0};
 }
 
 Vec2 body_position(const BodyPath& b, float t) {
@@ -149,8 +190,11 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
   const float bx0 = std::min(m.x, ex) - r, bx1 = std::max(m.x, ex) + r;
   const float by0 = std::min(m.y, ey) - r, by1 = std::max(m.y, ey) + r;
 
+  const Geometry::Candidates near = g.candidates(m.x, m.y, (m.ux * m.ux + m.uy * m.uy) * span * span);
+
   // Walls: the ball's centre against each segment's two offset lines...
-  for (size_t k = 0; k < g.ax.size(); ++k) {
+  for (uint16_t q = 0; q < near.n_segments; ++q) {
+    const size_t k = near.segments[q];
     if (g.sx1[k] < bx0 || g.sx0[k] > bx1 || g.sy1[k] < by0 || g.sy0[k] > by1) continue;
     const float d0 = dot(m.x - g.ax[k], m.y - g.ay[k], g.nx[k], g.ny[k]);
     const float side = d0 >= 0 ? 1.0f : -1.0f;
@@ -163,7 +207,8 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
     consider(best, t0 + dt, HitKind::Wall, g.wall[k], side * g.nx[k], side * g.ny[k]);
   }
   // ...and against the round caps at the segment ends (goal posts, convex corners).
-  for (size_t k = 0; k < g.vx.size(); ++k) {
+  for (uint16_t q = 0; q < near.n_points; ++q) {
+    const size_t k = near.points[q];
     if (g.vx[k] < bx0 || g.vx[k] > bx1 || g.vy[k] < by0 || g.vy[k] > by1) continue;
     const float qx = m.x - g.vx[k], qy = m.y - g.vy[k];
     const float dt = circle_entry(qx, qy, m.ux, m.uy, r, span);
@@ -174,7 +219,8 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
     consider(best, t0 + dt, HitKind::Wall, g.vwall[k], hx / l, hy / l);
   }
   // Goal lines: the ball's centre crossing into the goal.
-  for (size_t k = 0; k < g.gax.size(); ++k) {
+  for (uint16_t q = 0; q < near.n_goals; ++q) {
+    const size_t k = near.goals[q];
     if (g.gx1[k] < bx0 || g.gx0[k] > bx1 || g.gy1[k] < by0 || g.gy0[k] > by1) continue;
     const float d0 = dot(m.x - g.gax[k], m.y - g.gay[k], g.gnx[k], g.gny[k]);
     const float approach = dot(m.ux, m.uy, g.gnx[k], g.gny[k]);
@@ -186,7 +232,7 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
     consider(best, t0 + dt, HitKind::Goal, int(k), g.gnx[k], g.gny[k]);
   }
   // Bounds: leaving the box.
-  if (bx0 + r < g.bounds.x0 || bx1 - r > g.bounds.x1 || by0 + r < g.bounds.y0 || by1 - r > g.bounds.y1) {
+  if (near.near_bounds && (bx0 + r < g.bounds.x0 || bx1 - r > g.bounds.x1 || by0 + r < g.bounds.y0  || by1 - r > g.bounds.y1)) {
     float dt = kInf;
     if (m.ux > 0) dt = std::min(dt, (g.bounds.x1 - m.x) / m.ux);
     if (m.ux < 0) dt = std::min(dt, (g.bounds.x0 - m.x) / m.ux);

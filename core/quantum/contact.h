@@ -22,6 +22,7 @@ struct Box {
 // the search over them vectorizes.
 struct Geometry {
   explicit Geometry(const Field& field);
+  void build_grid(const Field& field);
 
   float r, e_wall, e_body;
   std::vector<float> ax, ay, tx, ty, nx, ny, len;  // segments: start, unit tangent, left normal
@@ -32,6 +33,23 @@ struct Geometry {
   std::vector<float> gax, gay, gtx, gty, gnx, gny, glen;  // goal lines; normal points into the goal
   std::vector<float> gx0, gy0, gx1, gy1;
   Box bounds;
+
+  // A uniform grid over the bounds. Each cell lists the segments, end points and goal lines
+  // that a ball starting in the cell can reach within `grid_reach` of travel: a step's path is a
+  // few centimetres, so its contact search tests one or two primitives instead of all of them.
+  struct Candidates {
+    const uint16_t *segments, *points, *goals;
+    uint16_t n_segments, n_points, n_goals;
+    bool near_bounds;
+  };
+  Candidates candidates(float x, float y, float travel_squared) const;
+  float cell = 0, inv_cell = 0, grid_reach = 0;
+  int cols = 0, rows = 0;
+  std::vector<uint32_t> cell_start;    // per cell: offsets into cell_items, 3 lists per cell
+  std::vector<uint16_t> cell_items;
+  std::vector<uint8_t> cell_near_bounds;
+  std::vector<uint16_t> all_items;     // 0, 1, 2, ... for searches the grid cannot serve
+
   // No wall, goal line or bound within reach of a ball centre inside this box: a particle that
   // starts and ends a step inside it needs no contact search.
   Box safe;

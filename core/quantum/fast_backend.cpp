@@ -28,10 +28,12 @@ class FastBackend final : public Backend {
       const BodyMotion& b = ctx.bodies[k];
       const float ux = (b.to.x - b.from.x) / ctx.dt, uy = (b.to.y - b.from.y) / ctx.dt;
       paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius};
-      // A particle ending within this reach of the sweep's midpoint, plus its own travel, may
-      // have touched the body.
-      const float half_sweep = 0.5f * std::hypot(b.to.x - b.from.x, b.to.y - b.from.y);
-      near_[k] = {0.5f * (b.from.x + b.to.x), 0.5f * (b.from.y + b.to.y), b.radius + g.r + half_sweep + 1e-3f};
+      const float reach = b.radius + g.r + 1e-3f, touch = b.radius + g.r - detail::kTolerance;
+      // Anything a particle can do within a step stays within its own travel of where it started:
+      // beyond this distance of the body's sweep (plus that travel) no bounce can bring it in.
+      const float sweep = std::hypot(b.to.x - b.from.x, b.to.y - b.from.y);
+      near_[k] = {b.from.x, b.from.y, b.to.x - b.from.x, b.to.y - b.from.y, reach * reach, touch * touch,
+                  reach + sweep};
     }
 
     const int n = int(cloud.size());
@@ -45,6 +47,7 @@ class FastBackend final : public Backend {
 
     alignas(64) float ox[kBlock], oy[kBlock];
     alignas(64) int32_t flag[kBlock];
+    int16_t slow[kBlock];
     for (int base = 0; base < n; base += kBlock) {
       const int m = std::min(kBlock, n - base);
       for (int j = 0; j < m; ++j) {
@@ -58,23 +61,35 @@ class FastBackend final : public Backend {
         flag[j] = (x0 < s.x0) | (x0 > s.x1) | (y0 < s.y0) | (y0 > s.y1) | (x1 < s.x0) | (x1 > s.x1) |
                   (y1 < s.y0) | (y1 > s.y1);
       }
+      // Closest approach of the particle to the body over the step, both moving linearly: exact
+      // up to a millimetre, so only particles that really touch a body take the slow path. A
+      // separating pair (a shot just leaving the mallet) can only touch if it overlaps already.
       for (int k = 0; k < nb; ++k) {
         const Near c = near_[k];
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
-          const float travel = std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]);
-          const float qx = x[i] - c.x, qy = y[i] - c.y, reach = c.reach + travel;
-          flag[j] |= int32_t(qx * qx + qy * qy < reach * reach);
+          const float qx = ox[j] - c.x, qy = oy[j] - c.y;
+          const float wx = (x[i] - ox[j]) - c.dx, wy = (y[i] - oy[j]) - c.dy;
+          const float ww = wx * wx + wy * wy;
+          const float qw = qx * wx + qy * wy;
+          const float t = std::clamp(-qw / std::max(ww, 1e-20f), 0.0f, 1.0f);
+          const float cx = qx + t * wx, cy = qy + t * wy;
+          flag[j] |= int32_t(cx * cx + cy * cy < (qw >= 0 ? c.touch2 : c.reach2));
+          // Bit 1: near enough that a wall bounce might still send it into the body.
+          const float around = c.around + 2 * (std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]));
+          flag[j] |= int32_t(qx * qx + qy * qy < around * around) << 1;
         }
       }
-      int32_t any = 0;
-      for (int j = 0; j < m; ++j) any |= flag[j];
-      if (!any) continue;
+      // Branch-free compaction: a data-dependent branch per particle mispredicts constantly.
+      int flagged = 0;
       for (int j = 0; j < m; ++j) {
-        if (!flag[j]) continue;
-        const int i = base + j;
+        slow[flagged] = int16_t(j);
+        flagged += (flag[j] & 1) != 0;
+      }
+      for (int q = 0; q < flagged; ++q) {
+        const int j = slow[q], i = base + j;
         detail::Mover mv{ox[j], oy[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i]};
-        const detail::Outcome out = detail::trace_step(g, paths_.data(), nb, mv, dt);
+        const detail::Outcome out = detail::trace_step(g, paths_.data(), (flag[j] & 2) ? nb : 0, mv, dt);
         x[i] = mv.x, y[i] = mv.y, vx[i] = mv.vx, vy[i] = mv.vy;
         if (out.kind != detail::HitKind::None) contacts.push_back({uint32_t(i), target_of(out, nb)});
       }
@@ -83,7 +98,11 @@ class FastBackend final : public Backend {
 
  private:
   struct Near {
-    float x, y, reach;
+    float x, y;    // body at the start of the step
+    float dx, dy;  // its displacement over the step
+    float reach2;  // squared contact distance, plus a millimetre
+    float touch2;  // squared distance below which a particle overlaps the body
+    float around;  // a particle starting further than this plus twice its travel cannot touch it
   };
 
   int32_t target_of(detail::Outcome out, int nb) const {

@@ -258,7 +258,11 @@ void World::realize_body(int body, float dt) {
 void World::split_round(bool jitter) {
   const size_t target = config_.particles, n = cloud_.size();
   const double threshold = cloud_.mass / double(target);
-  for (size_t i = 0; i < n && cloud_.size() < target; ++i) {
+  // Resume where the last round stopped: particles near the front were split already, and
+  // scanning past them every step would cost a pass over the cloud.
+  if (split_cursor_ >= n) split_cursor_ = 0;
+  for (size_t seen = 0; seen < n && cloud_.size() < target; ++seen, split_cursor_ = (split_cursor_ + 1) % n) {
+    const size_t i = split_cursor_;
     if (cloud_.w[i] <= threshold) continue;
     cloud_.w[i] *= 0.5, cloud_.tw[i] *= 0.5;
     float cvx = cloud_.vx[i], cvy = cloud_.vy[i];

@@ -111,6 +111,7 @@ class World {
   double time_ = 0;
   uint64_t step_ = 0;
   uint64_t version_ = 0;
+  size_t split_cursor_ = 0;
   bool live_ = false;
   int last_touch_ = -1;
 };
