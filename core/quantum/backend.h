@@ -38,8 +38,8 @@ class Backend {
  public:
   virtual ~Backend() = default;
   // Moves every particle of `cloud` through one step in place and appends one Contact per
-  // particle that touched a body, crossed a goal line or left the bounds (ascending particle
-  // order). Particles that touched a body hold their state after the bounce.
+  // particle that touched a body, crossed a goal line or left the bounds, in any order.
+  // Particles that touched a body hold their state after the bounce.
   virtual void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) = 0;
 };
 

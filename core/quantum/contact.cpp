@@ -11,7 +11,6 @@ namespace {
 // back inside.
 constexpr float kSkin = 2e-6f;
 constexpr int kMaxContactsPerStep = 8;
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 float dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 // std::hypot guards against overflow at a large cost; field coordinates never come near it.
@@ -73,24 +72,6 @@ Box largest_clear_box(const Field& f, Vec2 centre, float r) {
     }
   }
   return box;
-}
-
-// Time (from now) at which a point at q moving with w enters the circle of radius rr around the
-// origin, within max_dt; 0 when it is inside already, -1 when it does not.
-float circle_entry(float qx, float qy, float wx, float wy, float rr, float max_dt) {
-  const float c = qx * qx + qy * qy - rr * rr;
-  if (c < -2 * rr * kTolerance) return 0;
-  const float b = qx * wx + qy * wy;
-  if (b >= 0) return -1;
-  const float ww = wx * wx + wy * wy;
-  const float disc = b * b - ww * c;
-  if (disc < 0) return -1;
-  const float dt = std::max(0.0f, (-b - std::sqrt(disc)) / ww);
-  return dt <= max_dt ? dt : -1;
-}
-
-void consider(Hit& best, float t, HitKind kind, int index, float nx, float ny) {
-  if (t < best.t) best = Hit{t, kind, index, nx, ny};
 }
 
 }  // namespace
@@ -173,9 +154,9 @@ Geometry::Candidates Geometry::candidates(float x, float y, float travel2) const
           uint16_t(at[2] - at[1]), uint16_t(at[3] - at[2]), cell_near_bounds[row * cols + col] != 0};
 }
 
-Vec2 body_position(const BodyPath& b, float t) {
-  const float s = std::min(t, b.stop);
-  return {b.x + b.ux * s, b.y + b.uy * s};
+void MoverBatch::resize(size_t n) {
+  for (auto* v : {&x, &y, &ux, &uy, &vx, &vy, &t, &when, &hnx, &hny}) v->resize(n);
+  code.resize(n);
 }
 
 Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Mover& m, float t0, float t1,
@@ -183,117 +164,158 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
   Hit best{kInf, HitKind::None, -1, 0, 0};
   const float span = t1 - t0;
   const float r = g.r;
-
   // Only what the path's box (grown by the ball's radius) reaches can be hit: a step moves a few
   // centimetres, so this rejects almost every primitive with four compares.
   const float ex = m.x + m.ux * span, ey = m.y + m.uy * span;
   const float bx0 = std::min(m.x, ex) - r, bx1 = std::max(m.x, ex) + r;
   const float by0 = std::min(m.y, ey) - r, by1 = std::max(m.y, ey) + r;
-
   const Geometry::Candidates near = g.candidates(m.x, m.y, (m.ux * m.ux + m.uy * m.uy) * span * span);
 
   // Walls: the ball's centre against each segment's two offset lines...
   for (uint16_t q = 0; q < near.n_segments; ++q) {
     const size_t k = near.segments[q];
     if (g.sx1[k] < bx0 || g.sx0[k] > bx1 || g.sy1[k] < by0 || g.sy0[k] > by1) continue;
-    const float d0 = dot(m.x - g.ax[k], m.y - g.ay[k], g.nx[k], g.ny[k]);
-    const float side = d0 >= 0 ? 1.0f : -1.0f;
-    const float approach = -side * dot(m.ux, m.uy, g.nx[k], g.ny[k]);
-    if (approach <= 0) continue;
-    const float dt = std::max(0.0f, (side * d0 - r) / approach);
-    if (t0 + dt >= best.t || dt > span) continue;
-    const float along = dot(m.x + m.ux * dt - g.ax[k], m.y + m.uy * dt - g.ay[k], g.tx[k], g.ty[k]);
-    if (along < 0 || along > g.len[k]) continue;
-    consider(best, t0 + dt, HitKind::Wall, g.wall[k], side * g.nx[k], side * g.ny[k]);
+    float hnx, hny;
+    const float dt = wall_time(segment(g, k), r, m.x, m.y, m.ux, m.uy, span, hnx, hny);
+    if (dt < best.dt) best = {dt, HitKind::Wall, g.wall[k], hnx, hny};
   }
   // ...and against the round caps at the segment ends (goal posts, convex corners).
   for (uint16_t q = 0; q < near.n_points; ++q) {
     const size_t k = near.points[q];
     if (g.vx[k] < bx0 || g.vx[k] > bx1 || g.vy[k] < by0 || g.vy[k] > by1) continue;
     const float qx = m.x - g.vx[k], qy = m.y - g.vy[k];
-    const float dt = circle_entry(qx, qy, m.ux, m.uy, r, span);
-    if (dt < 0 || t0 + dt >= best.t) continue;
-    float hx = qx + m.ux * dt, hy = qy + m.uy * dt;
-    const float l = norm(hx, hy);
-    if (l <= 0) continue;
-    consider(best, t0 + dt, HitKind::Wall, g.vwall[k], hx / l, hy / l);
+    const float dt = circle_time(qx, qy, m.ux, m.uy, r, span);
+    if (!(dt < best.dt)) continue;
+    const float hx = qx + m.ux * dt, hy = qy + m.uy * dt, l = norm(hx, hy);
+    if (l > 0) best = {dt, HitKind::Wall, g.vwall[k], hx / l, hy / l};
   }
-  // Goal lines: the ball's centre crossing into the goal.
   for (uint16_t q = 0; q < near.n_goals; ++q) {
     const size_t k = near.goals[q];
     if (g.gx1[k] < bx0 || g.gx0[k] > bx1 || g.gy1[k] < by0 || g.gy0[k] > by1) continue;
-    const float d0 = dot(m.x - g.gax[k], m.y - g.gay[k], g.gnx[k], g.gny[k]);
-    const float approach = dot(m.ux, m.uy, g.gnx[k], g.gny[k]);
-    if (d0 > kTolerance || approach <= 0) continue;
-    const float dt = std::max(0.0f, -d0 / approach);
-    if (dt > span) continue;
-    const float along = dot(m.x + m.ux * dt - g.gax[k], m.y + m.uy * dt - g.gay[k], g.gtx[k], g.gty[k]);
-    if (along < 0 || along > g.glen[k]) continue;
-    consider(best, t0 + dt, HitKind::Goal, int(k), g.gnx[k], g.gny[k]);
+    const float dt = goal_time(goal_line(g, k), m.x, m.y, m.ux, m.uy, span);
+    if (dt < best.dt) best = {dt, HitKind::Goal, int(k), g.gnx[k], g.gny[k]};
   }
-  // Bounds: leaving the box.
-  if (near.near_bounds && (bx0 + r < g.bounds.x0 || bx1 - r > g.bounds.x1 || by0 + r < g.bounds.y0  || by1 - r > g.bounds.y1)) {
-    float dt = kInf;
-    if (m.ux > 0) dt = std::min(dt, (g.bounds.x1 - m.x) / m.ux);
-    if (m.ux < 0) dt = std::min(dt, (g.bounds.x0 - m.x) / m.ux);
-    if (m.uy > 0) dt = std::min(dt, (g.bounds.y1 - m.y) / m.uy);
-    if (m.uy < 0) dt = std::min(dt, (g.bounds.y0 - m.y) / m.uy);
-    dt = std::max(0.0f, dt);
-    if (dt <= span) consider(best, t0 + dt, HitKind::Out, 0, 0, 0);
+  if (near.near_bounds) {
+    const float dt = bounds_time(g.bounds, m.x, m.y, m.ux, m.uy, span);
+    if (dt < best.dt) best = {dt, HitKind::Out, 0, 0, 0};
   }
   if (!with_bodies) return best;
-  // Bodies: two pieces of relative motion, while the body moves and after it stops.
   for (int k = 0; k < n_bodies; ++k) {
     const BodyPath& b = bodies[k];
-    const float rr = b.radius + r;
-    // Cull by the box the body sweeps over the interval, grown by its reach.
-    {
-      const Vec2 c0 = body_position(b, t0), c1 = body_position(b, t1);
-      const float reach = rr - r;
-      if (std::max(c0.x, c1.x) + reach < bx0 || std::min(c0.x, c1.x) - reach > bx1 ||
-          std::max(c0.y, c1.y) + reach < by0 || std::min(c0.y, c1.y) - reach > by1)
-        continue;
-    }
-    float hit_t = -1;
-    if (t0 < b.stop) {
-      const Vec2 c = body_position(b, t0);
-      const float dt = circle_entry(m.x - c.x, m.y - c.y, m.ux - b.ux, m.uy - b.uy, rr, std::min(t1, b.stop) - t0);
-      if (dt >= 0) hit_t = t0 + dt;
-    }
-    if (hit_t < 0 && t1 > b.stop) {
-      const float ts = std::max(t0, b.stop);
-      const Vec2 c = body_position(b, ts);
-      const float px = m.x + m.ux * (ts - t0), py = m.y + m.uy * (ts - t0);
-      const float dt = circle_entry(px - c.x, py - c.y, m.ux, m.uy, rr, t1 - ts);
-      if (dt >= 0) hit_t = ts + dt;
-    }
-    if (hit_t < 0 || hit_t >= best.t) continue;
-    const Vec2 c = body_position(b, hit_t);
-    float hx = m.x + m.ux * (hit_t - t0) - c.x, hy = m.y + m.uy * (hit_t - t0) - c.y;
+    // Cull by the box the body sweeps over the interval, grown by its radius.
+    const float cx0 = body_x(b, t0), cx1 = body_x(b, t1), cy0 = body_y(b, t0), cy1 = body_y(b, t1);
+    if (std::max(cx0, cx1) + b.radius < bx0 || std::min(cx0, cx1) - b.radius > bx1 ||
+        std::max(cy0, cy1) + b.radius < by0 || std::min(cy0, cy1) - b.radius > by1)
+      continue;
+    const float dt = body_time(b, r, m.x, m.y, m.ux, m.uy, t0, t1);
+    if (!(dt < best.dt)) continue;
+    float hx = m.x + m.ux * dt - body_x(b, t0 + dt), hy = m.y + m.uy * dt - body_y(b, t0 + dt);
     float l = norm(hx, hy);
     if (l <= 0) hx = 1, hy = 0, l = 1;  // dead centre: any direction is as good
-    consider(best, hit_t, HitKind::Body, k, hx / l, hy / l);
+    best = {dt, HitKind::Body, k, hx / l, hy / l};
   }
   return best;
 }
 
-void resolve(const Geometry& g, const BodyPath* bodies, const Hit& hit, float t, Mover& m) {
-  if (hit.kind == HitKind::Wall) {
-    const float un = dot(m.ux, m.uy, hit.nx, hit.ny), vn = dot(m.vx, m.vy, hit.nx, hit.ny);
-    if (un < 0) m.ux -= (1 + g.e_wall) * un * hit.nx, m.uy -= (1 + g.e_wall) * un * hit.ny;
-    if (vn < 0) m.vx -= (1 + g.e_wall) * vn * hit.nx, m.vy -= (1 + g.e_wall) * vn * hit.ny;
-    m.x += kSkin * hit.nx, m.y += kSkin * hit.ny;
-  } else if (hit.kind == HitKind::Body) {
+void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, MoverBatch& b, size_t n, float t1) {
+  // Hand-written for the compiler's vectorizer: each loop runs one primitive over all particles,
+  // and the primitive tests are the branch-free functions next_hit uses too.
+  float* __restrict when = b.when.data();
+  float* __restrict hnx = b.hnx.data();
+  float* __restrict hny = b.hny.data();
+  int32_t* __restrict code = b.code.data();
+  const float* __restrict x = b.x.data();
+  const float* __restrict y = b.y.data();
+  const float* __restrict ux = b.ux.data();
+  const float* __restrict uy = b.uy.data();
+  const float* __restrict t = b.t.data();
+  for (size_t i = 0; i < n; ++i) when[i] = kInf, code[i] = -1, hnx[i] = 0, hny[i] = 0;
+  const float r = g.r;
+  for (size_t k = 0; k < g.ax.size(); ++k) {
+    const int32_t c = hit_code(HitKind::Wall, g.wall[k]);
+    const SegmentParams s = segment(g, k);
+    // Each iteration reads and writes only particle i.
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      float nx, ny;
+      const float dt = wall_time(s, r, x[i], y[i], ux[i], uy[i], t1 - t[i], nx, ny);
+      const bool better = dt < when[i];
+      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+      hnx[i] = better ? nx : hnx[i], hny[i] = better ? ny : hny[i];
+    }
+  }
+  for (size_t k = 0; k < g.vx.size(); ++k) {
+    const int32_t c = hit_code(HitKind::Wall, g.vwall[k]);
+    const float px = g.vx[k], py = g.vy[k];
+    // Each iteration reads and writes only particle i.
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float qx = x[i] - px, qy = y[i] - py;
+      const float dt = circle_time(qx, qy, ux[i], uy[i], r, t1 - t[i]);
+      const float hx = qx + ux[i] * dt, hy = qy + uy[i] * dt, l = norm(hx, hy);
+      const bool better = dt < when[i] && l > 0;
+      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+      hnx[i] = better ? hx / l : hnx[i], hny[i] = better ? hy / l : hny[i];
+    }
+  }
+  for (size_t k = 0; k < g.gax.size(); ++k) {
+    const int32_t c = hit_code(HitKind::Goal, int(k));
+    const SegmentParams s = goal_line(g, k);
+    // Each iteration reads and writes only particle i.
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float dt = goal_time(s, x[i], y[i], ux[i], uy[i], t1 - t[i]);
+      const bool better = dt < when[i];
+      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+      hnx[i] = better ? s.nx : hnx[i], hny[i] = better ? s.ny : hny[i];
+    }
+  }
+  {
+    const int32_t c = hit_code(HitKind::Out, 0);
+    const Box bounds = g.bounds;
+    // Each iteration reads and writes only particle i.
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float dt = bounds_time(bounds, x[i], y[i], ux[i], uy[i], t1 - t[i]);
+      const bool better = dt < when[i];
+      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+      hnx[i] = better ? 0.0f : hnx[i], hny[i] = better ? 0.0f : hny[i];
+    }
+  }
+  for (int k = 0; k < n_bodies; ++k) {
+    const BodyPath body = bodies[k];
+    const int32_t c = hit_code(HitKind::Body, k);
+    // Each iteration reads and writes only particle i.
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float dt = body_time(body, r, x[i], y[i], ux[i], uy[i], t[i], t1);
+      float hx = x[i] + ux[i] * dt - body_x(body, t[i] + dt), hy = y[i] + uy[i] * dt - body_y(body, t[i] + dt);
+      const float l = norm(hx, hy);
+      const bool centre = !(l > 0);
+      const bool better = dt < when[i];
+      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+      hnx[i] = better ? (centre ? 1.0f : hx / l) : hnx[i], hny[i] = better ? (centre ? 0.0f : hy / l) : hny[i];
+    }
+  }
+}
+
+void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index, float nx, float ny, float t,
+             Mover& m) {
+  if (kind == HitKind::Wall) {
+    const float un = dot(m.ux, m.uy, nx, ny), vn = dot(m.vx, m.vy, nx, ny);
+    if (un < 0) m.ux -= (1 + g.e_wall) * un * nx, m.uy -= (1 + g.e_wall) * un * ny;
+    if (vn < 0) m.vx -= (1 + g.e_wall) * vn * nx, m.vy -= (1 + g.e_wall) * vn * ny;
+    m.x += kSkin * nx, m.y += kSkin * ny;
+  } else if (kind == HitKind::Body) {
     // A mallet is far heavier than a puck: the ball takes the body's velocity along the normal.
-    const BodyPath& b = bodies[hit.index];
+    const BodyPath& b = bodies[index];
     const bool moving = t < b.stop;
     const float bvx = moving ? b.vx : 0, bvy = moving ? b.vy : 0;
-    const float rn = dot(m.vx - bvx, m.vy - bvy, hit.nx, hit.ny);
-    if (rn < 0) m.vx -= (1 + g.e_body) * rn * hit.nx, m.vy -= (1 + g.e_body) * rn * hit.ny;
+    const float rn = dot(m.vx - bvx, m.vy - bvy, nx, ny);
+    if (rn < 0) m.vx -= (1 + g.e_body) * rn * nx, m.vy -= (1 + g.e_body) * rn * ny;
     m.ux = m.vx, m.uy = m.vy;  // the rest of this step's Brownian drift is spent in the contact
-    const Vec2 c = body_position(b, t);
     const float reach = b.radius + g.r + kSkin;
-    m.x = c.x + hit.nx * reach, m.y = c.y + hit.ny * reach;
+    m.x = body_x(b, t) + nx * reach, m.y = body_y(b, t) + ny * reach;
   }
 }
 
@@ -303,15 +325,17 @@ Outcome trace_step(const Geometry& g, const BodyPath* bodies, int n_bodies, Move
   int contacts = 0;
   for (; contacts < kMaxContactsPerStep; ++contacts) {
     const Hit hit = next_hit(g, bodies, n_bodies, m, t, dt, first.kind == HitKind::None);
-    const float until = hit.kind == HitKind::None ? dt : hit.t;
-    m.x += m.ux * (until - t), m.y += m.uy * (until - t);
-    t = until;
-    if (hit.kind == HitKind::None) break;
+    if (hit.kind == HitKind::None) {
+      m.x += m.ux * (dt - t), m.y += m.uy * (dt - t);
+      break;
+    }
+    m.x += m.ux * hit.dt, m.y += m.uy * hit.dt;
+    t += hit.dt;
     if (hit.kind == HitKind::Goal || hit.kind == HitKind::Out) {
       if (first.kind == HitKind::None) first = {hit.kind, hit.index};
       return first;
     }
-    resolve(g, bodies, hit, t, m);
+    resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
     if (hit.kind == HitKind::Body) first = {HitKind::Body, hit.index};
   }
   // Exact contacts keep a ball out of walls; only a body can push it into one (a squeeze).

@@ -1,9 +1,17 @@
-// Swept contacts of one particle against walls, goal lines, the field's bounds and moving bodies.
-// Shared by the step's slow path and by fate prediction, so a prediction without noise follows
-// exactly the path the step would take. Internal to core/quantum and its backends.
+// Swept contacts of particles against walls, goal lines, the field's bounds and moving bodies.
+// Shared by the step and by fate prediction, so a prediction without noise follows exactly the
+// path the step would take. Internal to core/quantum and its backends.
+//
+// Each primitive test is one branch-free inline function. The scalar search (next_hit) calls it
+// for the few primitives near one particle; the batch search (batch_next_hits) calls it for
+// every primitive over many particles at once, which the compiler vectorizes. Same functions,
+// same arithmetic: both searches find the same contact.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "quantum/field.h"
@@ -12,17 +20,16 @@ namespace quantum::detail {
 
 // Distances below this count as touching: a few float ulps at field scale.
 constexpr float kTolerance = 1e-5f;
+constexpr float kInf = std::numeric_limits<float>::infinity();
 
 struct Box {
   float x0 = 1, y0 = 1, x1 = 0, y1 = 0;  // empty by default
   bool contains(float x, float y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
 };
 
-// The field rearranged for the contact search: segments and goal lines as structure of arrays so
-// the search over them vectorizes.
+// The field rearranged for the contact search: structure of arrays throughout.
 struct Geometry {
   explicit Geometry(const Field& field);
-  void build_grid(const Field& field);
 
   float r, e_wall, e_body;
   std::vector<float> ax, ay, tx, ty, nx, ny, len;  // segments: start, unit tangent, left normal
@@ -33,6 +40,9 @@ struct Geometry {
   std::vector<float> gax, gay, gtx, gty, gnx, gny, glen;  // goal lines; normal points into the goal
   std::vector<float> gx0, gy0, gx1, gy1;
   Box bounds;
+  // No wall, goal line or bound within reach of a ball centre inside this box: a particle that
+  // starts and ends a step inside it needs no contact search.
+  Box safe;
 
   // A uniform grid over the bounds. Each cell lists the segments, end points and goal lines
   // that a ball starting in the cell can reach within `grid_reach` of travel: a step's path is a
@@ -45,14 +55,13 @@ struct Geometry {
   Candidates candidates(float x, float y, float travel_squared) const;
   float cell = 0, inv_cell = 0, grid_reach = 0;
   int cols = 0, rows = 0;
-  std::vector<uint32_t> cell_start;    // per cell: offsets into cell_items, 3 lists per cell
+  std::vector<uint32_t> cell_start;  // per cell: offsets into cell_items, 3 lists per cell
   std::vector<uint16_t> cell_items;
   std::vector<uint8_t> cell_near_bounds;
-  std::vector<uint16_t> all_items;     // 0, 1, 2, ... for searches the grid cannot serve
+  std::vector<uint16_t> all_items;   // 0, 1, 2, ... for searches the grid cannot serve
 
-  // No wall, goal line or bound within reach of a ball centre inside this box: a particle that
-  // starts and ends a step inside it needs no contact search.
-  Box safe;
+ private:
+  void build_grid(const Field& field);
 };
 
 // A body's motion over the traced interval: linear until `stop`, then at rest.
@@ -64,26 +73,116 @@ struct BodyPath {
   float radius;
 };
 
+[[gnu::always_inline]] inline float body_x(const BodyPath& b, float t) { return b.x + b.ux * std::min(t, b.stop); }
+[[gnu::always_inline]] inline float body_y(const BodyPath& b, float t) { return b.y + b.uy * std::min(t, b.stop); }
+inline Vec2 body_position(const BodyPath& b, float t) { return {body_x(b, t), body_y(b, t)}; }
+
 struct Mover {
   float x, y;
   float ux, uy;  // velocity along the path: the ball's own plus this step's Brownian drift
   float vx, vy;  // the ball's own velocity
 };
 
+// --- Primitive tests. Each returns the time from now to the contact within `span`, or kInf.
+
+// A segment (start a, unit tangent t, left normal n, length len): the ball's centre reaching one
+// of its two offset lines at distance r. Sets the normal toward the ball.
+struct SegmentParams {
+  float ax, ay, tx, ty, nx, ny, len;
+};
+inline SegmentParams segment(const Geometry& g, size_t k) {
+  return {g.ax[k], g.ay[k], g.tx[k], g.ty[k], g.nx[k], g.ny[k], g.len[k]};
+}
+[[gnu::always_inline]] inline float wall_time(const SegmentParams& s, float r, float x, float y, float ux, float uy, float span, float& hnx,
+                       float& hny) {
+  const float d0 = (x - s.ax) * s.nx + (y - s.ay) * s.ny;
+  const float side = d0 >= 0 ? 1.0f : -1.0f;
+  const float approach = -side * (ux * s.nx + uy * s.ny);
+  const float dt = std::max(0.0f, (side * d0 - r) / approach);
+  const float along = (x + ux * dt - s.ax) * s.tx + (y + uy * dt - s.ay) * s.ty;
+  hnx = side * s.nx, hny = side * s.ny;
+  return approach > 0 && dt <= span && along >= 0 && along <= s.len ? dt : kInf;
+}
+
+// A point at (qx, qy) relative to a circle's centre entering the circle of radius rr while
+// moving with (wx, wy); 0 when it is inside already.
+[[gnu::always_inline]] inline float circle_time(float qx, float qy, float wx, float wy, float rr, float span) {
+  const float c = qx * qx + qy * qy - rr * rr;
+  const float b = qx * wx + qy * wy;
+  const float ww = wx * wx + wy * wy;
+  const float disc = b * b - ww * c;
+  const bool inside = c < -2 * rr * kTolerance;
+  const float dt = inside ? 0.0f : std::max(0.0f, (-b - std::sqrt(std::max(disc, 0.0f))) / ww);
+  return (inside || (b < 0 && disc >= 0)) && dt <= span ? dt : kInf;
+}
+
+// The ball's centre crossing a goal line into the goal (n points into the goal).
+inline SegmentParams goal_line(const Geometry& g, size_t k) {
+  return {g.gax[k], g.gay[k], g.gtx[k], g.gty[k], g.gnx[k], g.gny[k], g.glen[k]};
+}
+[[gnu::always_inline]] inline float goal_time(const SegmentParams& s, float x, float y, float ux, float uy, float span) {
+  const float d0 = (x - s.ax) * s.nx + (y - s.ay) * s.ny;
+  const float approach = ux * s.nx + uy * s.ny;
+  const float dt = std::max(0.0f, -d0 / approach);
+  const float along = (x + ux * dt - s.ax) * s.tx + (y + uy * dt - s.ay) * s.ty;
+  return d0 <= kTolerance && approach > 0 && dt <= span && along >= 0 && along <= s.len ? dt : kInf;
+}
+
+// The ball's centre leaving the bounds.
+[[gnu::always_inline]] inline float bounds_time(const Box& bounds, float x, float y, float ux, float uy, float span) {
+  const float tx = ux > 0 ? (bounds.x1 - x) / ux : ux < 0 ? (bounds.x0 - x) / ux : kInf;
+  const float ty = uy > 0 ? (bounds.y1 - y) / uy : uy < 0 ? (bounds.y0 - y) / uy : kInf;
+  const float dt = std::max(0.0f, std::min(tx, ty));
+  return dt <= span ? dt : kInf;
+}
+
+// Body b, which moves until its stop and then rests, met by a ball at time t0.
+[[gnu::always_inline]] inline float body_time(const BodyPath& b, float r, float x, float y, float ux, float uy, float t0, float t1) {
+  const float rr = b.radius + r;
+  // While the body moves...
+  const float moving = std::max(0.0f, std::min(t1, b.stop) - t0);
+  const float d1 = circle_time(x - body_x(b, t0), y - body_y(b, t0), ux - b.ux, uy - b.uy, rr, moving);
+  // ...and once it rests.
+  const float ts = std::max(t0, b.stop);
+  const float d2 = circle_time(x + ux * (ts - t0) - body_x(b, ts), y + uy * (ts - t0) - body_y(b, ts), ux, uy, rr,
+                               std::max(0.0f, t1 - ts));
+  const float first = t0 < b.stop ? d1 : kInf;
+  const float second = t1 > b.stop ? (ts - t0) + d2 : kInf;
+  return std::min(first, second);
+}
+
+// --- Searches.
+
 enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed };
 
 struct Hit {
-  float t;
+  float dt;  // from the search's start
   HitKind kind;
   int index;  // wall id, body or goal
   float nx, ny;
 };
 
+// Earliest contact of m (at time t0) in (t0, t1]; bodies skipped when `with_bodies` is false.
 Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Mover& m, float t0, float t1,
              bool with_bodies);
 
-// Applies a contact found by next_hit to m (already moved to the contact time t).
-void resolve(const Geometry& g, const BodyPath* bodies, const Hit& hit, float t, Mover& m);
+// Particles in structure-of-arrays form, searched together.
+struct MoverBatch {
+  std::vector<float> x, y, ux, uy, vx, vy, t;
+  std::vector<float> when, hnx, hny;  // the search's answer: time from t, normal
+  std::vector<int32_t> code;          // kind << 16 | index, or -1 for none
+  void resize(size_t n);
+};
+constexpr int32_t hit_code(HitKind kind, int index) { return int32_t(kind) << 16 | index; }
+inline HitKind code_kind(int32_t code) { return code < 0 ? HitKind::None : HitKind(code >> 16); }
+inline int code_index(int32_t code) { return code & 0xFFFF; }
+
+// next_hit for particles [0, n) of the batch, each from its own b.t up to t1.
+void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, MoverBatch& b, size_t n, float t1);
+
+// Applies a contact found by a search to m, already moved to the contact time t.
+void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index, float nx, float ny, float t,
+             Mover& m);
 
 struct Outcome {
   HitKind kind;  // None, Body, Goal, Out or Crushed
@@ -99,7 +198,5 @@ Outcome trace_step(const Geometry& g, const BodyPath* bodies, int n_bodies, Move
 // `push_from_bodies` a particle inside a body is moved to its surface; otherwise it is reported
 // as a contact with that body. Crushed: stuck inside walls (or between a body and a wall).
 Outcome settle(const Geometry& g, const BodyPath* bodies, int n_bodies, float t, Mover& m, bool push_from_bodies);
-
-Vec2 body_position(const BodyPath& b, float t);
 
 }  // namespace quantum::detail

@@ -17,7 +17,7 @@ constexpr int kBlock = 256;
 
 class FastBackend final : public Backend {
  public:
-  explicit FastBackend(const Field& field) : geometry_(field) {}
+  explicit FastBackend(const Field& field) : geometry_(field) { walls_.resize(kBatch); }
 
   void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) override {
     const detail::Geometry& g = geometry_;
@@ -89,11 +89,20 @@ class FastBackend final : public Backend {
       for (int q = 0; q < flagged; ++q) {
         const int j = slow[q], i = base + j;
         detail::Mover mv{ox[j], oy[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i]};
-        const detail::Outcome out = detail::trace_step(g, paths_.data(), (flag[j] & 2) ? nb : 0, mv, dt);
+        if (!(flag[j] & 2)) {
+          // Near walls only: traced later with the others, vectorized across particles.
+          walls_.x[pending_] = mv.x, walls_.y[pending_] = mv.y, walls_.ux[pending_] = mv.ux, walls_.uy[pending_] = mv.uy;
+          walls_.vx[pending_] = mv.vx, walls_.vy[pending_] = mv.vy, walls_.t[pending_] = 0;
+          pending_id_[pending_] = uint32_t(i);
+          if (++pending_ == kBatch) trace_walls(cloud, dt, nb, contacts);
+          continue;
+        }
+        const detail::Outcome out = detail::trace_step(g, paths_.data(), nb, mv, dt);
         x[i] = mv.x, y[i] = mv.y, vx[i] = mv.vx, vy[i] = mv.vy;
         if (out.kind != detail::HitKind::None) contacts.push_back({uint32_t(i), target_of(out, nb)});
       }
     }
+    trace_walls(cloud, dt, nb, contacts);
   }
 
  private:
@@ -105,6 +114,46 @@ class FastBackend final : public Backend {
     float around;  // a particle starting further than this plus twice its travel cannot touch it
   };
 
+  // Traces the pending wall-only particles through the rest of the step, all at once: the same
+  // contacts trace_step finds for them, one vectorized search per round of bounces.
+  void trace_walls(Cloud& cloud, float dt, int nb, std::vector<Contact>& contacts) {
+    const detail::Geometry& g = geometry_;
+    size_t n = pending_;
+    pending_ = 0;
+    std::fill(bounces_.begin(), bounces_.begin() + n, 0);
+    while (n > 0) {
+      detail::batch_next_hits(g, nullptr, 0, walls_, n, dt);
+      size_t moving = 0;
+      for (size_t j = 0; j < n; ++j) {
+        const detail::HitKind kind = detail::code_kind(walls_.code[j]);
+        const float t = walls_.t[j], until = kind == detail::HitKind::None ? dt - t : walls_.when[j];
+        detail::Mover m{walls_.x[j] + walls_.ux[j] * until, walls_.y[j] + walls_.uy[j] * until, walls_.ux[j],
+                        walls_.uy[j], walls_.vx[j], walls_.vy[j]};
+        const uint32_t i = pending_id_[j];
+        bool done = kind != detail::HitKind::Wall;
+        if (kind == detail::HitKind::Goal || kind == detail::HitKind::Out)
+          contacts.push_back({i, target_of({kind, detail::code_index(walls_.code[j])}, nb)});
+        if (kind == detail::HitKind::Wall) {
+          detail::resolve(g, nullptr, kind, 0, walls_.hnx[j], walls_.hny[j], t + until, m);
+          if (++bounces_[j] == kMaxBounces) {  // rattling in a corner: stop it where it is
+            const detail::Outcome out = detail::settle(g, nullptr, 0, dt, m, false);
+            if (out.kind != detail::HitKind::None) contacts.push_back({i, target_of(out, nb)});
+            done = true;
+          }
+        }
+        if (done) {
+          cloud.x[i] = m.x, cloud.y[i] = m.y, cloud.vx[i] = m.vx, cloud.vy[i] = m.vy;
+          continue;
+        }
+        walls_.x[moving] = m.x, walls_.y[moving] = m.y, walls_.ux[moving] = m.ux, walls_.uy[moving] = m.uy;
+        walls_.vx[moving] = m.vx, walls_.vy[moving] = m.vy, walls_.t[moving] = t + until;
+        pending_id_[moving] = i, bounces_[moving] = bounces_[j];
+        ++moving;
+      }
+      n = moving;
+    }
+  }
+
   int32_t target_of(detail::Outcome out, int nb) const {
     switch (out.kind) {
       case detail::HitKind::Body: return out.index;
@@ -114,8 +163,15 @@ class FastBackend final : public Backend {
     }
   }
 
+  static constexpr size_t kBatch = 512;
+  static constexpr int kMaxBounces = 8;  // as trace_step
+
   detail::Geometry geometry_;
   std::vector<detail::BodyPath> paths_;
+  detail::MoverBatch walls_;
+  std::vector<uint32_t> pending_id_ = std::vector<uint32_t>(kBatch);
+  std::vector<uint8_t> bounces_ = std::vector<uint8_t>(kBatch);
+  size_t pending_ = 0;
   std::vector<Near> near_;
 };
 

@@ -13,8 +13,28 @@ namespace {
 
 // A ball still rattling after this many contacts is taken to stay in the field.
 constexpr int kMaxFateContacts = 64;
+// Particles traced together: enough to fill the vector lanes, few enough to stay in L1/L2.
+constexpr size_t kChunk = 1024;
 
-// Follows one particle from contact to contact. `visit` sees every point where the path turns.
+// Records a wall touch in the path; bouncing along one wall (two pieces of a chain) reads as one.
+void add_to_path(Fate& f, int wall) {
+  if (f.path_len > 0 && f.path[f.path_len - 1] == wall) return;
+  if (f.path_len < kMaxPath) f.path[f.path_len++] = uint16_t(wall);
+  else f.path_more = true;
+}
+
+// Ends f at a hit that is not a wall; false for walls (the flight goes on).
+bool ends_at(Fate& f, detail::HitKind kind, int index, const uint8_t* own_goal) {
+  switch (kind) {
+    case detail::HitKind::Body: f.kind = FateKind::Body, f.target = index; return true;
+    case detail::HitKind::Goal: f.kind = own_goal[index] ? FateKind::OwnGoal : FateKind::Goal, f.target = index; return true;
+    case detail::HitKind::Out: f.kind = FateKind::Out; return true;
+    default: return false;
+  }
+}
+
+// Follows one particle from contact to contact; `visit` sees every point where the path turns.
+// Same searches and arithmetic as trace_fates, one particle at a time.
 template <class Visit>
 Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
                 detail::Mover m, float horizon, Visit&& visit) {
@@ -23,30 +43,57 @@ Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int n
   visit(m.x, m.y);
   for (int contact = 0; contact < kMaxFateContacts; ++contact) {
     const detail::Hit hit = detail::next_hit(g, bodies, nb, m, t, horizon, true);
-    const float until = hit.kind == detail::HitKind::None ? horizon : hit.t;
-    m.x += m.ux * (until - t), m.y += m.uy * (until - t);
-    t = until;
+    if (hit.kind == detail::HitKind::None) {
+      visit(m.x + m.ux * (horizon - t), m.y + m.uy * (horizon - t));
+      return f;
+    }
+    m.x += m.ux * hit.dt, m.y += m.uy * hit.dt;
+    t += hit.dt;
     visit(m.x, m.y);
-    switch (hit.kind) {
-      case detail::HitKind::None: return f;
-      case detail::HitKind::Body: f.kind = FateKind::Body, f.target = hit.index; return f;
-      case detail::HitKind::Goal:
-        f.kind = own_goal[hit.index] ? FateKind::OwnGoal : FateKind::Goal, f.target = hit.index;
-        return f;
-      case detail::HitKind::Out: f.kind = FateKind::Out; return f;
-      default: break;
-    }
-    const uint16_t wall = uint16_t(hit.index);
-    if (f.path_len > 0 && f.path[f.path_len - 1] == wall) {
-      // bouncing along one wall (two pieces of one chain) reads as one touch
-    } else if (f.path_len < kMaxPath) {
-      f.path[f.path_len++] = wall;
-    } else {
-      f.path_more = true;
-    }
-    detail::resolve(g, bodies, hit, t, m);
+    if (ends_at(f, hit.kind, hit.index, own_goal)) return f;
+    add_to_path(f, hit.index);
+    detail::resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
   }
   return f;
+}
+
+// Fates of every particle of the cloud: each round searches all still-flying particles of a
+// chunk at once (vectorized), then moves each to its contact.
+void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
+                 const Cloud& c, float horizon, std::vector<Fate>& fates) {
+  detail::MoverBatch b;
+  b.resize(kChunk);
+  std::vector<uint32_t> id(kChunk);
+  std::vector<uint8_t> contacts(kChunk);
+  for (size_t begin = 0; begin < c.size(); begin += kChunk) {
+    size_t n = std::min(kChunk, c.size() - begin);
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = begin + j;
+      b.x[j] = c.x[i], b.y[j] = c.y[i], b.ux[j] = b.vx[j] = c.vx[i], b.uy[j] = b.vy[j] = c.vy[i], b.t[j] = 0;
+      id[j] = uint32_t(i), contacts[j] = 0;
+    }
+    while (n > 0) {
+      detail::batch_next_hits(g, bodies, nb, b, n, horizon);
+      size_t flying = 0;
+      for (size_t j = 0; j < n; ++j) {
+        const detail::HitKind kind = detail::code_kind(b.code[j]);
+        if (kind == detail::HitKind::None) continue;  // stays in the field
+        Fate& f = fates[id[j]];
+        const int index = detail::code_index(b.code[j]);
+        if (ends_at(f, kind, index, own_goal)) continue;
+        add_to_path(f, index);
+        if (++contacts[j] >= kMaxFateContacts) continue;
+        const float dt = b.when[j], t = b.t[j] + dt;
+        detail::Mover m{b.x[j] + b.ux[j] * dt, b.y[j] + b.uy[j] * dt, b.ux[j], b.uy[j], b.vx[j], b.vy[j]};
+        detail::resolve(g, bodies, kind, index, b.hnx[j], b.hny[j], t, m);
+        b.x[flying] = m.x, b.y[flying] = m.y, b.ux[flying] = m.ux, b.uy[flying] = m.uy;
+        b.vx[flying] = m.vx, b.vy[flying] = m.vy, b.t[flying] = t;
+        id[flying] = id[j], contacts[flying] = contacts[j];
+        ++flying;
+      }
+      n = flying;
+    }
+  }
 }
 
 }  // namespace
@@ -134,11 +181,11 @@ FateReport World::predict(float horizon) const {
   report.horizon = horizon;
   report.cloud_version = version_;
   report.group_of.resize(cloud_.size());
+  std::vector<Fate> fates(cloud_.size());
+  trace_fates(g, bodies.data(), nb, own.data(), cloud_, horizon, fates);
   std::unordered_map<uint64_t, uint32_t> index;
-  auto ignore = [](float, float) {};
   for (size_t i = 0; i < cloud_.size(); ++i) {
-    const detail::Mover m{cloud_.x[i], cloud_.y[i], cloud_.vx[i], cloud_.vy[i], cloud_.vx[i], cloud_.vy[i]};
-    const Fate f = trace_fate(g, bodies.data(), nb, own.data(), m, horizon, ignore);
+    const Fate& f = fates[i];
     auto [it, fresh] = index.try_emplace(f.key(), uint32_t(report.groups.size()));
     if (fresh) report.groups.push_back({f, 0, 0, 0, uint32_t(i), {}});
     FateGroup& group = report.groups[it->second];

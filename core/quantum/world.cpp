@@ -140,6 +140,9 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
 
 void World::decide(float dt, std::vector<Event>& events) {
   if (contacts_.empty()) return;
+  // Particle order makes the draw and the purgatory independent of the backend's visiting order.
+  std::sort(contacts_.begin(), contacts_.end(),
+            [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
   const int nb = int(field_.bodies.size()), ng = int(field_.goals.size());
   const int n_targets = nb + ng + 1;
   std::vector<Tally>& tally = internals_->tally;
