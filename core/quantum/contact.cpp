@@ -10,7 +10,6 @@ namespace {
 // A resolved contact leaves the ball this far outside the surface, so rounding never puts it
 // back inside.
 constexpr float kSkin = 2e-6f;
-constexpr int kMaxContactsPerStep = 8;
 
 float dot(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 // std::hypot guards against overflow at a large cost; field coordinates never come near it.
@@ -317,31 +316,6 @@ void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index,
     const float reach = b.radius + g.r + kSkin;
     m.x = body_x(b, t) + nx * reach, m.y = body_y(b, t) + ny * reach;
   }
-}
-
-Outcome trace_step(const Geometry& g, const BodyPath* bodies, int n_bodies, Mover& m, float dt) {
-  Outcome first{HitKind::None, -1};
-  float t = 0;
-  int contacts = 0;
-  for (; contacts < kMaxContactsPerStep; ++contacts) {
-    const Hit hit = next_hit(g, bodies, n_bodies, m, t, dt, first.kind == HitKind::None);
-    if (hit.kind == HitKind::None) {
-      m.x += m.ux * (dt - t), m.y += m.uy * (dt - t);
-      break;
-    }
-    m.x += m.ux * hit.dt, m.y += m.uy * hit.dt;
-    t += hit.dt;
-    if (hit.kind == HitKind::Goal || hit.kind == HitKind::Out) {
-      if (first.kind == HitKind::None) first = {hit.kind, hit.index};
-      return first;
-    }
-    resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
-    if (hit.kind == HitKind::Body) first = {HitKind::Body, hit.index};
-  }
-  // Exact contacts keep a ball out of walls; only a body can push it into one (a squeeze).
-  if (first.kind != HitKind::Body && contacts < kMaxContactsPerStep) return first;
-  const Outcome settled = settle(g, bodies, n_bodies, dt, m, first.kind != HitKind::None);
-  return first.kind == HitKind::None ? settled : first;
 }
 
 Outcome settle(const Geometry& g, const BodyPath* bodies, int n_bodies, float t, Mover& m, bool push_from_bodies) {

@@ -189,11 +189,6 @@ struct Outcome {
   int index;
 };
 
-// Moves m through one step of length dt and reports the first body, goal or out it met.
-// After a body contact the particle finishes the step against walls only: it now belongs to
-// that body's purgatory and its state must stay a valid ball state.
-Outcome trace_step(const Geometry& g, const BodyPath* bodies, int n_bodies, Mover& m, float dt);
-
 // Pushes m out of walls it overlaps. Bodies are at their positions at time t. With
 // `push_from_bodies` a particle inside a body is moved to its surface; otherwise it is reported
 // as a contact with that body. Crushed: stuck inside walls (or between a body and a wall).

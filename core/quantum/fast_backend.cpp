@@ -3,11 +3,14 @@
 // followed by an exact swept contact search only for the few particles near a wall, a goal line
 // or a body. See docs/PERFORMANCE.md for what it reaches.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include "quantum/backend.h"
 #include "quantum/contact.h"
 #include "quantum/noise.h"
+#include "step_tracer.h"
 
 namespace quantum {
 namespace {
@@ -17,7 +20,7 @@ constexpr int kBlock = 256;
 
 class FastBackend final : public Backend {
  public:
-  explicit FastBackend(const Field& field) : geometry_(field) { walls_.resize(kBatch); }
+  explicit FastBackend(const Field& field) : geometry_(field) {}
 
   void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) override {
     const detail::Geometry& g = geometry_;
@@ -45,8 +48,16 @@ class FastBackend final : public Backend {
     const uint32_t key = ctx.noise_key;
     const detail::Box s = g.safe;
 
+    const int ng = int(g.gax.size());
+    tracer_.begin(paths_.data(), nb, dt);
+    auto finish = [&](uint32_t i, const detail::Mover& m, detail::Outcome out) {
+      x[i] = m.x, y[i] = m.y, vx[i] = m.vx, vy[i] = m.vy;
+      if (out.kind != detail::HitKind::None) contacts.push_back({i, target_of(out, nb, ng)});
+    };
+
     alignas(64) float ox[kBlock], oy[kBlock];
-    alignas(64) int32_t flag[kBlock];
+    // Bit 0: needs the contact search. Bit 1: near a body, so the search must include bodies.
+    alignas(64) uint8_t flag[kBlock];
     int16_t slow[kBlock];
     for (int base = 0; base < n; base += kBlock) {
       const int m = std::min(kBlock, n - base);
@@ -58,8 +69,8 @@ class FastBackend final : public Backend {
         const float x1 = x0 + vx[i] * dt + dx, y1 = y0 + vy[i] * dt + dy;
         ox[j] = x0, oy[j] = y0;
         x[i] = x1, y[i] = y1;
-        flag[j] = (x0 < s.x0) | (x0 > s.x1) | (y0 < s.y0) | (y0 > s.y1) | (x1 < s.x0) | (x1 > s.x1) |
-                  (y1 < s.y0) | (y1 > s.y1);
+        flag[j] = uint8_t((x0 < s.x0) | (x0 > s.x1) | (y0 < s.y0) | (y0 > s.y1) | (x1 < s.x0) | (x1 > s.x1) |
+                          (y1 < s.y0) | (y1 > s.y1));
       }
       // Closest approach of the particle to the body over the step, both moving linearly: exact
       // up to a millimetre, so only particles that really touch a body take the slow path. A
@@ -74,35 +85,28 @@ class FastBackend final : public Backend {
           const float qw = qx * wx + qy * wy;
           const float t = std::clamp(-qw / std::max(ww, 1e-20f), 0.0f, 1.0f);
           const float cx = qx + t * wx, cy = qy + t * wy;
-          flag[j] |= int32_t(cx * cx + cy * cy < (qw >= 0 ? c.touch2 : c.reach2));
-          // Bit 1: near enough that a wall bounce might still send it into the body.
           const float around = c.around + 2 * (std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]));
-          flag[j] |= int32_t(qx * qx + qy * qy < around * around) << 1;
+          flag[j] |= uint8_t(uint8_t(cx * cx + cy * cy < (qw >= 0 ? c.touch2 : c.reach2)) |
+                             uint8_t(qx * qx + qy * qy < around * around) << 1);
         }
       }
-      // Branch-free compaction: a data-dependent branch per particle mispredicts constantly.
+      // Collect the flagged particles eight flags at a time: most words are all zero, and a branch
+      // per particle would mispredict constantly.
+      std::fill(flag + m, flag + ((m + 7) & ~7), uint8_t(0));
       int flagged = 0;
-      for (int j = 0; j < m; ++j) {
-        slow[flagged] = int16_t(j);
-        flagged += (flag[j] & 1) != 0;
+      for (int w = 0; w < m; w += 8) {
+        uint64_t word;
+        std::memcpy(&word, flag + w, 8);
+        for (word &= 0x0101010101010101ull; word; word &= word - 1)
+          slow[flagged++] = int16_t(w + std::countr_zero(word) / 8);
       }
       for (int q = 0; q < flagged; ++q) {
         const int j = slow[q], i = base + j;
-        detail::Mover mv{ox[j], oy[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i]};
-        if (!(flag[j] & 2)) {
-          // Near walls only: traced later with the others, vectorized across particles.
-          walls_.x[pending_] = mv.x, walls_.y[pending_] = mv.y, walls_.ux[pending_] = mv.ux, walls_.uy[pending_] = mv.uy;
-          walls_.vx[pending_] = mv.vx, walls_.vy[pending_] = mv.vy, walls_.t[pending_] = 0;
-          pending_id_[pending_] = uint32_t(i);
-          if (++pending_ == kBatch) trace_walls(cloud, dt, nb, contacts);
-          continue;
-        }
-        const detail::Outcome out = detail::trace_step(g, paths_.data(), nb, mv, dt);
-        x[i] = mv.x, y[i] = mv.y, vx[i] = mv.vx, vy[i] = mv.vy;
-        if (out.kind != detail::HitKind::None) contacts.push_back({uint32_t(i), target_of(out, nb)});
+        const detail::Mover mv{ox[j], oy[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i]};
+        tracer_.add(uint32_t(i), mv, (flag[j] & 2) != 0, finish);
       }
     }
-    trace_walls(cloud, dt, nb, contacts);
+    tracer_.finish_all(finish);
   }
 
  private:
@@ -114,64 +118,18 @@ class FastBackend final : public Backend {
     float around;  // a particle starting further than this plus twice its travel cannot touch it
   };
 
-  // Traces the pending wall-only particles through the rest of the step, all at once: the same
-  // contacts trace_step finds for them, one vectorized search per round of bounces.
-  void trace_walls(Cloud& cloud, float dt, int nb, std::vector<Contact>& contacts) {
-    const detail::Geometry& g = geometry_;
-    size_t n = pending_;
-    pending_ = 0;
-    std::fill(bounces_.begin(), bounces_.begin() + n, 0);
-    while (n > 0) {
-      detail::batch_next_hits(g, nullptr, 0, walls_, n, dt);
-      size_t moving = 0;
-      for (size_t j = 0; j < n; ++j) {
-        const detail::HitKind kind = detail::code_kind(walls_.code[j]);
-        const float t = walls_.t[j], until = kind == detail::HitKind::None ? dt - t : walls_.when[j];
-        detail::Mover m{walls_.x[j] + walls_.ux[j] * until, walls_.y[j] + walls_.uy[j] * until, walls_.ux[j],
-                        walls_.uy[j], walls_.vx[j], walls_.vy[j]};
-        const uint32_t i = pending_id_[j];
-        bool done = kind != detail::HitKind::Wall;
-        if (kind == detail::HitKind::Goal || kind == detail::HitKind::Out)
-          contacts.push_back({i, target_of({kind, detail::code_index(walls_.code[j])}, nb)});
-        if (kind == detail::HitKind::Wall) {
-          detail::resolve(g, nullptr, kind, 0, walls_.hnx[j], walls_.hny[j], t + until, m);
-          if (++bounces_[j] == kMaxBounces) {  // rattling in a corner: stop it where it is
-            const detail::Outcome out = detail::settle(g, nullptr, 0, dt, m, false);
-            if (out.kind != detail::HitKind::None) contacts.push_back({i, target_of(out, nb)});
-            done = true;
-          }
-        }
-        if (done) {
-          cloud.x[i] = m.x, cloud.y[i] = m.y, cloud.vx[i] = m.vx, cloud.vy[i] = m.vy;
-          continue;
-        }
-        walls_.x[moving] = m.x, walls_.y[moving] = m.y, walls_.ux[moving] = m.ux, walls_.uy[moving] = m.uy;
-        walls_.vx[moving] = m.vx, walls_.vy[moving] = m.vy, walls_.t[moving] = t + until;
-        pending_id_[moving] = i, bounces_[moving] = bounces_[j];
-        ++moving;
-      }
-      n = moving;
-    }
-  }
-
-  int32_t target_of(detail::Outcome out, int nb) const {
+  static int32_t target_of(detail::Outcome out, int nb, int ng) {
     switch (out.kind) {
       case detail::HitKind::Body: return out.index;
       case detail::HitKind::Goal: return nb + out.index;
-      case detail::HitKind::Out: return nb + int32_t(geometry_.gax.size());
+      case detail::HitKind::Out: return nb + ng;
       default: return kCrushed;
     }
   }
 
-  static constexpr size_t kBatch = 512;
-  static constexpr int kMaxBounces = 8;  // as trace_step
-
   detail::Geometry geometry_;
+  detail::StepTracer tracer_{geometry_};
   std::vector<detail::BodyPath> paths_;
-  detail::MoverBatch walls_;
-  std::vector<uint32_t> pending_id_ = std::vector<uint32_t>(kBatch);
-  std::vector<uint8_t> bounces_ = std::vector<uint8_t>(kBatch);
-  size_t pending_ = 0;
   std::vector<Near> near_;
 };
 

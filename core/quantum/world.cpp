@@ -228,17 +228,24 @@ void World::realize_body(int body, float dt) {
     now[k] = {p.x, p.y, 0, 0, 0, 0, 0, field_.bodies[k].radius};
   }
   scratch_.clear();
+  detail::StepTracer& tracer = internals_->tracer;
   for (uint32_t age = config_.purgatory_frames; age-- > 0;) {
     if (age >= step_) continue;
     const uint32_t slot = (step_ - age) % config_.purgatory_frames;
     if (slot_step_[slot] != step_ - age) continue;
     const Cloud& from = purgatory_[body * config_.purgatory_frames + slot];
-    for (size_t i = 0; i < from.size(); ++i) {
-      detail::Mover m{from.x[i], from.y[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i]};
-      if (age > 0 && detail::trace_step(g, nullptr, 0, m, float(age) * dt).kind != detail::HitKind::None) continue;
-      if (detail::settle(g, now.data(), nb, 0, m, true).kind != detail::HitKind::None) continue;
+    auto keep = [&](uint32_t i, detail::Mover m, detail::Outcome out) {
+      if (out.kind != detail::HitKind::None) return;  // went in, or out, while catching up
+      if (detail::settle(g, now.data(), nb, 0, m, true).kind != detail::HitKind::None) return;
       scratch_.push(m.x, m.y, m.vx, m.vy, from.w[i], from.w[i]);
+    };
+    tracer.begin(nullptr, 0, float(age) * dt);
+    for (size_t i = 0; i < from.size(); ++i) {
+      const detail::Mover m{from.x[i], from.y[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i]};
+      if (age == 0) keep(uint32_t(i), m, {detail::HitKind::None, -1});
+      else tracer.add(uint32_t(i), m, false, keep);
     }
+    tracer.finish_all(keep);
   }
   std::swap(cloud_, scratch_);
   clear_purgatory();

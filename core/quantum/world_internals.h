@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "quantum/contact.h"
+#include "step_tracer.h"
 
 namespace quantum {
 
@@ -13,8 +14,9 @@ struct Tally {
 };
 
 struct WorldInternals {
-  explicit WorldInternals(const Field& field) : geometry(field) {}
+  explicit WorldInternals(const Field& field) : geometry(field), tracer(geometry) {}
   detail::Geometry geometry;
+  detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
   std::vector<detail::BodyPath> resting;  // bodies held at their current positions
   std::vector<Tally> tally;               // per decision target, reused every step
 };
