@@ -22,7 +22,14 @@ void Cloud::push_from(const Cloud& o, size_t i) { push(o.x[i], o.y[i], o.vx[i], 
 void Cloud::remove_sorted(const std::vector<uint32_t>& indices) {
   size_t last = size();
   // Walk from the back so a particle moved into a hole is never one still to be removed.
+  constexpr size_t kAhead = 8;  // holes are scattered over the cloud: fetch them early
   for (size_t k = indices.size(); k-- > 0;) {
+    if (k >= kAhead) {
+      const size_t h = indices[k - kAhead];
+      for (const void* p : {(const void*)&x[h], (const void*)&y[h], (const void*)&vx[h], (const void*)&vy[h],
+                            (const void*)&w[h], (const void*)&tw[h]})
+        __builtin_prefetch(p, 1);
+    }
     const size_t i = indices[k];
     mass -= w[i], tmass -= tw[i];
     --last;

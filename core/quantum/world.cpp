@@ -149,10 +149,18 @@ void World::decide(float dt, std::vector<Event>& events) {
   std::fill(tally.begin(), tally.end(), Tally{});
   const uint32_t slot = step_ % config_.purgatory_frames;
   removed_.clear();
-  double removed_tweaked = 0;
-  for (const Contact& c : contacts_) {
+  // Contacts are scattered over a cloud of up to millions: fetch a few ahead, or every one of
+  // them waits for memory.
+  constexpr size_t kAhead = 8;
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    if (k + kAhead < contacts_.size()) {
+      const uint32_t ahead = contacts_[k + kAhead].particle;
+      for (const void* p : {(const void*)&cloud_.w[ahead], (const void*)&cloud_.tw[ahead], (const void*)&cloud_.x[ahead],
+                            (const void*)&cloud_.y[ahead], (const void*)&cloud_.vx[ahead], (const void*)&cloud_.vy[ahead]})
+        __builtin_prefetch(p);
+    }
+    const Contact& c = contacts_[k];
     removed_.push_back(c.particle);
-    removed_tweaked += cloud_.tw[c.particle];
     if (c.target == kCrushed) continue;
     Tally& t = tally[c.target];
     const double w = cloud_.w[c.particle];
