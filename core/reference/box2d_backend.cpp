@@ -17,6 +17,19 @@ constexpr uintptr_t kBodyTag = uintptr_t(1) << 40;
 // at the ball's radius; growing bodies by it keeps body contact there too.
 constexpr float kSkin = b2_polygonRadius;
 
+// A wall or body: frictionless, bouncing at every speed (Box2D's default threshold of 1 m/s
+// would stop slow bounces that the fast core keeps).
+b2FixtureDef solid(const b2Shape* shape, float restitution, uintptr_t tag) {
+  b2FixtureDef fd;
+  fd.shape = shape;
+  fd.friction = 0;
+  fd.restitution = restitution;
+  fd.restitutionThreshold = 0;
+  fd.filter.categoryBits = kSolid;
+  fd.userData.pointer = tag;
+  return fd;
+}
+
 // Which particle first touched which body during one Step.
 class BodyContacts final : public b2ContactListener {
  public:
@@ -57,12 +70,7 @@ class Box2DBackend final : public Backend {
     for (const Segment& s : field.segments) {
       b2EdgeShape edge;
       edge.SetTwoSided(b2Vec2(s.a.x, s.a.y), b2Vec2(s.b.x, s.b.y));
-      b2FixtureDef fd;
-      fd.shape = &edge;
-      fd.friction = 0;
-      fd.restitution = field.wall_restitution;
-      fd.restitutionThreshold = 0;
-      fd.filter.categoryBits = kSolid;
+      const b2FixtureDef fd = solid(&edge, field.wall_restitution, 0);
       ground->CreateFixture(&fd);
     }
     for (size_t k = 0; k < field.bodies.size(); ++k) {
@@ -72,13 +80,7 @@ class Box2DBackend final : public Backend {
       b2Body* body = world_.CreateBody(&bd);
       b2CircleShape circle;
       circle.m_radius = field.bodies[k].radius + kSkin;
-      b2FixtureDef fd;
-      fd.shape = &circle;
-      fd.friction = 0;
-      fd.restitution = field.body_restitution;
-      fd.restitutionThreshold = 0;
-      fd.filter.categoryBits = kSolid;
-      fd.userData.pointer = kBodyTag + k;
+      const b2FixtureDef fd = solid(&circle, field.body_restitution, kBodyTag + k);
       body->CreateFixture(&fd);
       bodies_.push_back(body);
     }

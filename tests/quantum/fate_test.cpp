@@ -66,14 +66,8 @@ TEST(Fate, ShotIntoOwnGoalAfterATouchIsAnOwnGoal) {
   f.bodies[0].start = {-0.5f, 0};
   World world(f, WorldConfig{.particles = 1});
   world.set_cloud(test::single(-0.7f, 0, 0, 0));
-  std::vector<Event> events;
-  std::vector<BodyInput> in = test::resting(f);
-  Vec2 blue{-0.5f, 0.0f};
-  for (int s = 0; s < 30 && events.empty(); ++s) {
-    blue.x -= 1.5f * kDt;
-    in[0] = {blue, {-1.5f, 0}};
-    world.step(kDt, in, events);
-  }
+  std::vector<BodyInput> in;
+  std::vector<Event> events = test::strike(world, 0, {-0.5f, 0.0f}, {-1.5f, 0}, in);
   ASSERT_EQ(world.last_touch(), 0);
   in[0].velocity = {0, 0};
   world.step(kDt, in, events);  // the mallet stops; the puck flies on

@@ -114,14 +114,9 @@ TEST(Step, MovingMalletTransfersItsVelocity) {
   const Field f = test::quiet_airhockey();
   World world(f, WorldConfig{.particles = 1});
   world.set_cloud(test::single(0.5f, 0.0f, 0, 0));
-  std::vector<Event> events;
-  std::vector<BodyInput> in = test::resting(f);
-  Vec2 red{0.7f, 0.0f};
-  for (int s = 0; s < 30 && events.empty(); ++s) {
-    red.x -= 2.0f * kDt;
-    in[1] = {red, {-2.0f, 0}};
-    world.step(kDt, in, events);
-  }
+  std::vector<BodyInput> in;
+  const std::vector<Event> events = test::strike(world, 1, {0.7f, 0.0f}, {-2.0f, 0}, in);
+  const Vec2 red = in[1].position;
   ASSERT_EQ(events.size(), 1u);
   EXPECT_EQ(events[0].type, EventType::Hit);
   EXPECT_EQ(events[0].actor, 1);
@@ -207,15 +202,8 @@ TEST(Step, ParticlesSplitAtACollisionLeaveInSlightlyDifferentDirections) {
   config.split_jitter = 0.05f;
   World world(f, config);
   world.set_cloud(test::single(0.5f, 0.0f, 0, 0));
-  std::vector<Event> events;
-  std::vector<BodyInput> in = test::resting(f);
-  Vec2 red{0.7f, 0.0f};
-  for (int s = 0; s < 30 && events.empty(); ++s) {
-    red.x -= 2.0f * kDt;
-    in[1] = {red, {-2.0f, 0}};
-    world.step(kDt, in, events);
-  }
-  ASSERT_EQ(events.size(), 1u);
+  std::vector<BodyInput> in;
+  ASSERT_EQ(test::strike(world, 1, {0.7f, 0.0f}, {-2.0f, 0}, in).size(), 1u);
   const Cloud& c = world.cloud();
   ASSERT_EQ(c.size(), 200u);  // split back to the target at once
   float lo = 10, hi = -10;

@@ -42,6 +42,21 @@ inline std::vector<BodyInput> resting(const Field& f) {
   return in;
 }
 
+// Body k starts at `from` and moves at `velocity` until something is realized (at most half a
+// second). Returns the events and leaves the last input in `in`.
+inline std::vector<Event> strike(World& world, int k, Vec2 from, Vec2 velocity, std::vector<BodyInput>& in) {
+  constexpr float kDt = 1.0f / 60;
+  in = resting(world.field());
+  std::vector<Event> events;
+  Vec2 at = from;
+  for (int s = 0; s < 30 && events.empty(); ++s) {
+    at.x += velocity.x * kDt, at.y += velocity.y * kDt;
+    in[k] = {at, velocity};
+    world.step(kDt, in, events);
+  }
+  return events;
+}
+
 inline double weight_sum(const Cloud& c) {
   double s = 0;
   for (size_t i = 0; i < c.size(); ++i) s += c.weight(i);
