@@ -63,7 +63,10 @@ class Reader {
       const std::string key = lua_tostring(L, -1);
       if (!allowed.count(key)) {
         std::string list;
-        for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+        for (const char* k : known) {
+          if (!list.empty()) list += ", ";
+          list += k;
+        }
         lua_pop(L, 1);
         fail(place, "unknown key '" + key + "' (known: " + list + ")");
       }

@@ -194,8 +194,10 @@ void World::decide(float dt, std::vector<Event>& events) {
     cloud_.remove_sorted(removed_);
     if (cloud_.empty()) {
       end_ball();
-    } else if (!(cloud_.mass > 0 && cloud_.tmass > 0) || cloud_.mass < 1e-6 || cloud_.tmass < 1e-6) {
-      cloud_.normalize();  // re-sum before subtraction loses precision
+    } else if (!(cloud_.mass > 1e-3 && cloud_.tmass > 1e-3)) {
+      // The sums are kept by subtraction; re-sum once they have shrunk a thousandfold, long
+      // before rounding could show in the normalized weights (a pass every few hundred steps).
+      cloud_.normalize();
     }
     return;
   }

@@ -121,7 +121,9 @@ TEST(Fate, ReportGroupsCountsMassesAndTrajectories) {
     ASSERT_GE(group.trajectory.size(), 2u);
     EXPECT_FLOAT_EQ(group.trajectory.front().x, 0.2f);
     EXPECT_GE(group.trajectory.size(), size_t(group.fate.path_len) + 2);  // start, walls, end
-    if (group.fate.kind == FateKind::Goal) EXPECT_NEAR(std::fabs(group.trajectory.back().x), 1.0f, 1e-4);
+    if (group.fate.kind == FateKind::Goal) {
+      EXPECT_NEAR(std::fabs(group.trajectory.back().x), 1.0f, 1e-4);
+    }
   }
   EXPECT_NEAR(mass, 1.0, 1e-12);
   EXPECT_NEAR(tweaked, 1.0, 1e-12);
