@@ -26,5 +26,11 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)"
+mkdir -p build
+log=build/setup.log
+if ! { cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build -j"$(nproc)"; } >"$log" 2>&1; then
+  cat "$log"
+  echo "setup: the build failed (log above, also in $log)" >&2
+  exit 1
+fi
+echo "setup: built (log in $log)"
