@@ -56,7 +56,7 @@ class FastBackend final : public Backend {
     };
 
     alignas(64) float ox[kBlock], oy[kBlock];
-    // Bit 0: needs the contact search. Bit 1: near a body, so the search must include bodies.
+    // Non-zero: needs the contact search.
     alignas(64) uint8_t flag[kBlock];
     int16_t slow[kBlock];
     for (int base = 0; base < n; base += kBlock) {
@@ -77,17 +77,19 @@ class FastBackend final : public Backend {
       // separating pair (a shot just leaving the mallet) can only touch if it overlaps already.
       for (int k = 0; k < nb; ++k) {
         const Near c = near_[k];
+#pragma GCC ivdep
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
           const float qx = ox[j] - c.x, qy = oy[j] - c.y;
           const float wx = (x[i] - ox[j]) - c.dx, wy = (y[i] - oy[j]) - c.dy;
-          const float ww = wx * wx + wy * wy;
-          const float qw = qx * wx + qy * wy;
-          const float t = std::clamp(-qw / std::max(ww, 1e-20f), 0.0f, 1.0f);
-          const float cx = qx + t * wx, cy = qy + t * wy;
-          const float around = c.around + 2 * (std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]));
-          flag[j] |= uint8_t(uint8_t(cx * cx + cy * cy < (qw >= 0 ? c.touch2 : c.reach2)) |
-                             uint8_t(qx * qx + qy * qy < around * around) << 1);
+          const float qq = qx * qx + qy * qy, ww = wx * wx + wy * wy, qw = qx * wx + qy * wy;
+          // min over t in [0, 1] of |q + t w|^2 < R^2, without a division: at t = 0 when
+          // separating, at t = 1 when still closing at the end, else (qq - R^2) ww < qw^2.
+          const bool separating = qw >= 0, closing_at_end = -qw >= ww;
+          const bool touches = (separating & (qq < c.touch2)) |
+                               (!separating & closing_at_end & (qq + 2 * qw + ww < c.reach2)) |
+                               (!separating & !closing_at_end & ((qq - c.reach2) * ww < qw * qw));
+          flag[j] |= uint8_t(touches);
         }
       }
       // Collect the flagged particles eight flags at a time: most words are all zero, and a branch
@@ -103,7 +105,7 @@ class FastBackend final : public Backend {
       for (int q = 0; q < flagged; ++q) {
         const int j = slow[q], i = base + j;
         const detail::Mover mv{ox[j], oy[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i]};
-        tracer_.add(uint32_t(i), mv, (flag[j] & 2) != 0, finish);
+        tracer_.add(uint32_t(i), mv, near_a_body(mv, dt, nb), finish);
       }
     }
     tracer_.finish_all(finish);
@@ -117,6 +119,18 @@ class FastBackend final : public Backend {
     float touch2;  // squared distance below which a particle overlaps the body
     float around;  // a particle starting further than this plus twice its travel cannot touch it
   };
+
+  // Whether a flagged particle's bounces could bring it to a body this step: a bounce keeps it
+  // within its own travel of where it started, so beyond the body's sweep plus that it cannot.
+  bool near_a_body(const detail::Mover& m, float dt, int nb) const {
+    const float travel = 2 * (std::fabs(m.ux) + std::fabs(m.uy)) * dt;
+    for (int k = 0; k < nb; ++k) {
+      const Near& c = near_[k];
+      const float qx = m.x - c.x, qy = m.y - c.y, around = c.around + travel;
+      if (qx * qx + qy * qy < around * around) return true;
+    }
+    return false;
+  }
 
   static int32_t target_of(detail::Outcome out, int nb, int ng) {
     switch (out.kind) {
