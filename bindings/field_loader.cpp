@@ -1,7 +1,6 @@
 #include "field_loader.h"
 
-#include <lua.hpp>
-#include <luajit.h>
+#include "lua_sandbox.h"
 
 #include <filesystem>
 #include <set>
@@ -13,36 +12,6 @@ namespace {
 // A field file is data: a runaway loop or a memory bomb in it is a mistake to report, not a hang.
 constexpr int kInstructionBudget = 10'000'000;
 constexpr size_t kMemoryBudget = 64u << 20;
-
-struct Budget {
-  size_t used = 0;
-};
-
-void* capped_alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
-  auto* budget = static_cast<Budget*>(ud);
-  if (new_size == 0) {
-    budget->used -= old_size;
-    free(ptr);
-    return nullptr;
-  }
-  if (ptr == nullptr) old_size = 0;
-  if (new_size > old_size && budget->used + (new_size - old_size) > kMemoryBudget) return nullptr;
-  void* p = realloc(ptr, new_size);
-  if (p) budget->used = budget->used + new_size - old_size;
-  return p;
-}
-
-void on_budget_spent(lua_State* L, lua_Debug*) { luaL_error(L, "field file runs too long (endless loop?)"); }
-
-struct State {
-  Budget budget;
-  lua_State* L;
-  State() : L(lua_newstate(capped_alloc, &budget)) {
-    if (!L) L = luaL_newstate();  // builds whose allocator cannot be replaced: no memory cap
-    if (!L) throw std::runtime_error("cannot create a Lua state");
-  }
-  ~State() { lua_close(L); }
-};
 
 // Walks the returned table, naming every place it looks at.
 class Reader {
@@ -235,30 +204,14 @@ std::string field_file(const std::string& path) {
 Field load_field(const std::string& path) {
   const std::string file = field_file(path);
   if (!std::filesystem::exists(file)) throw FieldError(file, "no such field file");
-  State state;
-  lua_State* L = state.L;
-  luaJIT_setmode(L, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);  // count hooks skip compiled code
-  lua_pushcfunction(L, luaopen_math);
-  lua_pushstring(L, LUA_MATHLIBNAME);
-  lua_call(L, 1, 1);
-  const int math = lua_gettop(L);
-
-  // Lua's own messages start with "file:line:"; the others get the file put in front.
-  auto lua_error = [&](const char* message) {
-    const std::string m = message ? message : "not enough memory";
-    return m.rfind(file, 0) == 0 ? FieldError("", m) : FieldError(file, m);
-  };
-  const int status = luaL_loadfilex(L, file.c_str(), "t");
-  if (status == LUA_ERRSYNTAX && std::string(lua_tostring(L, -1)).find("wrong mode") != std::string::npos)
-    throw FieldError(file, "binary chunk (precompiled bytecode) refused: field files must be Lua text");
-  if (status != 0) throw lua_error(lua_tostring(L, -1));
-  lua_newtable(L);  // the sandbox: math and nothing else
-  lua_pushvalue(L, math);
-  lua_setfield(L, -2, "math");
-  lua_setfenv(L, -2);
-  lua_sethook(L, on_budget_spent, LUA_MASKCOUNT, kInstructionBudget);
-  if (lua_pcall(L, 0, 1, 0) != 0) throw lua_error(lua_tostring(L, -1));
-  lua_sethook(L, nullptr, 0, 0);
+  Sandbox sandbox(kMemoryBudget, kInstructionBudget, false);
+  lua_State* L = sandbox.L();
+  try {
+    sandbox.run_file(file);
+  } catch (const ScriptError& e) {
+    // Lua's own messages start with "file:line:".
+    throw FieldError("", e.what());
+  }
   if (!lua_istable(L, -1)) throw FieldError(file, std::string("must return a table, returned ") + luaL_typename(L, -1));
   Reader reader(L);
   try {

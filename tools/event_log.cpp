@@ -40,6 +40,7 @@ std::string event_json(const Event& e, const Field& f) {
   j["particles"] = e.particles;
   j["x"] = rounded(e.at.x);
   j["y"] = rounded(e.at.y);
+  if (e.type == EventType::Hit) j["vx"] = rounded(e.velocity.x), j["vy"] = rounded(e.velocity.y);
   return j.dump();
 }
 

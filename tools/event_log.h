@@ -8,7 +8,8 @@
 
 namespace quantum::tools {
 
-// One JSON object, no newline: {"t", "type", "actor", "team", "p", "p_newtonian", "particles", "x", "y"}.
+// One JSON object, no newline: {"t", "type", "actor", "team", "p", "p_newtonian", "particles", "x", "y"},
+// plus "vx", "vy" (the shot's mean velocity) for a hit.
 // actor and team name the spot (drop), the body (hit) or the goal (goal, own_goal: the team
 // defending it); out has actor "out" and no team.
 std::string event_json(const Event& e, const Field& field);

@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "play.h"
 #include "simulate.h"
 
 int main(int argc, char** argv) {
@@ -24,8 +25,27 @@ int main(int argc, char** argv) {
   simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
       ->capture_default_str()->check(CLI::Range(1u, 600u));
 
+  quantum::tools::PlayOptions game;
+  std::string skills, handicaps;
+  CLI::App* play = app.add_subcommand("play", "play a match of a sport between simulated players");
+  play->add_option("SPORT", game.sport, "sport folder")->capture_default_str();
+  play->add_option("--input", game.input, "where the players come from: bots (simulated players)")->capture_default_str();
+  play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str();
+  play->add_option("--seconds", game.seconds, "time limit (default: the sport's)");
+  play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)")
+      ->check(CLI::Range(1u, 10'000'000u));
+  play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)");
+  play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
+  play->add_option("--handicap", handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
+  play->add_flag("--quiet", [&](int64_t) { game.transcript = false; }, "no transcript");
+
   CLI11_PARSE(app, argc, argv);
   try {
+    if (play->parsed()) {
+      if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");
+      if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");
+      quantum::tools::play(game, game.events == "-" ? std::cerr : std::cout, std::cerr);
+    }
     if (simulate->parsed()) {
       // With events on stdout the summary moves to stderr, keeping stdout pure JSON lines.
       quantum::tools::simulate(sim, sim.events == "-" ? std::cerr : std::cout);

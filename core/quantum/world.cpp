@@ -65,7 +65,7 @@ void World::drop(int spot, std::vector<Event>& events) {
   live_ = true;
   last_touch_ = -1;
   ++version_;
-  events.push_back({time_, EventType::Drop, spot, 1, 1, 1, at});
+  events.push_back({time_, EventType::Drop, spot, 1, 1, 1, at, {0, 0}});
 }
 
 void World::set_cloud(Cloud c) {
@@ -203,9 +203,11 @@ void World::decide(float dt, std::vector<Event>& events) {
   }
   const Tally& t = tally[realized];
   Event e{time_, EventType::Hit, realized, t.tweaked / total, t.newtonian / total_newtonian, t.count,
-          Vec2{float(t.cx / t.newtonian), float(t.cy / t.newtonian)}};
+          Vec2{float(t.cx / t.newtonian), float(t.cy / t.newtonian)}, Vec2{0, 0}};
   if (realized < nb) {
     realize_body(realized, dt);
+    for (size_t i = 0; i < cloud_.size(); ++i)
+      e.velocity.x += float(cloud_.weight(i) * cloud_.vx[i]), e.velocity.y += float(cloud_.weight(i) * cloud_.vy[i]);
   } else if (realized < nb + ng) {
     const int goal = realized - nb;
     e.actor = goal;

@@ -34,6 +34,7 @@ struct Event {
   double p_newtonian;   // the same without fate factors
   uint32_t particles;   // particles that carried the outcome
   Vec2 at;              // weighted centre of those particles
+  Vec2 velocity;        // hit: the shot's mean velocity, what a player sees of the swing; else 0
 };
 
 struct BodyInput {

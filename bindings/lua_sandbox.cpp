@@ -1,0 +1,85 @@
+#include "lua_sandbox.h"
+
+#include <luajit.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <vector>
+
+namespace quantum::lua {
+
+void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
+  auto* budget = static_cast<Budget*>(ud);
+  if (new_size == 0) {
+    budget->used -= old_size;
+    std::free(ptr);
+    return nullptr;
+  }
+  if (ptr == nullptr) old_size = 0;
+  if (new_size > old_size && budget->used + (new_size - old_size) > budget->limit) return nullptr;
+  void* p = std::realloc(ptr, new_size);
+  if (p) budget->used = budget->used + new_size - old_size;
+  return p;
+}
+
+void Sandbox::on_budget_spent(lua_State* L, lua_Debug*) { luaL_error(L, "script runs too long (endless loop?)"); }
+
+Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules) : instructions_(instruction_budget) {
+  budget_.limit = memory_budget;
+  L_ = lua_newstate(alloc, &budget_);
+  if (!L_) L_ = luaL_newstate();  // builds whose allocator cannot be replaced: no memory cap
+  if (!L_) throw std::runtime_error("cannot create a Lua state");
+  // Count hooks do not fire inside compiled traces, so the budget needs the interpreter. Rules
+  // run a few times a second; the JIT would not pay for itself.
+  luaJIT_setmode(L_, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
+  luaL_openlibs(L_);
+  lua_newtable(L_);
+  const int env = lua_gettop(L_);
+  const char* base[] = {"assert", "error",    "ipairs", "next",   "pairs",  "pcall",  "select", "tonumber",
+                        "tostring", "type", "unpack", "rawequal", "rawget", "rawset", "setmetatable",
+                        "getmetatable", "xpcall", "print"};
+  for (const char* name : base) {
+    lua_getglobal(L_, name);
+    lua_setfield(L_, env, name);
+  }
+  std::vector<const char*> libs = {"math"};
+  if (rules) libs.insert(libs.end(), {"string", "table"});
+  for (const char* name : libs) {
+    lua_getglobal(L_, name);
+    lua_setfield(L_, env, name);
+  }
+  lua_pushvalue(L_, env);
+  lua_setfield(L_, env, "_G");
+  env_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+}
+
+Sandbox::~Sandbox() { lua_close(L_); }
+
+bool Sandbox::call(int nargs, int nresults, std::string& error) {
+  lua_sethook(L_, on_budget_spent, LUA_MASKCOUNT, instructions_);
+  const int status = lua_pcall(L_, nargs, nresults, 0);
+  lua_sethook(L_, nullptr, 0, 0);
+  if (status == 0) return true;
+  const char* m = lua_tostring(L_, -1);
+  error = m ? m : (status == LUA_ERRMEM ? "not enough memory" : "error object is not a string");
+  lua_pop(L_, 1);
+  return false;
+}
+
+void Sandbox::run_file(const std::string& file) {
+  if (!std::filesystem::exists(file)) throw ScriptError(file + ": no such file");
+  const int status = luaL_loadfilex(L_, file.c_str(), "t");
+  if (status != 0) {
+    std::string m = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "not enough memory";
+    lua_pop(L_, 1);
+    if (m.find("wrong mode") != std::string::npos)
+      m = file + ": binary chunk (precompiled bytecode) refused: scripts must be Lua text";
+    throw ScriptError(m.rfind(file, 0) == 0 ? m : file + ": " + m);
+  }
+  lua_rawgeti(L_, LUA_REGISTRYINDEX, env_);
+  lua_setfenv(L_, -2);
+  std::string error;
+  if (!call(0, 1, error)) throw ScriptError(error.rfind(file, 0) == 0 ? error : file + ": " + error);
+}
+
+}  // namespace quantum::lua

@@ -1,0 +1,241 @@
+#include "sport.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "field_loader.h"
+
+namespace quantum::lua {
+namespace {
+
+constexpr size_t kMemoryBudget = 64u << 20;
+constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops forever is skipped
+
+const char* const kHandlers[] = {"drop", "shot", "intercept", "goal", "own_goal", "out", "time_up", "match_end"};
+
+}  // namespace
+
+Sport::Sport(const std::string& folder)
+    : folder_(folder),
+      file_((std::filesystem::path(folder) / "sport.lua").string()),
+      sandbox_(kMemoryBudget, kInstructionBudget, true) {
+  if (!std::filesystem::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
+  lua_State* L = sandbox_.L();
+  sandbox_.run_file(file_);
+  auto fail = [&](const std::string& place, const std::string& message) -> ScriptError {
+    return ScriptError(file_ + ": " + place + ": " + message);
+  };
+  if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
+  const int t = lua_gettop(L);
+  auto typed = [&](int table, const char* key, int type, const std::string& place) {
+    lua_getfield(L, table, key);
+    if (lua_isnil(L, -1)) return false;
+    if (lua_type(L, -1) != type)
+      throw fail(place.empty() ? key : place + "." + key,
+                 std::string("expected a ") + lua_typename(L, type) + ", got " + luaL_typename(L, -1));
+    return true;
+  };
+  name_ = folder;
+  if (typed(t, "name", LUA_TSTRING, "")) name_ = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  std::string field_name = "field.lua";
+  if (typed(t, "field", LUA_TSTRING, "")) field_name = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  field_ = load_field((std::filesystem::path(folder) / field_name).string());
+  if (typed(t, "particles", LUA_TNUMBER, "")) {
+    const double n = lua_tonumber(L, -1);
+    if (!(n >= 1 && n <= 10'000'000)) throw fail("particles", "must be between 1 and 10,000,000");
+    particles_ = uint32_t(n);
+  }
+  lua_pop(L, 1);
+  if (typed(t, "match", LUA_TTABLE, "")) {
+    const int m = lua_gettop(L);
+    if (typed(m, "seconds", LUA_TNUMBER, "match")) {
+      seconds_ = lua_tonumber(L, -1);
+      if (!(seconds_ > 0 && seconds_ <= 24 * 3600)) throw fail("match.seconds", "must be in (0, 86400]");
+    }
+    lua_pop(L, 1);
+    if (typed(m, "start", LUA_TSTRING, "match")) {
+      const std::string where = lua_tostring(L, -1);
+      first_spot_ = -1;
+      for (size_t s = 0; s < field_.spots.size() && first_spot_ < 0; ++s)
+        if (field_.spots[s].name == where) first_spot_ = int(s);
+      if (first_spot_ < 0) first_spot_ = field_.spot_of_team(where);
+      if (first_spot_ < 0) throw fail("match.start", "no spot or team '" + where + "' in the field");
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  handicaps_.assign(field_.bodies.size(), 1.0);
+  if (typed(t, "handicaps", LUA_TTABLE, "")) {
+    for (size_t k = 0; k < field_.bodies.size(); ++k) {
+      if (typed(lua_gettop(L), field_.bodies[k].name.c_str(), LUA_TNUMBER, "handicaps")) {
+        handicaps_[k] = lua_tonumber(L, -1);
+        if (!(handicaps_[k] > 0 && std::isfinite(handicaps_[k]))) throw fail("handicaps." + field_.bodies[k].name, "must be > 0");
+      }
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  if (typed(t, "factors", LUA_TTABLE, "")) {
+    for (const char* kind : {"goal", "own_goal", "body", "out", "field"}) {
+      if (typed(lua_gettop(L), kind, LUA_TNUMBER, "factors") && !(lua_tonumber(L, -1) >= 0))
+        throw fail(std::string("factors.") + kind, "must be >= 0");
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  if (typed(t, "phrases", LUA_TTABLE, "")) {
+    lua_pushnil(L);
+    while (lua_next(L, -2)) {
+      if (lua_type(L, -2) != LUA_TSTRING || lua_type(L, -1) != LUA_TSTRING)
+        throw fail("phrases", "expected text for every key, e.g. shot = \"{team} shoots\"");
+      phrases_[lua_tostring(L, -2)] = lua_tostring(L, -1);
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  if (typed(t, "on", LUA_TTABLE, "")) {
+    lua_pushnil(L);
+    while (lua_next(L, -2)) {
+      const std::string key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?";
+      if (std::find(std::begin(kHandlers), std::end(kHandlers), key) == std::end(kHandlers))
+        throw fail("on." + key, "unknown event (known: drop, shot, intercept, goal, own_goal, out, time_up, match_end)");
+      if (!lua_isfunction(L, -1)) throw fail("on." + key, std::string("expected a function, got ") + luaL_typename(L, -1));
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  if (typed(t, "modifiers", LUA_TTABLE, "")) {
+    for (size_t i = 1; i <= lua_objlen(L, -1); ++i) {
+      lua_rawgeti(L, -1, int(i));
+      if (!lua_isfunction(L, -1))
+        throw fail("modifiers[" + std::to_string(i) + "]", std::string("expected a function, got ") + luaL_typename(L, -1));
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  push_game_api(L, this);
+  game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+Sport::~Sport() = default;
+
+std::string Sport::phrase(const std::string& key, const std::map<std::string, std::string>& vars) const {
+  const auto it = phrases_.find(key);
+  const std::string& text = it == phrases_.end() ? key : it->second;
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const size_t close = text[i] == '{' ? text.find('}', i) : std::string::npos;
+    const auto var = close == std::string::npos ? vars.end() : vars.find(text.substr(i + 1, close - i - 1));
+    if (var == vars.end()) {
+      out += text[i];
+      continue;
+    }
+    out += var->second;
+    i = close;
+  }
+  return out;
+}
+
+void Sport::push_fate(const game::FateView& f) {
+  lua_State* L = sandbox_.L();
+  lua_createtable(L, 0, 8);
+  auto set = [&](const char* key, const std::string& value) {
+    lua_pushstring(L, value.c_str());
+    lua_setfield(L, -2, key);
+  };
+  set("kind", f.kind), set("actor", f.actor), set("team", f.team), set("favours", f.favours), set("via", f.via);
+  lua_pushnumber(L, f.mass);
+  lua_setfield(L, -2, "mass");
+  lua_pushnumber(L, f.count);
+  lua_setfield(L, -2, "count");
+  lua_createtable(L, int(f.path.size()), 0);
+  for (size_t i = 0; i < f.path.size(); ++i) {
+    lua_pushstring(L, f.path[i].c_str());
+    lua_rawseti(L, -2, int(i + 1));
+  }
+  lua_setfield(L, -2, "path");
+}
+
+void Sport::push_event(const game::GameEvent& e) {
+  lua_State* L = sandbox_.L();
+  lua_createtable(L, 0, 10);
+  auto set = [&](const char* key, const std::string& value) {
+    lua_pushstring(L, value.c_str());
+    lua_setfield(L, -2, key);
+  };
+  auto num = [&](const char* key, double value) {
+    lua_pushnumber(L, value);
+    lua_setfield(L, -2, key);
+  };
+  set("type", e.type), set("actor", e.actor), set("team", e.team), set("by", e.by), set("by_team", e.by_team);
+  num("t", e.t), num("p", e.p), num("p_newtonian", e.p_newtonian), num("particles", e.particles);
+  num("speed", std::hypot(e.velocity.x, e.velocity.y));
+}
+
+std::vector<double> Sport::factors(std::span<const game::FateView> fates, game::Match& match) {
+  lua_State* L = sandbox_.L();
+  reading_ = &match;
+  std::vector<double> out;
+  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+  const int sport = lua_gettop(L);
+  lua_getfield(L, sport, "factors");
+  const int kinds = lua_gettop(L);
+  lua_getfield(L, sport, "modifiers");
+  const int modifiers = lua_gettop(L);
+  const size_t n_modifiers = lua_istable(L, modifiers) ? lua_objlen(L, modifiers) : 0;
+  for (const game::FateView& f : fates) {
+    double factor = 1;
+    if (lua_istable(L, kinds)) {
+      lua_getfield(L, kinds, f.kind.c_str());
+      if (lua_isnumber(L, -1)) factor = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+    }
+    for (size_t i = 1; i <= n_modifiers; ++i) {
+      lua_rawgeti(L, modifiers, int(i));
+      push_fate(f);
+      lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+      std::string error;
+      if (!sandbox_.call(2, 1, error)) {
+        match.report_error(error + " (modifiers[" + std::to_string(i) + "] skipped)");
+        continue;
+      }
+      const double m = lua_tonumber(L, -1);
+      if (lua_isnumber(L, -1) && std::isfinite(m) && m >= 0) factor *= m;
+      else if (!lua_isnil(L, -1))
+        match.report_error(file_ + ": modifiers[" + std::to_string(i) +
+                                                     "] returned " + luaL_typename(L, -1) + ", not a number >= 0 (skipped)");
+      lua_pop(L, 1);
+    }
+    out.push_back(factor);
+  }
+  lua_settop(L, sport - 1);
+  reading_ = nullptr;
+  return out;
+}
+
+void Sport::on_event(const game::GameEvent& e, game::Match& match) {
+  lua_State* L = sandbox_.L();
+  game::Match* outer = match_;
+  const game::Match* outer_reading = reading_;
+  match_ = &match, reading_ = &match;
+  const int top = lua_gettop(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+  lua_getfield(L, -1, "on");
+  if (lua_istable(L, -1)) {
+    lua_getfield(L, -1, e.type.c_str());
+    if (lua_isfunction(L, -1)) {
+      lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+      push_event(e);
+      std::string error;
+      if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on." + e.type + " skipped)");
+    }
+  }
+  lua_settop(L, top);
+  match_ = outer, reading_ = outer_reading;
+}
+
+}  // namespace quantum::lua

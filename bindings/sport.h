@@ -1,0 +1,64 @@
+// A sport written in Lua (rules/<sport>/sport.lua): its field, match settings, fate factors,
+// handicaps, modifier hooks, event handlers and announcer phrases, behind the game engine's
+// Rules interface. The Lua API it sees is documented in docs/lua-api.md.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "game/game.h"
+#include "lua_sandbox.h"
+
+namespace quantum::lua {
+
+class Sport final : public game::Rules {
+ public:
+  // `folder` holds sport.lua. Throws ScriptError naming the file (and line) for a script that
+  // does not load, and FieldError for a bad field.
+  explicit Sport(const std::string& folder);
+  ~Sport() override;
+
+  const std::string& name() const { return name_; }
+  const std::string& folder() const { return folder_; }
+  const Field& field() const { return field_; }
+  uint32_t particles() const { return particles_; }
+  double seconds() const { return seconds_; }
+  int first_spot() const { return first_spot_; }  // match.start: where the first ball drops
+  // The sport's handicap for every body of the field (1 where it names none).
+  const std::vector<double>& handicaps() const { return handicaps_; }
+
+  std::vector<double> factors(std::span<const game::FateView> fates, game::Match& match) override;
+  void on_event(const game::GameEvent& event, game::Match& match) override;
+
+  // "{team} shoots" with {team = "Blue"}: a phrase of the sport by key, or the text itself.
+  std::string phrase(const std::string& key_or_text, const std::map<std::string, std::string>& vars) const;
+
+  // For wrap_game.cpp: the match the current call acts on.
+  game::Match* match() const { return match_; }
+  const game::Match* reading() const { return reading_; }
+  lua_State* L() const { return sandbox_.L(); }
+
+ private:
+  void push_game();
+  void push_fate(const game::FateView& f);
+  void push_event(const game::GameEvent& e);
+
+  std::string folder_, file_, name_;
+  Sandbox sandbox_;
+  int sport_ref_ = LUA_NOREF, game_ref_ = LUA_NOREF;
+  Field field_;
+  uint32_t particles_ = 1000;
+  double seconds_ = 180;
+  int first_spot_ = 0;
+  std::vector<double> handicaps_;
+  std::map<std::string, std::string> phrases_;
+  game::Match* match_ = nullptr;
+  const game::Match* reading_ = nullptr;
+};
+
+// Builds the `game` table the handlers receive (wrap_game.cpp).
+void push_game_api(lua_State* L, Sport* sport);
+
+}  // namespace quantum::lua

@@ -1,0 +1,158 @@
+#include "game/bots.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace quantum::game {
+namespace {
+
+Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
+Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+Vec2 operator*(float s, Vec2 a) { return {s * a.x, s * a.y}; }
+float length(Vec2 a) { return std::hypot(a.x, a.y); }
+Vec2 unit(Vec2 a) {
+  const float l = length(a);
+  return l > 0 ? (1 / l) * a : Vec2{1, 0};
+}
+Vec2 rotated(Vec2 a, double angle) {
+  const float c = float(std::cos(angle)), s = float(std::sin(angle));
+  return {c * a.x - s * a.y, s * a.x + c * a.y};
+}
+Vec2 centre(const Goal& g) { return {0.5f * (g.a.x + g.b.x), 0.5f * (g.a.y + g.b.y)}; }
+
+constexpr double kStrikeTime = 0.18;   // s a strike drives through the ball
+constexpr float kBehind = 0.10f;       // m behind the ball where a strike starts
+constexpr float kSetUp = 0.03f;        // m: close enough to the start to strike
+
+}  // namespace
+
+SkillModel skill_model(double s) {
+  if (!(s >= 0 && s <= 1)) throw std::invalid_argument("skill must be in [0, 1], got " + std::to_string(s));
+  return {0.40 - 0.28 * s, 0.45 - 0.38 * s, 0.10 - 0.08 * s, 0.40 - 0.30 * s, 1.2 + 2.3 * s, 1.5 + 2.5 * s};
+}
+
+Bots::Bots(const Field& field, std::vector<double> skills, uint64_t seed) : field_(field) {
+  if (skills.size() != field.bodies.size())
+    throw std::invalid_argument("got " + std::to_string(skills.size()) + " skills for " +
+                                std::to_string(field.bodies.size()) + " players");
+  lo_ = field.bounds_max, hi_ = field.bounds_min;
+  for (const Segment& s : field.segments)
+    for (Vec2 p : {s.a, s.b})
+      lo_ = {std::min(lo_.x, p.x), std::min(lo_.y, p.y)}, hi_ = {std::max(hi_.x, p.x), std::max(hi_.y, p.y)};
+  lo_ = lo_ + Vec2{field.ball_radius, field.ball_radius}, hi_ = hi_ - Vec2{field.ball_radius, field.ball_radius};
+  mid_x_ = 0.5f * (lo_.x + hi_.x);
+  for (size_t k = 0; k < skills.size(); ++k) {
+    const BodySpec& spec = field.bodies[k];
+    Bot b;
+    b.body = int(k);
+    b.skill = skill_model(skills[k]);
+    b.pos = b.home = spec.start;
+    b.radius = spec.radius;
+    b.attack_x = spec.start.x < mid_x_ ? 1.0f : -1.0f;
+    b.rng.seed(seed * 0x9E3779B97F4A7C15ull + k);
+    bots_.push_back(std::move(b));
+  }
+}
+
+void Bots::hear(const GameEvent& e) {
+  for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e});
+}
+
+// What a player makes of an announcement: the ball where it was said to be, give or take.
+void Bots::imagine(Bot& b, const GameEvent& e) {
+  std::normal_distribution<double> noise(0, 1);
+  if (e.type == "drop") {
+    b.knows_ball = true, b.ball = e.at, b.ball_v = {0, 0};
+  } else if (e.type == "shot" || e.type == "intercept") {
+    const double err = b.skill.imagine_noise;
+    b.knows_ball = true;
+    b.ball = e.at + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))};
+    const float speed = length(e.velocity) * float(std::max(0.2, 1 + b.skill.speed_noise * noise(b.rng)));
+    b.ball_v = speed * rotated(unit(e.velocity), b.skill.aim_noise * 0.5 * noise(b.rng));
+    // The ball has flown on while the news travelled.
+    fly(b, std::max(0.0, b.skill.reaction));
+  } else {
+    b.knows_ball = false;  // a goal or out: the ball is gone until the next drop
+  }
+  b.plan = Plan::Home;
+}
+
+// The imagined ball flies straight and bounces off the walls' box.
+void Bots::fly(Bot& b, double dt) const {
+  for (double left = dt; left > 1e-9;) {
+    const double h = std::min(left, 1.0 / 120);
+    b.ball = b.ball + float(h) * b.ball_v;
+    if (b.ball.x < lo_.x || b.ball.x > hi_.x) b.ball.x = std::clamp(b.ball.x, lo_.x, hi_.x), b.ball_v.x *= -0.9f;
+    if (b.ball.y < lo_.y || b.ball.y > hi_.y) b.ball.y = std::clamp(b.ball.y, lo_.y, hi_.y), b.ball_v.y *= -0.9f;
+    left -= h;
+  }
+}
+
+Vec2 Bots::clamp_to_half(const Bot& b, Vec2 p) const {
+  const float r = b.radius;
+  float x0 = lo_.x + r, x1 = hi_.x - r;
+  if (b.attack_x > 0) x1 = std::min(x1, mid_x_ - r);
+  else x0 = std::max(x0, mid_x_ + r);
+  return {std::clamp(p.x, x0, x1), std::clamp(p.y, lo_.y + r, hi_.y - r)};
+}
+
+// Where the bot wants its body now.
+Vec2 Bots::decide(Bot& b, double t) {
+  if (!b.knows_ball) return b.home;
+  const bool mine = (b.ball.x - mid_x_) * b.attack_x < 0;
+  const float toward_me = -b.attack_x * b.ball_v.x;
+  const float speed = length(b.ball_v);
+  if (b.plan == Plan::Strike) {
+    if (t < b.strike_end) return b.ball + 0.3f * b.aim;
+    b.plan = Plan::Home;
+  }
+  if (mine && (speed < 0.6f || toward_me < 0.3f)) {
+    // A slow ball on my side: get behind it and strike toward the other goal.
+    if (b.plan != Plan::Approach) {
+      const Goal* target = nullptr;
+      for (const Goal& g : field_.goals)
+        if (g.team != field_.bodies[b.body].team) target = &g;
+      const Vec2 goal = target ? centre(*target) : Vec2{b.ball.x + b.attack_x, b.ball.y};
+      std::normal_distribution<double> noise(0, b.skill.aim_noise);
+      b.aim = rotated(unit(goal - b.ball), noise(b.rng));
+      b.plan = Plan::Approach;
+    }
+    const Vec2 start = b.ball - (kBehind + b.radius) * b.aim;
+    if (length(clamp_to_half(b, start) - b.pos) < kSetUp) {
+      b.plan = Plan::Strike;
+      b.strike_end = t + kStrikeTime;
+    }
+    return start;
+  }
+  b.plan = Plan::Defend;
+  if (toward_me > 0.3f) {
+    // Coming at me: meet it on my defence line, where the imagined flight crosses it.
+    const float line = b.home.x;
+    const float when = (line - b.ball.x) / b.ball_v.x;
+    Bot ghost = b;
+    fly(ghost, std::clamp(double(when), 0.0, 2.0));
+    return {line, ghost.ball.y};
+  }
+  return {b.home.x, b.home.y + 0.5f * (b.ball.y - b.home.y)};
+}
+
+std::vector<BodyInput> Bots::move(double t, double dt) {
+  std::vector<BodyInput> out;
+  for (Bot& b : bots_) {
+    auto due = std::stable_partition(b.heard.begin(), b.heard.end(), [&](const Heard& h) { return h.at > t; });
+    for (auto it = due; it != b.heard.end(); ++it) imagine(b, it->event);
+    b.heard.erase(due, b.heard.end());
+    if (b.knows_ball) fly(b, dt);
+    const Vec2 want = clamp_to_half(b, decide(b, t));
+    const double limit = b.plan == Plan::Strike ? b.skill.strike_speed : b.skill.max_speed;
+    Vec2 step = want - b.pos;
+    const float l = length(step), most = float(limit * dt);
+    if (l > most) step = (most / l) * step;
+    b.pos = b.pos + step;
+    out.push_back({b.pos, (1 / float(dt)) * step});
+  }
+  return out;
+}
+
+}  // namespace quantum::game

@@ -1,0 +1,68 @@
+// Simulated players: an input source that plays like a person would. A bot knows the field (its
+// walls, its goal and the other) and what the announcer said: where the ball was dropped, who
+// shot from where and roughly which way, goals. It never sees the particles. It imagines the
+// ball from what it heard, with its skill's noise, and moves its body to defend and to shoot.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "game/game.h"
+
+namespace quantum::game {
+
+// Skill 0 is a beginner, 1 an expert.
+struct SkillModel {
+  double reaction;       // s from hearing an event to acting on it
+  double aim_noise;      // rad, standard deviation of a shot's direction
+  double imagine_noise;  // m, standard deviation of where it places an announced ball
+  double speed_noise;    // relative error of an announced shot's speed
+  double max_speed;      // m/s the body moves at
+  double strike_speed;   // m/s of a strike through the ball
+};
+SkillModel skill_model(double skill);
+
+class Bots {
+ public:
+  // One skill in [0, 1] per body of the field.
+  Bots(const Field& field, std::vector<double> skills, uint64_t seed);
+
+  // An announced event; the bots act on it after their reaction time.
+  void hear(const GameEvent& e);
+  // Where every body goes this frame, and its velocity.
+  std::vector<BodyInput> move(double t, double dt);
+
+ private:
+  struct Heard {
+    double at;  // when the bot acts on it
+    GameEvent event;
+  };
+  enum class Plan { Home, Approach, Strike, Defend };
+  struct Bot {
+    int body;
+    SkillModel skill;
+    Vec2 pos, home;
+    float radius;
+    float attack_x;  // +1 when the opponents' goal is toward +x
+    bool knows_ball = false;
+    Vec2 ball, ball_v;  // the imagined ball
+    Plan plan = Plan::Home;
+    Vec2 aim;          // unit direction of the strike being set up
+    double strike_end = 0;
+    std::vector<Heard> heard;
+    std::mt19937_64 rng;
+  };
+
+  void imagine(Bot& b, const GameEvent& e);
+  void fly(Bot& b, double dt) const;
+  Vec2 decide(Bot& b, double t);
+  Vec2 clamp_to_half(const Bot& b, Vec2 p) const;
+
+  Field field_;
+  std::vector<Bot> bots_;
+  Vec2 lo_, hi_;  // where a ball centre can be: the walls' box less the ball's radius
+  float mid_x_;
+};
+
+}  // namespace quantum::game

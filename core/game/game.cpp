@@ -1,0 +1,216 @@
+#include "game/game.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <stdexcept>
+
+namespace quantum::game {
+
+Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps)
+    : world_(std::move(field), WorldConfig{config.particles, 3, config.seed}), config_(config), rules_(rules) {
+  if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
+  if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
+  const Field& f = world_.field();
+  if (!handicaps.empty() && handicaps.size() != f.bodies.size())
+    throw std::invalid_argument("got " + std::to_string(handicaps.size()) + " handicaps for " +
+                                std::to_string(f.bodies.size()) + " players");
+  for (size_t k = 0; k < f.bodies.size(); ++k) {
+    const double h = handicaps.empty() ? 1.0 : handicaps[k];
+    if (!(std::isfinite(h) && h > 0)) throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be > 0");
+    players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}});
+  }
+  for (const std::string& team : teams()) score_[team] = 0;
+  respawn(config.first_spot, 0);
+}
+
+std::vector<std::string> Match::teams() const {
+  std::vector<std::string> out;
+  auto add = [&](const std::string& t) {
+    if (!t.empty() && std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+  };
+  for (const BodySpec& b : field().bodies) add(b.team);
+  for (const Goal& g : field().goals) add(g.team);
+  return out;
+}
+
+int Match::spot_of(const std::string& key) const {
+  const std::vector<Spot>& spots = field().spots;
+  for (size_t s = 0; s < spots.size(); ++s)
+    if (spots[s].name == key) return int(s);
+  return field().spot_of_team(key);
+}
+
+void Match::say(std::string text) { said_.push_back({time(), std::move(text)}); }
+
+void Match::award(const std::string& team, int goals) {
+  if (!score_.count(team)) throw std::invalid_argument("award: no team '" + team + "' in this field");
+  score_[team] += goals;
+}
+
+void Match::respawn(int spot, double delay) {
+  if (spot < 0 || spot >= int(field().spots.size()))
+    throw std::invalid_argument("respawn: no spot " + std::to_string(spot));
+  if (!(delay >= 0 && delay <= 60)) throw std::invalid_argument("respawn: delay must be in [0, 60] s");
+  respawn_spot_ = spot;
+  respawn_at_ = time() + delay;
+}
+
+void Match::finish(const std::string& winner) {
+  if (finished_) return;
+  finished_ = true;
+  winner_ = winner;
+  GameEvent e;
+  e.t = time();
+  e.type = "match_end";
+  e.actor = e.team = winner;
+  events_.push_back(e);
+  rules_.on_event(e, *this);
+}
+
+void Match::report_error(std::string message) { errors_.push_back(std::move(message)); }
+
+std::vector<GameEvent> Match::take_events() { return std::exchange(events_, {}); }
+std::vector<Said> Match::take_said() { return std::exchange(said_, {}); }
+std::vector<std::string> Match::take_errors() { return std::exchange(errors_, {}); }
+
+void Match::step(std::span<const BodyInput> input) {
+  if (finished_) return;
+  const float dt = float(1.0 / config_.fps);
+  core_events_.clear();
+  if (respawn_at_ >= 0 && time() >= respawn_at_ - 1e-9) {
+    respawn_at_ = -1;
+    world_.drop(respawn_spot_, core_events_);
+  }
+  world_.step(dt, input, core_events_);
+  for (size_t k = 0; k < players_.size(); ++k)
+    players_[k].position = input[k].position, players_[k].velocity = input[k].velocity;
+  stats_.seconds = time();
+  for (const Event& e : core_events_) handle(e);
+  // A ball crushed away without an outcome: nothing was announced, so it comes back where it was dropped.
+  if (!world_.live() && respawn_at_ < 0 && core_events_.empty() && !finished_) respawn(respawn_spot_, 1.0);
+  if (!finished_ && !time_up_told_ && time() >= config_.seconds - 1e-9) {
+    time_up_told_ = true;
+    GameEvent e;
+    e.t = time();
+    e.type = "time_up";
+    events_.push_back(e);
+    rules_.on_event(e, *this);
+    if (!finished_) {  // rules that ignore the clock: the leader wins, equal scores draw
+      std::string best;
+      int most = -1, leaders = 0;
+      for (const auto& [team, goals] : score_) {
+        if (goals > most) most = goals, best = team, leaders = 1;
+        else if (goals == most) ++leaders;
+      }
+      finish(leaders == 1 ? best : "");
+    }
+  }
+  if (!finished_ && world_.live() && (!core_events_.empty() || time() >= next_predict_)) retweak();
+}
+
+void Match::handle(const Event& e) {
+  const Field& f = field();
+  GameEvent g;
+  g.t = e.t, g.p = e.p, g.p_newtonian = e.p_newtonian, g.particles = e.particles, g.at = e.at;
+  g.velocity = e.velocity, g.actor_index = e.actor;
+  switch (e.type) {
+    case EventType::Drop:
+      g.type = "drop", g.actor = f.spots[e.actor].name, g.team = f.spots[e.actor].team;
+      rally_contacts_ = 0;
+      last_toucher_ = -1;
+      break;
+    case EventType::Hit: {
+      const bool other_team = last_toucher_ >= 0 && f.bodies[last_toucher_].team != f.bodies[e.actor].team;
+      g.type = other_team ? "intercept" : "shot";
+      g.actor = f.bodies[e.actor].name, g.team = f.bodies[e.actor].team, g.by = g.actor, g.by_team = g.team;
+      last_toucher_ = e.actor;
+      ++rally_contacts_;
+      break;
+    }
+    case EventType::Goal:
+    case EventType::OwnGoal:
+      g.type = e.type == EventType::Goal ? "goal" : "own_goal";
+      g.actor = f.goals[e.actor].name, g.team = f.goals[e.actor].team;
+      break;
+    case EventType::Out: g.type = "out"; break;
+  }
+  if (e.type != EventType::Drop && e.type != EventType::Hit) {
+    if (last_toucher_ >= 0) g.by = f.bodies[last_toucher_].name, g.by_team = f.bodies[last_toucher_].team;
+    ++stats_.rallies;
+    stats_.contacts += rally_contacts_;
+    stats_.goals += e.type == EventType::Out ? 0 : 1;
+  }
+  events_.push_back(g);
+  rules_.on_event(g, *this);
+}
+
+FateView Match::view(const FateGroup& group) const {
+  const Field& f = field();
+  const Fate& fate = group.fate;
+  FateView v;
+  v.kind = to_string(fate.kind);
+  v.mass = group.mass, v.count = group.count;
+  if (fate.kind == FateKind::Body) {
+    v.actor = f.bodies[fate.target].name, v.team = v.favours = f.bodies[fate.target].team;
+  } else if (fate.kind == FateKind::Goal || fate.kind == FateKind::OwnGoal) {
+    v.actor = f.goals[fate.target].name, v.team = f.goals[fate.target].team;
+    // A goal is good for the other side; with more than two teams, for the shooter's.
+    for (const std::string& t : teams())
+      if (t != v.team && (v.favours.empty() || (last_toucher_ >= 0 && f.bodies[last_toucher_].team == t))) v.favours = t;
+  }
+  for (int i = 0; i < fate.path_len; ++i) {
+    v.path.push_back(f.wall_names[fate.path[i]]);
+    v.via += (i == 0 ? "via " : ", ") + f.wall_names[fate.path[i]];
+  }
+  if (fate.path_more) v.via += ", ...";
+  return v;
+}
+
+std::vector<FateView> Match::fates() const {
+  std::vector<FateView> out;
+  if (!world_.live()) return out;
+  const FateReport report = world_.predict();
+  for (const FateGroup& g : report.groups) out.push_back(view(g));
+  return out;
+}
+
+void Match::retweak() {
+  next_predict_ = time() + config_.repredict;
+  FateReport report = world_.predict();
+  std::vector<FateView> views;
+  for (const FateGroup& g : report.groups) views.push_back(view(g));
+  std::vector<double> factors = rules_.factors(views, *this);
+  if (factors.size() != views.size()) {
+    report_error("rules gave " + std::to_string(factors.size()) + " factors for " + std::to_string(views.size()) +
+                 " fates; factors skipped");
+    return;
+  }
+  // The handicap of the player an outcome favours: the one it reaches, or for a goal the shooter
+  // when on the favoured team, else that team's mean.
+  for (size_t k = 0; k < views.size(); ++k) {
+    const FateView& v = views[k];
+    double h = 1;
+    if (v.kind == "body") {
+      h = players_[report.groups[k].fate.target].handicap;
+    } else if (!v.favours.empty()) {
+      if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) {
+        h = players_[last_toucher_].handicap;
+      } else {
+        double sum = 0;
+        int n = 0;
+        for (const Player& p : players_)
+          if (p.team == v.favours) sum += p.handicap, ++n;
+        if (n > 0) h = sum / n;
+      }
+    }
+    factors[k] *= h;
+  }
+  try {
+    world_.tweak(report, factors);
+  } catch (const std::invalid_argument& e) {
+    report_error(std::string("fate factors refused: ") + e.what());
+  }
+}
+
+}  // namespace quantum::game

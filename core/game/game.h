@@ -1,0 +1,145 @@
+// The game engine's decision host: a match on top of the quantum core. Each frame it steps the
+// world, turns the core's realized outcomes into game events (shot, intercept, goal, ...), asks
+// the sport's rules what to do about them, and keeps the fates tweaked by the rules' factors.
+// The rules see fates, players and the score, never particles; they are written in Lua
+// (bindings/) behind the Rules interface, so this library does not know Lua.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "quantum/world.h"
+
+namespace quantum::game {
+
+struct Player {
+  std::string name, team;  // the body's name and team in the field
+  double handicap = 1;     // multiplies the fates that favour this player (see docs/lua-api.md)
+  Vec2 position, velocity;
+};
+
+// What the rules are told. type: drop, shot, intercept, goal, own_goal, out, time_up, match_end.
+struct GameEvent {
+  double t = 0;
+  std::string type;
+  std::string actor;   // the spot, the player, the goal ("" for out and time_up)
+  std::string team;    // the actor's team (goal: the team defending it)
+  std::string by;      // shot, intercept, goal, own_goal, out: the last player to touch the ball
+  std::string by_team;
+  double p = 1, p_newtonian = 1;
+  uint32_t particles = 0;
+  Vec2 at, velocity;   // where it happened; for a shot or intercept the shot's mean velocity
+  int actor_index = -1;  // spot, body or goal index in the field
+};
+
+// A fate as the rules see it.
+struct FateView {
+  std::string kind;     // goal, own_goal, body, out, field
+  std::string actor;    // the goal's or the body's name, "" otherwise
+  std::string team;     // the body's team, or the team defending the goal
+  std::string favours;  // the team this outcome is good for: the body's, or the one attacking the goal
+  std::string via;      // "via left wall, Red's end", "" when direct
+  std::vector<std::string> path;
+  double mass = 0;      // Newtonian probability
+  uint32_t count = 0;
+};
+
+class Match;
+
+// A sport's rules. The host calls them outside the frame's hot loop; they may fail, and the host
+// reports and skips a failed rule instead of stopping the match.
+class Rules {
+ public:
+  virtual ~Rules() = default;
+  // One multiplier per fate (fate factor x modifiers; the host adds the handicaps), each finite
+  // and >= 0. Reads the match; a failing modifier is reported through match.report_error.
+  virtual std::vector<double> factors(std::span<const FateView> fates, Match& match) = 0;
+  // Reacts to an event through the match's actions (say, award, respawn, finish).
+  virtual void on_event(const GameEvent& event, Match& match) = 0;
+};
+
+struct MatchConfig {
+  uint32_t particles = 1000;
+  uint64_t seed = 1;
+  double fps = 60;
+  double seconds = 120;       // time limit; the rules hear time_up when it runs out
+  double repredict = 0.5;     // s between fate predictions while nothing happens
+  int first_spot = 0;         // where the first ball drops, at once
+};
+
+struct Said {
+  double t;
+  std::string text;
+};
+
+struct RallyStats {
+  int rallies = 0;      // balls dropped that ended (goal, own goal or out)
+  int contacts = 0;     // shots and intercepts within those rallies
+  int goals = 0;
+  double seconds = 0;   // match time played
+};
+
+class Match {
+ public:
+  Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps = {});
+
+  // One frame with the players' new positions (one input per body of the field).
+  void step(std::span<const BodyInput> input);
+
+  // --- Actions for the rules.
+  void say(std::string text);
+  void award(const std::string& team, int goals = 1);
+  // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
+  void respawn(int spot, double delay);
+  void finish(const std::string& winner);  // "" for a draw
+
+  // --- What the rules and the outside world read.
+  const World& world() const { return world_; }
+  const Field& field() const { return world_.field(); }
+  const std::vector<Player>& players() const { return players_; }
+  const std::map<std::string, int>& score() const { return score_; }
+  std::vector<std::string> teams() const;
+  double time() const { return world_.time(); }
+  bool finished() const { return finished_; }
+  const std::string& winner() const { return winner_; }
+  const RallyStats& stats() const { return stats_; }
+  int spot_of(const std::string& team_or_name) const;  // -1 when there is none
+
+  // Events and phrases since the last call, in order.
+  std::vector<GameEvent> take_events();
+  std::vector<Said> take_said();
+  // Rule errors since the last call ("rules/x/sport.lua:12: ... (on goal skipped)").
+  std::vector<std::string> take_errors();
+  void report_error(std::string message);
+
+  // The current fates as the rules see them (fresh prediction; empty when no ball is live).
+  std::vector<FateView> fates() const;
+
+ private:
+  void handle(const Event& e);
+  void retweak();
+  FateView view(const FateGroup& g) const;
+
+  World world_;
+  MatchConfig config_;
+  Rules& rules_;
+  std::vector<Player> players_;
+  std::map<std::string, int> score_;
+  std::vector<GameEvent> events_;
+  std::vector<Said> said_;
+  std::vector<std::string> errors_;
+  std::vector<Event> core_events_;
+  RallyStats stats_;
+  double respawn_at_ = -1;
+  int respawn_spot_ = 0;
+  double next_predict_ = 0;
+  int rally_contacts_ = 0;
+  int last_toucher_ = -1;  // body of the last announced touch this rally
+  bool finished_ = false, time_up_told_ = false;
+  std::string winner_;
+};
+
+}  // namespace quantum::game

@@ -1,0 +1,41 @@
+// `quantum play`: a match of a sport (rules/<sport>) between simulated players, told by the
+// announcer as a transcript and written out as JSON-lines events.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "game/game.h"
+
+namespace quantum::tools {
+
+struct PlayOptions {
+  std::string sport = "rules/airhockey";
+  std::string input = "bots";
+  uint64_t seed = 1;
+  double seconds = 0;           // 0: the sport's own time limit
+  uint32_t particles = 0;       // 0: the sport's own
+  std::string events;           // JSON-lines file, "-" for stdout, empty for none
+  std::vector<double> skills;   // per player, 0..1; empty: 0.6 each
+  std::vector<double> handicaps;  // per player; empty: the sport's
+  bool transcript = true;
+};
+
+struct PlayResult {
+  std::map<std::string, int> score;
+  std::string winner;  // "" for a draw
+  game::RallyStats stats;
+  int rule_errors = 0;
+};
+
+// Plays one match. The transcript and the closing summary go to `out`, rule errors to `errors`.
+// Throws on bad options, a sport that does not load or a bad field.
+PlayResult play(const PlayOptions& options, std::ostream& out, std::ostream& errors);
+
+// "0.3,0.9" -> {0.3, 0.9}; throws naming the option for anything else.
+std::vector<double> parse_list(const std::string& text, const std::string& option);
+
+}  // namespace quantum::tools
