@@ -29,10 +29,11 @@ Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules) : ins
   L_ = lua_newstate(alloc, &budget_);
   if (!L_) L_ = luaL_newstate();  // builds whose allocator cannot be replaced: no memory cap
   if (!L_) throw std::runtime_error("cannot create a Lua state");
-  // Count hooks do not fire inside compiled traces, so the budget needs the interpreter. Rules
-  // run a few times a second; the JIT would not pay for itself.
-  luaJIT_setmode(L_, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
   luaL_openlibs(L_);
+  // Count hooks do not fire inside compiled traces, so the budget needs the interpreter. Rules
+  // run a few times a second; the JIT would not pay for itself. (After openlibs: opening the
+  // jit library switches it back on.)
+  luaJIT_setmode(L_, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
   lua_newtable(L_);
   const int env = lua_gettop(L_);
   const char* base[] = {"assert", "error",    "ipairs", "next",   "pairs",  "pcall",  "select", "tonumber",
