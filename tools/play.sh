@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The main job: sets up, then simulates the air hockey table with two scripted mallets.
-# Extra arguments go to `quantum simulate` (see build/quantum simulate --help).
+# The main job: sets up, then plays a short Quantum air hockey match between two simulated
+# players (the sport in rules/airhockey). Extra arguments go to `quantum play`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
-build/quantum simulate rules/airhockey --events build/events.jsonl --snapshot build/snapshot.png "$@"
+build/quantum play rules/airhockey --seconds 60 --events build/events.jsonl "$@"

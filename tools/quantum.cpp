@@ -5,6 +5,7 @@
 
 #include "play.h"
 #include "simulate.h"
+#include "spec.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
@@ -39,8 +40,13 @@ int main(int argc, char** argv) {
   play->add_option("--handicap", handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
   play->add_flag("--quiet", [&](int64_t) { game.transcript = false; }, "no transcript");
 
+  std::vector<std::string> spec_paths;
+  CLI::App* test = app.add_subcommand("test", "run Lua rule specs (*_spec.lua) with the scenario API");
+  test->add_option("PATHS", spec_paths, "spec files or folders (default: rules)");
+
   CLI11_PARSE(app, argc, argv);
   try {
+    if (test->parsed()) return quantum::tools::run_specs(spec_paths);
     if (play->parsed()) {
       if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");
       if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");

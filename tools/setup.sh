@@ -9,6 +9,7 @@ packages=(
   libbox2d-dev                 # reference physics backend
   libopencv-dev                # debug snapshots (and tracking, later)
   libluajit-5.1-dev            # field files and rules
+  lua-busted                   # rule specs (quantum test)
   libcli11-dev nlohmann-json3-dev
   libboost-math-dev            # chi-square distribution for the statistical tests
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -68,6 +68,16 @@ void Match::finish(const std::string& winner) {
   rules_.on_event(e, *this);
 }
 
+void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_touch) {
+  if (last_touch < -1 || last_touch >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(last_touch));
+  world_.place_bodies(input);
+  world_.set_cloud(std::move(cloud));
+  respawn_at_ = -1;
+  last_toucher_ = last_touch;
+  rally_contacts_ = 0;
+  retweak();
+}
+
 void Match::report_error(std::string message) { errors_.push_back(std::move(message)); }
 
 std::vector<GameEvent> Match::take_events() { return std::exchange(events_, {}); }
@@ -150,7 +160,7 @@ FateView Match::view(const FateGroup& group) const {
   const Fate& fate = group.fate;
   FateView v;
   v.kind = to_string(fate.kind);
-  v.mass = group.mass, v.count = group.count;
+  v.mass = group.mass, v.tweaked = group.tweaked_mass, v.count = group.count;
   if (fate.kind == FateKind::Body) {
     v.actor = f.bodies[fate.target].name, v.team = v.favours = f.bodies[fate.target].team;
   } else if (fate.kind == FateKind::Goal || fate.kind == FateKind::OwnGoal) {

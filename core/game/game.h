@@ -44,6 +44,7 @@ struct FateView {
   std::string via;      // "via left wall, Red's end", "" when direct
   std::vector<std::string> path;
   double mass = 0;      // Newtonian probability
+  double tweaked = 0;   // probability after the current factors
   uint32_t count = 0;
 };
 
@@ -95,6 +96,11 @@ class Match {
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   void respawn(int spot, double delay);
   void finish(const std::string& winner);  // "" for a draw
+
+  // Sets up a scene (a rule spec): the players where `input` says, and the ball replaced by
+  // `cloud`, a pending drop cancelled, `last_touch` (a body, or -1) the last player to touch it.
+  // Throws std::invalid_argument for what the world refuses.
+  void set_scene(std::span<const BodyInput> input, Cloud cloud, int last_touch = -1);
 
   // --- What the rules and the outside world read.
   const World& world() const { return world_; }

@@ -138,6 +138,12 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   if (live_ && cloud_.size() < config_.particles) split_round(false);
 }
 
+void World::place_bodies(std::span<const BodyInput> input) {
+  check_input(1.0f / 60, input);
+  for (size_t k = 0; k < input.size(); ++k) body_pos_[k] = input[k].position, body_vel_[k] = input[k].velocity;
+  ++version_;
+}
+
 void World::decide(float dt, std::vector<Event>& events) {
   if (contacts_.empty()) return;
   // Particle order makes the draw and the purgatory independent of the backend's visiting order.

@@ -65,6 +65,10 @@ class World {
   // appended to `events`. Throws InputError (and changes nothing) for bad input.
   void step(float dt, std::span<const BodyInput> input, std::vector<Event>& events);
 
+  // Puts the bodies where `input` says without a step (setting up a scene). Throws InputError
+  // for bad input, like step().
+  void place_bodies(std::span<const BodyInput> input);
+
   // Forward-simulates every live particle without noise up to `horizon` seconds, jumping from
   // contact to contact; bodies move on their last velocity for config.body_lookahead, then hold.
   FateReport predict(float horizon = 3.0f) const;

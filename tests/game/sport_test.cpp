@@ -1,0 +1,97 @@
+// Sports in Lua: loading errors name the file and line; a rule that fails during play is
+// reported and skipped while the match goes on; the air hockey match runs end to end.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "play.h"
+#include "sport.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A sport folder holding the air hockey table and the given sport.lua.
+std::string sport_with(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / ("quantum_sport_" + name);
+  fs::create_directories(dir);
+  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", dir / "field.lua", fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "sport.lua") << text;
+  return dir.string();
+}
+
+std::string load_error(const std::string& name, const std::string& text) {
+  try {
+    lua::Sport sport(sport_with(name, text));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Sport, SyntaxErrorNamesFileAndLine) {
+  const std::string e = load_error("syntax", "return {\n name = 'x',\n on = { goal = function( }\n}");
+  EXPECT_NE(e.find("sport.lua:3:"), std::string::npos) << e;
+}
+
+TEST(Sport, BadHandlerIsNamed) {
+  const std::string e = load_error("handler", "return { on = { gaol = function() end } }");
+  EXPECT_NE(e.find("on.gaol: unknown event"), std::string::npos) << e;
+  const std::string f = load_error("factor", "return { factors = { goal = 'five' } }");
+  EXPECT_NE(f.find("factors.goal: expected a number"), std::string::npos) << f;
+}
+
+TEST(Sport, RuntimeErrorInARuleIsReportedAndTheMatchGoesOn) {
+  tools::PlayOptions o;
+  o.sport = sport_with("runtime", R"(
+return {
+  match = { seconds = 20 },
+  on = {
+    shot = function(game, e) error("boom in the shot rule") end,
+    goal = function(game, e) game.award(e.team == "blue" and "red" or "blue"); game.respawn(e.team, 1) end,
+  },
+})");
+  o.seed = 3;
+  std::ostringstream out, errors;
+  const tools::PlayResult r = tools::play(o, out, errors);
+  EXPECT_GT(r.rule_errors, 0);
+  EXPECT_NE(errors.str().find("sport.lua:5: boom in the shot rule (on.shot skipped)"), std::string::npos) << errors.str();
+  EXPECT_GE(r.stats.seconds, 20 - 1e-6);  // played to the time limit regardless
+  int goals = 0;
+  for (const auto& [team, n] : r.score) goals += n;
+  EXPECT_GT(goals, 0);  // the goal rule kept working (own goals are not awarded by this sport)
+}
+
+TEST(Sport, AirHockeyMatchIsPlayedAndRepeatable) {
+  tools::PlayOptions o;
+  o.seconds = 60;
+  o.seed = 5;
+  std::ostringstream a, b, errors;
+  const tools::PlayResult r = tools::play(o, a, errors);
+  tools::play(o, b, errors);
+  EXPECT_EQ(a.str(), b.str());
+  EXPECT_EQ(errors.str(), "");
+  EXPECT_GT(r.stats.rallies, 0);
+  EXPECT_GT(r.stats.contacts, 0);
+  EXPECT_NE(a.str().find("The puck was dropped in front of Blue's goal"), std::string::npos);
+  EXPECT_NE(a.str().find("final score:"), std::string::npos);
+}
+
+TEST(Sport, BadSkillAndHandicapAreRefused) {
+  tools::PlayOptions o;
+  o.skills = {0.5};
+  std::ostringstream out, errors;
+  EXPECT_THROW(tools::play(o, out, errors), std::invalid_argument);
+  o.skills = {0.5, 1.5};
+  EXPECT_THROW(tools::play(o, out, errors), std::invalid_argument);
+  o.skills = {};
+  o.handicaps = {1, 0};
+  EXPECT_THROW(tools::play(o, out, errors), std::invalid_argument);
+  EXPECT_THROW(tools::parse_list("0.5,x", "--skill"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace quantum
