@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "field_loader.h"
+#include "lua_push.h"
 
 namespace quantum::lua {
 namespace {
@@ -140,42 +141,6 @@ std::string Sport::phrase(const std::string& key, const std::map<std::string, st
   return out;
 }
 
-void Sport::push_fate(const game::FateView& f) {
-  lua_State* L = sandbox_.L();
-  lua_createtable(L, 0, 8);
-  auto set = [&](const char* key, const std::string& value) {
-    lua_pushstring(L, value.c_str());
-    lua_setfield(L, -2, key);
-  };
-  set("kind", f.kind), set("actor", f.actor), set("team", f.team), set("favours", f.favours), set("via", f.via);
-  lua_pushnumber(L, f.mass);
-  lua_setfield(L, -2, "mass");
-  lua_pushnumber(L, f.count);
-  lua_setfield(L, -2, "count");
-  lua_createtable(L, int(f.path.size()), 0);
-  for (size_t i = 0; i < f.path.size(); ++i) {
-    lua_pushstring(L, f.path[i].c_str());
-    lua_rawseti(L, -2, int(i + 1));
-  }
-  lua_setfield(L, -2, "path");
-}
-
-void Sport::push_event(const game::GameEvent& e) {
-  lua_State* L = sandbox_.L();
-  lua_createtable(L, 0, 10);
-  auto set = [&](const char* key, const std::string& value) {
-    lua_pushstring(L, value.c_str());
-    lua_setfield(L, -2, key);
-  };
-  auto num = [&](const char* key, double value) {
-    lua_pushnumber(L, value);
-    lua_setfield(L, -2, key);
-  };
-  set("type", e.type), set("actor", e.actor), set("team", e.team), set("by", e.by), set("by_team", e.by_team);
-  num("t", e.t), num("p", e.p), num("p_newtonian", e.p_newtonian), num("particles", e.particles);
-  num("speed", std::hypot(e.velocity.x, e.velocity.y));
-}
-
 std::vector<double> Sport::factors(std::span<const game::FateView> fates, game::Match& match) {
   lua_State* L = sandbox_.L();
   reading_ = &match;
@@ -196,7 +161,7 @@ std::vector<double> Sport::factors(std::span<const game::FateView> fates, game::
     }
     for (size_t i = 1; i <= n_modifiers; ++i) {
       lua_rawgeti(L, modifiers, int(i));
-      push_fate(f);
+      push_fate(L, f);
       lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
       std::string error;
       if (!sandbox_.call(2, 1, error)) {
@@ -229,7 +194,7 @@ void Sport::on_event(const game::GameEvent& e, game::Match& match) {
     lua_getfield(L, -1, e.type.c_str());
     if (lua_isfunction(L, -1)) {
       lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
-      push_event(e);
+      push_event(L, e);
       std::string error;
       if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on." + e.type + " skipped)");
     }

@@ -41,10 +41,6 @@ class Sport final : public game::Rules {
   lua_State* L() const { return sandbox_.L(); }
 
  private:
-  void push_game();
-  void push_fate(const game::FateView& f);
-  void push_event(const game::GameEvent& e);
-
   std::string folder_, file_, name_;
   Sandbox sandbox_;
   int sport_ref_ = LUA_NOREF, game_ref_ = LUA_NOREF;

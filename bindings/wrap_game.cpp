@@ -2,6 +2,7 @@
 // rules may read. Fates, players and the score; never particle positions. See docs/lua-api.md.
 #include <cmath>
 
+#include "lua_push.h"
 #include "sport.h"
 
 namespace quantum::lua {
@@ -20,18 +21,6 @@ const game::Match& reading(lua_State* L) {
   const game::Match* m = sport_of(L)->reading();
   if (!m) luaL_error(L, "game: no match is running");
   return *m;
-}
-
-// Runs an action whose C++ side may refuse its arguments, as a Lua error at the caller's line.
-template <class F>
-int guarded(lua_State* L, F&& f) {
-  std::string error;
-  try {
-    return f();
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  return luaL_error(L, "%s", error.c_str());
 }
 
 // game.say(key_or_text [, vars]): a phrase of the sport (or literal text) with {placeholders}.
@@ -77,11 +66,7 @@ int finish(lua_State* L) {
 }
 
 int score(lua_State* L) {
-  lua_newtable(L);
-  for (const auto& [team, goals] : reading(L).score()) {
-    lua_pushinteger(L, goals);
-    lua_setfield(L, -2, team.c_str());
-  }
+  push_score(L, reading(L).score());
   return 1;
 }
 
@@ -91,12 +76,7 @@ int time(lua_State* L) {
 }
 
 int teams(lua_State* L) {
-  const std::vector<std::string> t = reading(L).teams();
-  lua_createtable(L, int(t.size()), 0);
-  for (size_t i = 0; i < t.size(); ++i) {
-    lua_pushstring(L, t[i].c_str());
-    lua_rawseti(L, -2, int(i + 1));
-  }
+  push_strings(L, reading(L).teams());
   return 1;
 }
 

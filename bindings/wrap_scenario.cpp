@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 
+#include "lua_push.h"
 #include "sport.h"
 
 namespace quantum::lua {
@@ -32,17 +33,6 @@ struct Scenario {
 
 Scenario& check(lua_State* L) { return **static_cast<Scenario**>(luaL_checkudata(L, 1, kMeta)); }
 
-template <class F>
-int guarded(lua_State* L, F&& f) {
-  std::string error;
-  try {
-    return f();
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  return luaL_error(L, "%s", error.c_str());
-}
-
 double field_number(lua_State* L, int t, const char* key, double fallback) {
   lua_getfield(L, t, key);
   const double v = lua_isnumber(L, -1) ? lua_tonumber(L, -1) : fallback;
@@ -56,18 +46,6 @@ int body_index(lua_State* L, Scenario& s, int arg) {
   for (size_t k = 0; k < f.bodies.size(); ++k)
     if (f.bodies[k].name == name) return int(k);
   return luaL_error(L, "no player '%s' in %s", name.c_str(), s.sport->name().c_str());
-}
-
-void push_event(lua_State* L, const game::GameEvent& e) {
-  lua_createtable(L, 0, 8);
-  for (auto [key, value] : {std::pair{"type", &e.type}, {"actor", &e.actor}, {"team", &e.team}, {"by", &e.by}}) {
-    lua_pushstring(L, value->c_str());
-    lua_setfield(L, -2, key);
-  }
-  for (auto [key, value] : {std::pair{"t", e.t}, {"p", e.p}, {"p_newtonian", e.p_newtonian}}) {
-    lua_pushnumber(L, value);
-    lua_setfield(L, -2, key);
-  }
 }
 
 // quantum.scenario(sport_folder [, {seed =, particles =, handicaps = {...}}])
@@ -212,41 +190,26 @@ int events(lua_State* L) {
   return 1;
 }
 
-int strings(lua_State* L, const std::vector<std::string>& list) {
-  lua_createtable(L, int(list.size()), 0);
-  for (size_t i = 0; i < list.size(); ++i) {
-    lua_pushstring(L, list[i].c_str());
-    lua_rawseti(L, -2, int(i + 1));
-  }
-  return 1;
-}
-
 int said(lua_State* L) {
   std::vector<std::string> texts;
   for (const game::Said& s : check(L).said) texts.push_back(s.text);
-  return strings(L, texts);
+  push_strings(L, texts);
+  return 1;
 }
 
-int errors(lua_State* L) { return strings(L, check(L).errors); }
+int errors(lua_State* L) {
+  push_strings(L, check(L).errors);
+  return 1;
+}
 
-// s:fates(): the current fates, {kind, actor, team, favours, via, mass, tweaked, count} each.
+// s:fates(): the current fates, as rules see them (see lua_push.h).
 int fates(lua_State* L) {
   Scenario& s = check(L);
   return guarded(L, [&] {
     const std::vector<game::FateView> list = s.match->fates();
     lua_createtable(L, int(list.size()), 0);
     for (size_t i = 0; i < list.size(); ++i) {
-      const game::FateView& f = list[i];
-      lua_createtable(L, 0, 8);
-      for (auto [key, value] :
-           {std::pair{"kind", &f.kind}, {"actor", &f.actor}, {"team", &f.team}, {"favours", &f.favours}, {"via", &f.via}}) {
-        lua_pushstring(L, value->c_str());
-        lua_setfield(L, -2, key);
-      }
-      for (auto [key, value] : {std::pair{"mass", f.mass}, {"tweaked", f.tweaked}, {"count", double(f.count)}}) {
-        lua_pushnumber(L, value);
-        lua_setfield(L, -2, key);
-      }
+      push_fate(L, list[i]);
       lua_rawseti(L, -2, int(i + 1));
     }
     return 1;
@@ -254,11 +217,7 @@ int fates(lua_State* L) {
 }
 
 int score(lua_State* L) {
-  lua_newtable(L);
-  for (const auto& [team, goals] : check(L).match->score()) {
-    lua_pushinteger(L, goals);
-    lua_setfield(L, -2, team.c_str());
-  }
+  push_score(L, check(L).match->score());
   return 1;
 }
 

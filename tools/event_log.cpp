@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iostream>
+#include <stdexcept>
 
 namespace quantum::tools {
 namespace {
@@ -23,10 +25,17 @@ Actor actor_of(const Event& e, const Field& f) {
   return {};
 }
 
-// Six significant digits are plenty for seconds and metres, and keep logs diff-able.
+}  // namespace
+
 double rounded(double v) { return std::round(v * 1e6) / 1e6; }
 
-}  // namespace
+std::ostream* open_event_log(const std::string& path, std::ofstream& file) {
+  if (path.empty()) return nullptr;
+  if (path == "-") return &std::cout;
+  file.open(path);
+  if (!file) throw std::runtime_error("cannot write events to " + path);
+  return &file;
+}
 
 std::string event_json(const Event& e, const Field& f) {
   const Actor a = actor_of(e, f);

@@ -8,13 +8,12 @@
 #include <iostream>
 #include <sstream>
 
+#include "event_log.h"
 #include "game/bots.h"
 #include "sport.h"
 
 namespace quantum::tools {
 namespace {
-
-double rounded(double v) { return std::round(v * 1e6) / 1e6; }
 
 std::string event_json(const game::GameEvent& e, const std::vector<game::Said>& said) {
   nlohmann::ordered_json j;
@@ -86,14 +85,7 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   game::Bots bots(match.field(), skills, o.seed);
 
   std::ofstream file;
-  std::ostream* log = nullptr;
-  if (o.events == "-") {
-    log = &std::cout;
-  } else if (!o.events.empty()) {
-    file.open(o.events);
-    if (!file) throw std::runtime_error("cannot write events to " + o.events);
-    log = &file;
-  }
+  std::ostream* log = open_event_log(o.events, file);
 
   PlayResult result;
   const double dt = 1.0 / config.fps;

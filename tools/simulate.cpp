@@ -55,14 +55,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   World world(field, config, o.backend == "box2d" ? make_box2d_backend(field) : nullptr);
 
   std::ofstream file;
-  std::ostream* log = nullptr;
-  if (o.events == "-") {
-    log = &std::cout;
-  } else if (!o.events.empty()) {
-    file.open(o.events);
-    if (!file) throw std::runtime_error("cannot write events to " + o.events);
-    log = &file;
-  }
+  std::ostream* log = open_event_log(o.events, file);
 
   std::vector<Event> events;
   std::map<std::string, int> counts, conceded;

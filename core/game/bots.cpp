@@ -71,7 +71,7 @@ void Bots::imagine(Bot& b, const GameEvent& e) {
     const float speed = length(e.velocity) * float(std::max(0.2, 1 + b.skill.speed_noise * noise(b.rng)));
     b.ball_v = speed * rotated(unit(e.velocity), b.skill.aim_noise * 0.5 * noise(b.rng));
     // The ball has flown on while the news travelled.
-    fly(b, std::max(0.0, b.skill.reaction));
+    fly(b.ball, b.ball_v, std::max(0.0, b.skill.reaction));
   } else {
     b.knows_ball = false;  // a goal or out: the ball is gone until the next drop
   }
@@ -79,12 +79,12 @@ void Bots::imagine(Bot& b, const GameEvent& e) {
 }
 
 // The imagined ball flies straight and bounces off the walls' box.
-void Bots::fly(Bot& b, double dt) const {
+void Bots::fly(Vec2& ball, Vec2& velocity, double dt) const {
   for (double left = dt; left > 1e-9;) {
     const double h = std::min(left, 1.0 / 120);
-    b.ball = b.ball + float(h) * b.ball_v;
-    if (b.ball.x < lo_.x || b.ball.x > hi_.x) b.ball.x = std::clamp(b.ball.x, lo_.x, hi_.x), b.ball_v.x *= -0.9f;
-    if (b.ball.y < lo_.y || b.ball.y > hi_.y) b.ball.y = std::clamp(b.ball.y, lo_.y, hi_.y), b.ball_v.y *= -0.9f;
+    ball = ball + float(h) * velocity;
+    if (ball.x < lo_.x || ball.x > hi_.x) ball.x = std::clamp(ball.x, lo_.x, hi_.x), velocity.x *= -0.9f;
+    if (ball.y < lo_.y || ball.y > hi_.y) ball.y = std::clamp(ball.y, lo_.y, hi_.y), velocity.y *= -0.9f;
     left -= h;
   }
 }
@@ -130,9 +130,9 @@ Vec2 Bots::decide(Bot& b, double t) {
     // Coming at me: meet it on my defence line, where the imagined flight crosses it.
     const float line = b.home.x;
     const float when = (line - b.ball.x) / b.ball_v.x;
-    Bot ghost = b;
-    fly(ghost, std::clamp(double(when), 0.0, 2.0));
-    return {line, ghost.ball.y};
+    Vec2 ball = b.ball, velocity = b.ball_v;
+    fly(ball, velocity, std::clamp(double(when), 0.0, 2.0));
+    return {line, ball.y};
   }
   return {b.home.x, b.home.y + 0.5f * (b.ball.y - b.home.y)};
 }
@@ -143,7 +143,7 @@ std::vector<BodyInput> Bots::move(double t, double dt) {
     auto due = std::stable_partition(b.heard.begin(), b.heard.end(), [&](const Heard& h) { return h.at > t; });
     for (auto it = due; it != b.heard.end(); ++it) imagine(b, it->event);
     b.heard.erase(due, b.heard.end());
-    if (b.knows_ball) fly(b, dt);
+    if (b.knows_ball) fly(b.ball, b.ball_v, dt);
     const Vec2 want = clamp_to_half(b, decide(b, t));
     const double limit = b.plan == Plan::Strike ? b.skill.strike_speed : b.skill.max_speed;
     Vec2 step = want - b.pos;

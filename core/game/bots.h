@@ -55,7 +55,7 @@ class Bots {
   };
 
   void imagine(Bot& b, const GameEvent& e);
-  void fly(Bot& b, double dt) const;
+  void fly(Vec2& ball, Vec2& velocity, double dt) const;
   Vec2 decide(Bot& b, double t);
   Vec2 clamp_to_half(const Bot& b, Vec2 p) const;
 

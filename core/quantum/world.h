@@ -93,6 +93,7 @@ class World {
 
  private:
   void check_input(float dt, std::span<const BodyInput> input) const;
+  void check_bodies(std::span<const BodyInput> input) const;
   void decide(float dt, std::vector<Event>& events);
   void realize_body(int body, float dt);
   void end_ball();

@@ -1,0 +1,53 @@
+#include "lua_push.h"
+
+#include <cmath>
+
+namespace quantum::lua {
+namespace {
+
+void set(lua_State* L, const char* key, const std::string& value) {
+  lua_pushstring(L, value.c_str());
+  lua_setfield(L, -2, key);
+}
+
+void set(lua_State* L, const char* key, double value) {
+  lua_pushnumber(L, value);
+  lua_setfield(L, -2, key);
+}
+
+}  // namespace
+
+void push_strings(lua_State* L, const std::vector<std::string>& list) {
+  lua_createtable(L, int(list.size()), 0);
+  for (size_t i = 0; i < list.size(); ++i) {
+    lua_pushstring(L, list[i].c_str());
+    lua_rawseti(L, -2, int(i + 1));
+  }
+}
+
+void push_score(lua_State* L, const std::map<std::string, int>& score) {
+  lua_createtable(L, 0, int(score.size()));
+  for (const auto& [team, goals] : score) {
+    lua_pushinteger(L, goals);
+    lua_setfield(L, -2, team.c_str());
+  }
+}
+
+void push_event(lua_State* L, const game::GameEvent& e) {
+  lua_createtable(L, 0, 10);
+  set(L, "type", e.type), set(L, "actor", e.actor), set(L, "team", e.team);
+  set(L, "by", e.by), set(L, "by_team", e.by_team);
+  set(L, "t", e.t), set(L, "p", e.p), set(L, "p_newtonian", e.p_newtonian), set(L, "particles", double(e.particles));
+  set(L, "speed", std::hypot(e.velocity.x, e.velocity.y));
+}
+
+void push_fate(lua_State* L, const game::FateView& f) {
+  lua_createtable(L, 0, 9);
+  set(L, "kind", f.kind), set(L, "actor", f.actor), set(L, "team", f.team), set(L, "favours", f.favours);
+  set(L, "via", f.via);
+  set(L, "mass", f.mass), set(L, "tweaked", f.tweaked), set(L, "count", double(f.count));
+  push_strings(L, f.path);
+  lua_setfield(L, -2, "path");
+}
+
+}  // namespace quantum::lua
