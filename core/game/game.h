@@ -67,7 +67,6 @@ struct MatchConfig {
   uint64_t seed = 1;
   double fps = 60;
   double seconds = 120;       // time limit; the rules hear time_up when it runs out
-  double repredict = 0.5;     // s between fate predictions while nothing happens
   int first_spot = 0;         // where the first ball drops, at once
 };
 
@@ -141,7 +140,6 @@ class Match {
   RallyStats stats_;
   double respawn_at_ = -1;
   int respawn_spot_ = 0;
-  double next_predict_ = 0;
   int rally_contacts_ = 0;
   int last_toucher_ = -1;  // body of the last announced touch this rally
   bool finished_ = false, time_up_told_ = false;

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "quantum/contact.h"
+#include "quantum/noise.h"
 #include "quantum/world.h"
 #include "world_internals.h"
 
@@ -33,19 +34,50 @@ bool ends_at(Fate& f, detail::HitKind kind, int index, const uint8_t* own_goal) 
   }
 }
 
+// The next step's Brownian offsets. They come from counter-based noise, so prediction can draw
+// exactly the offsets the step will: it traces the first `dt` with them, and a particle that meets
+// something during the next step is predicted to meet exactly that. Decisions draw on particles
+// that met something, so tweaks land on the fates that really happen, even though later flight
+// is traced without noise.
+struct NextStep {
+  float dt = 0;  // 0: no noise to replay
+  uint32_t key = 0;
+  float amplitude = 0;
+};
+
+NextStep next_step(uint64_t seed, uint64_t step, float brownian, float dt) {
+  if (!(brownian > 0)) return {};
+  return {dt, step_key(seed, step + 1), noise_amplitude(brownian, dt)};
+}
+
+// Particle i at the start of the prediction: moving with the next step's drift, as the step moves it.
+detail::Mover start_of(const Cloud& c, size_t i, const NextStep& next) {
+  if (next.dt <= 0) return {c.x[i], c.y[i], c.vx[i], c.vy[i], c.vx[i], c.vy[i]};
+  float dx, dy;
+  noise_offsets(noise_bits(uint32_t(i), next.key), next.amplitude, dx, dy);
+  const float x1 = c.x[i] + c.vx[i] * next.dt + dx, y1 = c.y[i] + c.vy[i] * next.dt + dy;
+  return {c.x[i], c.y[i], (x1 - c.x[i]) / next.dt, (y1 - c.y[i]) / next.dt, c.vx[i], c.vy[i]};
+}
+
 // Follows one particle from contact to contact; `visit` sees every point where the path turns.
 // Same searches and arithmetic as trace_fates, one particle at a time.
 template <class Visit>
 Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
-                detail::Mover m, float horizon, Visit&& visit) {
+                detail::Mover m, float drift_end, float horizon, Visit&& visit) {
   Fate f;
-  float t = 0;
+  float t = 0, end = drift_end > 0 && drift_end < horizon ? drift_end : horizon;
   visit(m.x, m.y);
-  for (int contact = 0; contact < kMaxFateContacts; ++contact) {
-    const detail::Hit hit = detail::next_hit(g, bodies, nb, m, t, horizon, true);
+  for (int contact = 0; contact < kMaxFateContacts;) {
+    const detail::Hit hit = detail::next_hit(g, bodies, nb, m, t, end, true);
     if (hit.kind == detail::HitKind::None) {
-      visit(m.x + m.ux * (horizon - t), m.y + m.uy * (horizon - t));
-      return f;
+      m.x += m.ux * (end - t), m.y += m.uy * (end - t);
+      t = end;
+      if (end == horizon) {
+        visit(m.x, m.y);
+        return f;
+      }
+      m.ux = m.vx, m.uy = m.vy, end = horizon;  // the drift is spent: on without noise
+      continue;
     }
     m.x += m.ux * hit.dt, m.y += m.uy * hit.dt;
     t += hit.dt;
@@ -53,45 +85,92 @@ Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int n
     if (ends_at(f, hit.kind, hit.index, own_goal)) return f;
     add_to_path(f, hit.index);
     detail::resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
+    ++contact;
   }
   return f;
 }
 
-// Fates of every particle of the cloud: each round searches all still-flying particles of a
-// chunk at once (vectorized), then moves each to its contact.
-void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
-                 const Cloud& c, float horizon, std::vector<Fate>& fates) {
+// Particles being traced: a batch for the vectorized search, plus who they are.
+struct Flight {
   detail::MoverBatch b;
-  b.resize(kChunk);
-  std::vector<uint32_t> id(kChunk);
-  std::vector<uint8_t> contacts(kChunk);
+  std::vector<uint32_t> id;
+  std::vector<uint8_t> contacts;
+  size_t n = 0;
+
+  Flight() {
+    b.resize(kChunk);
+    id.resize(kChunk);
+    contacts.resize(kChunk);
+  }
+  void push(const detail::Mover& m, float t, uint32_t who, uint8_t touched) {
+    b.x[n] = m.x, b.y[n] = m.y, b.ux[n] = m.ux, b.uy[n] = m.uy, b.vx[n] = m.vx, b.vy[n] = m.vy, b.t[n] = t;
+    id[n] = who, contacts[n] = touched;
+    ++n;
+  }
+};
+
+// Whether m can meet nothing within `dt`: its path stays inside the safe box (no wall, goal line
+// or bound within reach) and clear of every body's sweep. Most particles of a cloud can't; they
+// skip the search for the drift step.
+bool meets_nothing(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const detail::Mover& m,
+                   float dt) {
+  if (!g.safe.contains(m.x, m.y) || !g.safe.contains(m.x + m.ux * dt, m.y + m.uy * dt)) return false;
+  const float travel = (std::fabs(m.ux) + std::fabs(m.uy)) * dt;
+  for (int k = 0; k < nb; ++k) {
+    const detail::BodyPath& b = bodies[k];
+    const float sweep = (std::fabs(b.ux) + std::fabs(b.uy)) * std::min(dt, b.stop);
+    const float reach = b.radius + g.r + travel + sweep + 1e-3f;
+    const float qx = m.x - b.x, qy = m.y - b.y;
+    if (qx * qx + qy * qy < reach * reach) return false;
+  }
+  return true;
+}
+
+// Fates of every particle of the cloud: each round searches all still-flying particles of a
+// chunk at once (vectorized), then moves each to its contact. The first `drift_end` seconds run
+// with the next step's drift (see NextStep), the rest without.
+void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
+                 const Cloud& c, const NextStep& next, float horizon, std::vector<Fate>& fates) {
+  Flight flying, later;
+  const float drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
   for (size_t begin = 0; begin < c.size(); begin += kChunk) {
-    size_t n = std::min(kChunk, c.size() - begin);
-    for (size_t j = 0; j < n; ++j) {
-      const size_t i = begin + j;
-      b.x[j] = c.x[i], b.y[j] = c.y[i], b.ux[j] = b.vx[j] = c.vx[i], b.uy[j] = b.vy[j] = c.vy[i], b.t[j] = 0;
-      id[j] = uint32_t(i), contacts[j] = 0;
+    flying.n = later.n = 0;
+    for (size_t i = begin; i < std::min(begin + kChunk, c.size()); ++i) {
+      const detail::Mover m = start_of(c, i, next);
+      if (drift_end < horizon && meets_nothing(g, bodies, nb, m, drift_end))
+        later.push({m.x + m.ux * drift_end, m.y + m.uy * drift_end, m.vx, m.vy, m.vx, m.vy}, drift_end, uint32_t(i), 0);
+      else
+        flying.push(m, 0, uint32_t(i), 0);
     }
-    while (n > 0) {
-      detail::batch_next_hits(g, bodies, nb, b, n, horizon);
-      size_t flying = 0;
-      for (size_t j = 0; j < n; ++j) {
-        const detail::HitKind kind = detail::code_kind(b.code[j]);
-        if (kind == detail::HitKind::None) continue;  // stays in the field
-        Fate& f = fates[id[j]];
-        const int index = detail::code_index(b.code[j]);
-        if (ends_at(f, kind, index, own_goal)) continue;
-        add_to_path(f, index);
-        if (++contacts[j] >= kMaxFateContacts) continue;
-        const float dt = b.when[j], t = b.t[j] + dt;
-        detail::Mover m{b.x[j] + b.ux[j] * dt, b.y[j] + b.uy[j] * dt, b.ux[j], b.uy[j], b.vx[j], b.vy[j]};
-        detail::resolve(g, bodies, kind, index, b.hnx[j], b.hny[j], t, m);
-        b.x[flying] = m.x, b.y[flying] = m.y, b.ux[flying] = m.ux, b.uy[flying] = m.uy;
-        b.vx[flying] = m.vx, b.vy[flying] = m.vy, b.t[flying] = t;
-        id[flying] = id[j], contacts[flying] = contacts[j];
-        ++flying;
+    for (float end = drift_end;; end = horizon) {
+      while (flying.n > 0) {
+        detail::MoverBatch& b = flying.b;
+        detail::batch_next_hits(g, bodies, nb, b, flying.n, end);
+        const size_t n = flying.n;
+        flying.n = 0;  // compacted in place: slot j is read before anything is written to it
+        for (size_t j = 0; j < n; ++j) {
+          const detail::HitKind kind = detail::code_kind(b.code[j]);
+          if (kind == detail::HitKind::None) {
+            if (end == horizon) continue;  // stays in the field
+            const float rest = end - b.t[j];
+            later.push({b.x[j] + b.ux[j] * rest, b.y[j] + b.uy[j] * rest, b.vx[j], b.vy[j], b.vx[j], b.vy[j]}, end,
+                       flying.id[j], flying.contacts[j]);
+            continue;
+          }
+          Fate& f = fates[flying.id[j]];
+          const int index = detail::code_index(b.code[j]);
+          if (ends_at(f, kind, index, own_goal)) continue;
+          add_to_path(f, index);
+          const uint8_t touched = uint8_t(flying.contacts[j] + 1);
+          if (touched >= kMaxFateContacts) continue;
+          const float dt = b.when[j], t = b.t[j] + dt;
+          detail::Mover m{b.x[j] + b.ux[j] * dt, b.y[j] + b.uy[j] * dt, b.ux[j], b.uy[j], b.vx[j], b.vy[j]};
+          detail::resolve(g, bodies, kind, index, b.hnx[j], b.hny[j], t, m);
+          flying.push(m, t, flying.id[j], touched);
+        }
       }
-      n = flying;
+      if (end == horizon) break;
+      std::swap(flying, later);
     }
   }
 }
@@ -165,8 +244,9 @@ std::vector<Vec2> World::predict_path(size_t i, float horizon) const {
   const auto bodies = predicted_bodies(field_, body_pos_, body_vel_, config_.body_lookahead);
   const std::vector<uint8_t> own = own_goals();
   std::vector<Vec2> path;
-  const detail::Mover m{cloud_.x[i], cloud_.y[i], cloud_.vx[i], cloud_.vy[i], cloud_.vx[i], cloud_.vy[i]};
-  trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), own.data(), m, horizon,
+  const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_);
+  trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), own.data(), start_of(cloud_, i, next), next.dt,
+             horizon,
              [&](float px, float py) { path.push_back({px, py}); });
   return path;
 }
@@ -182,7 +262,8 @@ FateReport World::predict(float horizon) const {
   report.cloud_version = version_;
   report.group_of.resize(cloud_.size());
   std::vector<Fate> fates(cloud_.size());
-  trace_fates(g, bodies.data(), nb, own.data(), cloud_, horizon, fates);
+  trace_fates(g, bodies.data(), nb, own.data(), cloud_, next_step(config_.seed, step_, field_.brownian, last_dt_),
+              horizon, fates);
   std::unordered_map<uint64_t, uint32_t> index;
   for (size_t i = 0; i < cloud_.size(); ++i) {
     const Fate& f = fates[i];

@@ -126,6 +126,7 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
     motion_[k] = {body_pos_[k], input[k].position, input[k].velocity, field_.bodies[k].radius};
   ++step_;
   time_ += dt;
+  last_dt_ = dt;
   // The oldest purgatory slot falls out; this step's contacts go in its place.
   const uint32_t slot = step_ % config_.purgatory_frames;
   for (int k = 0; k < nb; ++k) purgatory_[k * config_.purgatory_frames + slot].clear();
@@ -145,6 +146,14 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
 void World::place_bodies(std::span<const BodyInput> input) {
   check_bodies(input);
   for (size_t k = 0; k < input.size(); ++k) body_pos_[k] = input[k].position, body_vel_[k] = input[k].velocity;
+  ++version_;
+}
+
+void World::set_last_touch(int body) {
+  if (body < -1 || body >= int(field_.bodies.size()))
+    throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
+                                std::to_string(field_.bodies.size()) + ")");
+  last_touch_ = body;
   ++version_;
 }
 

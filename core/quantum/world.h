@@ -69,8 +69,14 @@ class World {
   // for bad input, like step().
   void place_bodies(std::span<const BodyInput> input);
 
-  // Forward-simulates every live particle without noise up to `horizon` seconds, jumping from
-  // contact to contact; bodies move on their last velocity for config.body_lookahead, then hold.
+  // Says who touched the ball last (a body, or -1 for nobody), which decides own goals. For
+  // setting up a scene, like set_cloud(). Throws std::invalid_argument for an unknown body.
+  void set_last_touch(int body);
+
+  // Forward-simulates every live particle up to `horizon` seconds, jumping from contact to
+  // contact; bodies move on their last velocity for config.body_lookahead, then hold. The first
+  // step (as long as the last one) carries the Brownian offsets the next step() will draw; the
+  // rest is traced without noise.
   FateReport predict(float horizon = 3.0f) const;
 
   // The predicted path of one live particle, as predict() traces it: start, contacts, end.
@@ -115,6 +121,7 @@ class World {
   std::vector<uint32_t> removed_;
   DecisionRng rng_;
   double time_ = 0;
+  float last_dt_ = 1.0f / 60;  // the next step is taken to be as long as the last
   uint64_t step_ = 0;
   uint64_t version_ = 0;
   size_t split_cursor_ = 0;

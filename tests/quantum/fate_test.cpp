@@ -103,6 +103,32 @@ TEST(Fate, BodiesAreExtrapolatedForTheLookaheadThenHeld) {
   EXPECT_EQ(short_sighted.predict().groups[0].fate.kind, FateKind::Goal);
 }
 
+// Prediction replays the next step's Brownian offsets: a ball at rest 3 cm from Red's mallet
+// reaches it in the next step only when its noise pushes it that way, and the prediction must
+// say so exactly, seed by seed (decisions draw on the particles that met something).
+TEST(Fate, NextStepsNoiseDecidesAsPredicted) {
+  Field f = test::airhockey();
+  f.brownian = 0.3f;  // offsets of up to 6.7 cm a step
+  const float gap = 0.03f, reach = f.bodies[1].radius + f.ball_radius;
+  int met = 0;
+  for (uint64_t seed = 1; seed <= 200; ++seed) {
+    WorldConfig config;
+    config.particles = 1;
+    config.seed = seed;
+    World world(f, config);
+    world.set_cloud(test::single(0.85f - reach - gap, 0, 0, 0));
+    const bool predicted = world.predict().groups[0].fate.kind == FateKind::Body;
+    std::vector<Event> events;
+    world.step(kDt, test::resting(f), events);
+    const bool hit = !events.empty() && events[0].type == EventType::Hit && events[0].actor == 1;
+    EXPECT_EQ(predicted, hit) << "seed " << seed;
+    met += hit;
+  }
+  // Both ways happen often: the noise, not the scene, decides.
+  EXPECT_GT(met, 20);
+  EXPECT_LT(met, 180);
+}
+
 TEST(Fate, ReportGroupsCountsMassesAndTrajectories) {
   const Field f = test::quiet_airhockey();
   WorldConfig config;

@@ -53,32 +53,67 @@ describe("Quantum air hockey", function()
     assert.is_true(intercepted >= 18, intercepted .. " of 20 shots intercepted")
   end)
 
-  -- The sport's factors {goal 5, own goal 0.1, mallet 5, field 1} move what is realized: over
-  -- 400 seeded fanned shots with Red's mallet partly in the way, the first outcome is a mallet
-  -- touch far more often than its Newtonian probability. One-sided binomial z-test, rejected
-  -- only when z < 3.09 (p < 0.001).
-  it("realizes mallet touches more often than Newtonian odds, as its factors ask", function()
-    local probe = quantum.scenario(SPORT, { seed = 1 })
-    probe:place("Red's mallet", 0.8, 0.1)
-    local shot = { x = 0.45, y = 0.0, vx = 2.5, vy = 0.0, turn = 0.6, count = 400 }
-    probe:ball(shot)
-    local tweaked, newtonian = 0, 0
+  -- Realized frequencies follow the probabilities the factors compute. A scene is set up n times
+  -- with different seeds; its fates, tweaked by the sport's factors and the handicaps, give the
+  -- expected distribution of the first outcome; chi-square goodness of fit, rejected only below
+  -- p = 0.001. Short flights: each draw is then made on fates predicted that very frame.
+  local function outcomes_follow_the_tweaked_fates(opts, setup, category)
+    local probe = quantum.scenario(SPORT, opts)
+    setup(probe)
+    local expected, newtonian = {}, {}
     for _, f in ipairs(probe:fates()) do
-      if f.kind == "body" then tweaked, newtonian = tweaked + f.tweaked, newtonian + f.mass end
+      local k = category(f.kind)
+      expected[k] = (expected[k] or 0) + f.tweaked
+      newtonian[k] = (newtonian[k] or 0) + f.mass
     end
-    assert.is_true(tweaked > newtonian + 0.1, string.format("the mallet factor raises the touch: %.3f -> %.3f", newtonian, tweaked))
-
-    local n, touched = 400, 0
+    local n, seen = 400, {}
     for seed = 1, n do
-      local s = quantum.scenario(SPORT, { seed = seed })
-      s:place("Red's mallet", 0.8, 0.1)
-      s:ball(shot)
+      opts.seed = seed
+      local s = quantum.scenario(SPORT, opts)
+      setup(s)
       local e = s:run(3.0, "shot")[1]
-      if e and e.type == "shot" then touched = touched + 1 end
+      local k = e and e.type or "none"
+      seen[k] = (seen[k] or 0) + 1
     end
-    local z = (touched - n * newtonian) / math.sqrt(n * newtonian * (1 - newtonian))
-    assert.is_true(z > 3.09, string.format("%d of %d touched; Newtonian %.3f, tweaked %.3f, z = %.2f",
-      touched, n, newtonian, tweaked, z))
+    local chi2, cells, report = 0, 0, ""
+    for k, p in pairs(expected) do
+      assert.is_true(p * n >= 5, k .. " is too rare for chi-square; change the scene")
+      chi2 = chi2 + ((seen[k] or 0) - p * n) ^ 2 / (p * n)
+      cells = cells + 1
+      report = report .. string.format(" %s: Newtonian %.3f, tweaked %.3f, seen %d/%d;", k, newtonian[k], p, seen[k] or 0, n)
+    end
+    for k, count in pairs(seen) do assert.is_not_nil(expected[k], "unpredicted outcome " .. k .. " x" .. count) end
+    local p = quantum.chi_square_p(chi2, cells - 1)
+    assert.is_true(p > 0.001, string.format("chi2 = %.2f, p = %.5f;%s", chi2, p, report))
+    return expected, newtonian
+  end
+
+  -- A shot at Red's goal with Red's mallet half in the way.
+  local function half_blocked(s)
+    s:place("Red's mallet", 0.88, 0.06)
+    s:ball { x = 0.5, y = 0.0, vx = 2.5, vy = 0.0, turn = 0.1, count = 400 }
+  end
+  local function shot_or_goal(kind) return kind == "body" and "shot" or kind end
+
+  it("realizes a handicapped intercept as often as its factors compute", function()
+    local opts = { particles = 400, handicaps = { ["Red's mallet"] = 4 } }
+    local expected, newtonian = outcomes_follow_the_tweaked_fates(opts, half_blocked, shot_or_goal)
+    assert.is_true(expected.shot > newtonian.shot + 0.1, "the handicap raises Red's intercept")
+  end)
+
+  it("realizes goals and intercepts as often as its fate factors compute", function()
+    outcomes_follow_the_tweaked_fates({ particles = 400 }, half_blocked, shot_or_goal)
+  end)
+
+  it("makes an own goal as rare as its factor of 0.1 computes", function()
+    -- Red just touched the puck, which heads for Red's own goal past Red's mallet.
+    local function own_goal_chance(s)
+      s:place("Red's mallet", 0.9, 0.1)
+      s:ball { x = 0.5, y = 0.0, vx = 2.5, vy = 0.0, turn = 0.1, count = 400, by = "Red's mallet" }
+    end
+    local expected, newtonian = outcomes_follow_the_tweaked_fates({ particles = 400 }, own_goal_chance,
+      shot_or_goal)
+    assert.is_true(expected.own_goal < newtonian.own_goal / 4, "the own goal factor makes it rarer")
   end)
 
   it("ends the match when a team reaches first_to", function()
