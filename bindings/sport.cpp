@@ -141,6 +141,25 @@ std::string Sport::phrase(const std::string& key, const std::map<std::string, st
   return out;
 }
 
+void Sport::set_factor(const std::string& kind, double value) {
+  const char* kinds[] = {"goal", "own_goal", "body", "out", "field"};
+  if (std::find(std::begin(kinds), std::end(kinds), kind) == std::end(kinds))
+    throw std::invalid_argument("no fate kind '" + kind + "' (known: goal, own_goal, body, out, field)");
+  if (!(std::isfinite(value) && value >= 0)) throw std::invalid_argument("factor for " + kind + " must be a number >= 0");
+  lua_State* L = sandbox_.L();
+  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+  lua_getfield(L, -1, "factors");
+  if (!lua_istable(L, -1)) {
+    lua_pop(L, 1);
+    lua_newtable(L);
+    lua_pushvalue(L, -1);
+    lua_setfield(L, -3, "factors");
+  }
+  lua_pushnumber(L, value);
+  lua_setfield(L, -2, kind.c_str());
+  lua_pop(L, 2);
+}
+
 std::vector<double> Sport::factors(std::span<const game::FateView> fates, game::Match& match) {
   lua_State* L = sandbox_.L();
   reading_ = &match;

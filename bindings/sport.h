@@ -29,6 +29,11 @@ class Sport final : public game::Rules {
   // The sport's handicap for every body of the field (1 where it names none).
   const std::vector<double>& handicaps() const { return handicaps_; }
 
+  // Replaces the sport's factor for a fate kind (goal, own_goal, body, out, field), e.g. to
+  // compare a sport's factors with none. Throws std::invalid_argument for an unknown kind or a
+  // value that is not a number >= 0.
+  void set_factor(const std::string& kind, double value);
+
   std::vector<double> factors(std::span<const game::FateView> fates, game::Match& match) override;
   void on_event(const game::GameEvent& event, game::Match& match) override;
 

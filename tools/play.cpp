@@ -6,7 +6,10 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <atomic>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "event_log.h"
 #include "game/bots.h"
@@ -65,6 +68,7 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   if (o.input != "bots")
     throw std::invalid_argument("--input " + o.input + ": only 'bots' (simulated players) is available so far");
   lua::Sport sport(o.sport);
+  for (const auto& [kind, value] : o.factors) sport.set_factor(kind, value);
   const size_t n_players = sport.field().bodies.size();
   std::vector<double> skills = o.skills.empty() ? std::vector<double>(n_players, 0.6) : o.skills;
   if (skills.size() != n_players)
@@ -121,6 +125,54 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
     out << buf;
   }
   return result;
+}
+
+}  // namespace quantum::tools
+
+namespace quantum::tools {
+
+BalanceResult balance(const PlayOptions& options, int matches) {
+  if (matches < 1 || matches > 100'000) throw std::invalid_argument("--matches must be in [1, 100000]");
+  PlayOptions quiet = options;
+  quiet.transcript = false;
+  quiet.events.clear();
+  std::vector<PlayResult> results(static_cast<size_t>(matches));
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_lock;
+  auto worker = [&] {
+    for (int m; (m = next++) < matches;) {
+      PlayOptions o = quiet;
+      o.seed = options.seed + uint64_t(m);
+      std::ostringstream out, errors;
+      try {
+        results[size_t(m)] = play(o, out, errors);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_lock);
+        if (!failure) failure = std::current_exception();
+        next = matches;
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  const unsigned cores = std::max(1u, std::min(std::thread::hardware_concurrency(), unsigned(matches)));
+  for (unsigned t = 0; t < cores; ++t) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
+
+  BalanceResult r;
+  r.matches = matches;
+  int rallies = 0, contacts = 0, goals = 0;
+  double seconds = 0;
+  for (const PlayResult& p : results) {
+    if (p.winner.empty()) ++r.draws;
+    else ++r.wins[p.winner];
+    for (const auto& [team, n] : p.score) r.wins.try_emplace(team, 0);
+    rallies += p.stats.rallies, contacts += p.stats.contacts, goals += p.stats.goals, seconds += p.stats.seconds;
+  }
+  r.contacts_per_rally = rallies ? double(contacts) / rallies : 0;
+  r.goals_per_minute = seconds > 0 ? goals * 60 / seconds : 0;
+  return r;
 }
 
 }  // namespace quantum::tools

@@ -21,6 +21,7 @@ struct PlayOptions {
   std::string events;           // JSON-lines file, "-" for stdout, empty for none
   std::vector<double> skills;   // per player, 0..1; empty: 0.6 each
   std::vector<double> handicaps;  // per player; empty: the sport's
+  std::map<std::string, double> factors;  // overrides of the sport's factors by fate kind
   bool transcript = true;
 };
 
@@ -34,6 +35,17 @@ struct PlayResult {
 // Plays one match. The transcript and the closing summary go to `out`, rule errors to `errors`.
 // Throws on bad options, a sport that does not load or a bad field.
 PlayResult play(const PlayOptions& options, std::ostream& out, std::ostream& errors);
+
+struct BalanceResult {
+  int matches = 0, draws = 0;
+  std::map<std::string, int> wins;  // by team
+  double contacts_per_rally = 0;    // over all rallies of all matches
+  double goals_per_minute = 0;      // over all time played
+};
+
+// Plays `matches` matches with seeds options.seed, options.seed + 1, ... on every core, without
+// transcripts. The result depends only on the options, not on the number of cores.
+BalanceResult balance(const PlayOptions& options, int matches);
 
 // "0.3,0.9" -> {0.3, 0.9}; throws naming the option for anything else.
 std::vector<double> parse_list(const std::string& text, const std::string& option);

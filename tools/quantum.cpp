@@ -40,6 +40,22 @@ int main(int argc, char** argv) {
   play->add_option("--handicap", handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
   play->add_flag("--quiet", [&](int64_t) { game.transcript = false; }, "no transcript");
 
+  quantum::tools::PlayOptions study;
+  std::string study_skills, study_handicaps, study_factors = "sport";
+  int matches = 200;
+  CLI::App* balance = app.add_subcommand("balance", "play many seeded matches between simulated players and report "
+                                                   "win rates and gameflow");
+  balance->add_option("SPORT", study.sport, "sport folder")->capture_default_str();
+  balance->add_option("--matches", matches, "how many matches (seeds --seed, --seed + 1, ...)")->capture_default_str();
+  balance->add_option("--seed", study.seed, "first seed")->capture_default_str();
+  balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)");
+  balance->add_option("--particles", study.particles, "particles in the cloud (default: the sport's)")
+      ->check(CLI::Range(1u, 10'000'000u));
+  balance->add_option("--skill", study_skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
+  balance->add_option("--handicap", study_handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
+  balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
+      ->capture_default_str()->check(CLI::IsMember({"sport", "flat"}));
+
   std::vector<std::string> spec_paths;
   CLI::App* test = app.add_subcommand("test", "run Lua rule specs (*_spec.lua) with the scenario API");
   test->add_option("PATHS", spec_paths, "spec files or folders (default: rules)");
@@ -47,6 +63,21 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (test->parsed()) return quantum::tools::run_specs(spec_paths);
+    if (balance->parsed()) {
+      if (!study_skills.empty()) study.skills = quantum::tools::parse_list(study_skills, "--skill");
+      if (!study_handicaps.empty()) study.handicaps = quantum::tools::parse_list(study_handicaps, "--handicap");
+      if (study_factors == "flat")
+        for (const char* kind : {"goal", "own_goal", "body", "out", "field"}) study.factors[kind] = 1;
+      const quantum::tools::BalanceResult r = quantum::tools::balance(study, matches);
+      std::cout << r.matches << " matches of " << study.sport << " (seeds " << study.seed << " to "
+                << study.seed + uint64_t(matches) - 1 << ", skills " << (study_skills.empty() ? "0.6 each" : study_skills)
+                << ", handicaps " << (study_handicaps.empty() ? "the sport's" : study_handicaps) << ", "
+                << study_factors << " factors)\n";
+      std::cout << "wins:";
+      for (const auto& [team, n] : r.wins) std::cout << ' ' << team << ' ' << n << " (" << 100.0 * n / r.matches << " %)";
+      std::cout << ", draws " << r.draws << "\ncontacts per rally " << r.contacts_per_rally << ", goals per minute "
+                << r.goals_per_minute << '\n';
+    }
     if (play->parsed()) {
       if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");
       if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");
