@@ -29,7 +29,7 @@ constexpr float kSetUp = 0.03f;        // m: close enough to the start to strike
 
 SkillModel skill_model(double s) {
   if (!(s >= 0 && s <= 1)) throw std::invalid_argument("skill must be in [0, 1], got " + std::to_string(s));
-  return {0.40 - 0.28 * s, 0.45 - 0.38 * s, 0.10 - 0.08 * s, 0.40 - 0.30 * s, 1.2 + 2.3 * s, 1.5 + 2.5 * s};
+  return {0.40 - 0.28 * s, 0.45 - 0.38 * s, 0.10 - 0.08 * s, 0.40 - 0.30 * s, 1.2 + 2.3 * s, 2.5, s};
 }
 
 Bots::Bots(const Field& field, std::vector<double> skills, uint64_t seed) : field_(field) {
@@ -50,6 +50,9 @@ Bots::Bots(const Field& field, std::vector<double> skills, uint64_t seed) : fiel
     b.pos = b.home = spec.start;
     b.radius = spec.radius;
     b.attack_x = spec.start.x < mid_x_ ? 1.0f : -1.0f;
+    b.mouth_lo = b.mouth_hi = spec.start.y;
+    for (const Goal& g : field.goals)
+      if (g.team == spec.team) b.mouth_lo = std::min(g.a.y, g.b.y), b.mouth_hi = std::max(g.a.y, g.b.y);
     b.rng.seed(seed * 0x9E3779B97F4A7C15ull + k);
     bots_.push_back(std::move(b));
   }
@@ -97,6 +100,56 @@ Vec2 Bots::clamp_to_half(const Bot& b, Vec2 p) const {
   return {std::clamp(p.x, x0, x1), std::clamp(p.y, lo_.y + r, hi_.y - r)};
 }
 
+// Distance from p to the segment a-b.
+float distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a, ap = p - a;
+  const float l2 = ab.x * ab.x + ab.y * ab.y;
+  const float t = l2 > 0 ? std::clamp((ap.x * ab.x + ap.y * ab.y) / l2, 0.0f, 1.0f) : 0.0f;
+  return length(ap - t * ab);
+}
+
+// Where to shoot, as a player who sees the opponents' mallets would choose: points across the
+// opponents' goal mouth, straight or banked off either side wall (aimed at the point mirrored
+// through the wall), taking the path that passes furthest from every opponent.
+Vec2 Bots::target(const Bot& b) const {
+  const Goal* goal = nullptr;
+  for (const Goal& g : field_.goals)
+    if (g.team != field_.bodies[b.body].team) goal = &g;
+  if (!goal) return {b.ball.x + b.attack_x, b.ball.y};
+  Vec2 best = centre(*goal);
+  float best_clearance = -1;
+  for (int i = 0; i < 5; ++i) {
+    const float f = 0.15f + 0.7f * float(i) / 4;  // stay inside the posts
+    const Vec2 spot = goal->a + f * (goal->b - goal->a);
+    // Mirror through nothing, the high side wall, the low side wall.
+    for (int wall = 0; wall < 3; ++wall) {
+      auto mirror = [&](Vec2 p) -> Vec2 {
+        if (wall == 1) return {p.x, 2 * hi_.y - p.y};
+        if (wall == 2) return {p.x, 2 * lo_.y - p.y};
+        return p;
+      };
+      const Vec2 aim = mirror(spot);
+      float clearance = 1e9f;
+      for (const Bot& other : bots_) {
+        if (field_.bodies[other.body].team == field_.bodies[b.body].team) continue;
+        clearance = std::min({clearance, distance_to_segment(other.pos, b.ball, aim),
+                              distance_to_segment(mirror(other.pos), b.ball, aim)});
+      }
+      if (wall > 0) clearance *= 0.8f;  // a bank shot loses speed and is harder to place
+      if (clearance > best_clearance) best_clearance = clearance, best = aim;
+    }
+  }
+  return best;
+}
+
+// A defender's place across the field: a disciplined one never leaves the front of its goal
+// mouth (a ball that crosses the line beside it hits the end wall); a careless one follows
+// the ball wherever it imagines it.
+float Bots::guarded(const Bot& b, float y) const {
+  const float slack = float(1 - b.skill.discipline) * (hi_.y - lo_.y);
+  return std::clamp(y, b.mouth_lo - slack, b.mouth_hi + slack);
+}
+
 // Where the bot wants its body now.
 Vec2 Bots::decide(Bot& b, double t) {
   if (!b.knows_ball) return b.home;
@@ -110,18 +163,22 @@ Vec2 Bots::decide(Bot& b, double t) {
   if (mine && (speed < 0.6f || toward_me < 0.3f)) {
     // A slow ball on my side: get behind it and strike toward the other goal.
     if (b.plan != Plan::Approach) {
-      const Goal* target = nullptr;
-      for (const Goal& g : field_.goals)
-        if (g.team != field_.bodies[b.body].team) target = &g;
-      const Vec2 goal = target ? centre(*target) : Vec2{b.ball.x + b.attack_x, b.ball.y};
       std::normal_distribution<double> noise(0, b.skill.aim_noise);
-      b.aim = rotated(unit(goal - b.ball), noise(b.rng));
+      b.aim = rotated(unit(target(b) - b.ball), noise(b.rng));
       b.plan = Plan::Approach;
     }
     const Vec2 start = b.ball - (kBehind + b.radius) * b.aim;
     if (length(clamp_to_half(b, start) - b.pos) < kSetUp) {
       b.plan = Plan::Strike;
       b.strike_end = t + kStrikeTime;
+      return start;
+    }
+    // Going straight there would run through the ball: go round it, beside the strike line.
+    const float keep_off = b.radius + field_.ball_radius + 0.04f;
+    if (distance_to_segment(b.ball, b.pos, start) < keep_off) {
+      const Vec2 side{-b.aim.y, b.aim.x};
+      const float which = (b.pos.x - b.ball.x) * side.x + (b.pos.y - b.ball.y) * side.y >= 0 ? 1.0f : -1.0f;
+      return b.ball + (which * (keep_off + 0.02f)) * side - (0.5f * keep_off) * b.aim;
     }
     return start;
   }
@@ -132,9 +189,9 @@ Vec2 Bots::decide(Bot& b, double t) {
     const float when = (line - b.ball.x) / b.ball_v.x;
     Vec2 ball = b.ball, velocity = b.ball_v;
     fly(ball, velocity, std::clamp(double(when), 0.0, 2.0));
-    return {line, ball.y};
+    return {line, guarded(b, ball.y)};
   }
-  return {b.home.x, b.home.y + 0.5f * (b.ball.y - b.home.y)};
+  return {b.home.x, guarded(b, b.home.y + 0.5f * (b.ball.y - b.home.y))};
 }
 
 std::vector<BodyInput> Bots::move(double t, double dt) {

@@ -20,6 +20,7 @@ struct SkillModel {
   double speed_noise;    // relative error of an announced shot's speed
   double max_speed;      // m/s the body moves at
   double strike_speed;   // m/s of a strike through the ball
+  double discipline;     // 1 keeps the defence in front of its goal mouth; 0 follows the ball anywhere
 };
 SkillModel skill_model(double skill);
 
@@ -45,6 +46,7 @@ class Bots {
     Vec2 pos, home;
     float radius;
     float attack_x;  // +1 when the opponents' goal is toward +x
+    float mouth_lo, mouth_hi;  // the own goal mouth's extent across the field
     bool knows_ball = false;
     Vec2 ball, ball_v;  // the imagined ball
     Plan plan = Plan::Home;
@@ -57,6 +59,8 @@ class Bots {
   void imagine(Bot& b, const GameEvent& e);
   void fly(Vec2& ball, Vec2& velocity, double dt) const;
   Vec2 decide(Bot& b, double t);
+  Vec2 target(const Bot& b) const;
+  float guarded(const Bot& b, float y) const;
   Vec2 clamp_to_half(const Bot& b, Vec2 p) const;
 
   Field field_;
