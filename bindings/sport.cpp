@@ -13,7 +13,7 @@ namespace {
 constexpr size_t kMemoryBudget = 64u << 20;
 constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops forever is skipped
 
-const char* const kHandlers[] = {"drop", "shot", "intercept", "goal", "own_goal", "out", "time_up", "match_end"};
+const char* const kHandlers[] = {"drop", "shot", "intercept", "retouch", "goal", "own_goal", "out", "time_up", "match_end"};
 
 }  // namespace
 
@@ -102,7 +102,7 @@ Sport::Sport(const std::string& folder)
     while (lua_next(L, -2)) {
       const std::string key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?";
       if (std::find(std::begin(kHandlers), std::end(kHandlers), key) == std::end(kHandlers))
-        throw fail("on." + key, "unknown event (known: drop, shot, intercept, goal, own_goal, out, time_up, match_end)");
+        throw fail("on." + key, "unknown event (known: drop, shot, intercept, retouch, goal, own_goal, out, time_up, match_end)");
       if (!lua_isfunction(L, -1)) throw fail("on." + key, std::string("expected a function, got ") + luaL_typename(L, -1));
       lua_pop(L, 1);
     }

@@ -48,7 +48,7 @@ int body_index(lua_State* L, Scenario& s, int arg) {
   return luaL_error(L, "no player '%s' in %s", name.c_str(), s.sport->name().c_str());
 }
 
-// quantum.scenario(sport_folder [, {seed =, particles =, handicaps = {...}}])
+// quantum.scenario(sport_folder [, {seed =, particles =, seconds = (time limit), handicaps = {...}}])
 int scenario(lua_State* L) {
   const std::string folder = luaL_checkstring(L, 1);
   return guarded(L, [&] {
@@ -56,12 +56,13 @@ int scenario(lua_State* L) {
     s->sport = std::make_unique<Sport>(folder);
     game::MatchConfig config;
     config.particles = s->sport->particles();
-    config.seconds = 24 * 3600;
+    config.seconds = s->sport->seconds();
     config.first_spot = s->sport->first_spot();
     std::vector<double> handicaps = s->sport->handicaps();
     if (lua_istable(L, 2)) {
       config.seed = uint64_t(field_number(L, 2, "seed", 1));
       config.particles = uint32_t(field_number(L, 2, "particles", config.particles));
+      config.seconds = field_number(L, 2, "seconds", config.seconds);
       lua_getfield(L, 2, "handicaps");
       if (lua_istable(L, -1))
         for (size_t k = 0; k < handicaps.size(); ++k)

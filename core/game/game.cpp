@@ -7,6 +7,8 @@
 
 namespace quantum::game {
 
+constexpr double kRetouch = 0.25;  // s
+
 Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps)
     : world_(std::move(field), WorldConfig{config.particles, 3, config.seed}), config_(config), rules_(rules) {
   if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
@@ -74,6 +76,7 @@ void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_to
   world_.set_last_touch(last_touch);
   respawn_at_ = -1;
   last_toucher_ = last_touch;
+  last_touch_t_ = -kRetouch;  // a scene's last touch is no swing in progress
   rally_contacts_ = 0;
   retweak();
 }
@@ -137,10 +140,14 @@ void Match::handle(const Event& e) {
       break;
     case EventType::Hit: {
       const bool other_team = last_toucher_ >= 0 && f.bodies[last_toucher_].team != f.bodies[e.actor].team;
-      g.type = other_team ? "intercept" : "shot";
+      // A swing goes on through the puck and may meet it again a few frames later: that is the
+      // same touch, not a new shot.
+      const bool again = e.actor == last_toucher_ && e.t - last_touch_t_ < kRetouch;
+      g.type = again ? "retouch" : other_team ? "intercept" : "shot";
       g.actor = f.bodies[e.actor].name, g.team = f.bodies[e.actor].team, g.by = g.actor, g.by_team = g.team;
       last_toucher_ = e.actor;
-      ++rally_contacts_;
+      last_touch_t_ = e.t;
+      rally_contacts_ += again ? 0 : 1;
       break;
     }
     case EventType::Goal:

@@ -21,7 +21,8 @@ struct Player {
   Vec2 position, velocity;
 };
 
-// What the rules are told. type: drop, shot, intercept, goal, own_goal, out, time_up, match_end.
+// What the rules are told. type: drop, shot, intercept, retouch (the same player meeting the
+// ball again within 0.25 s of its last touch: one swing), goal, own_goal, out, time_up, match_end.
 struct GameEvent {
   double t = 0;
   std::string type;
@@ -142,6 +143,7 @@ class Match {
   int respawn_spot_ = 0;
   int rally_contacts_ = 0;
   int last_toucher_ = -1;  // body of the last announced touch this rally
+  double last_touch_t_ = 0;
   bool finished_ = false, time_up_told_ = false;
   std::string winner_;
 };

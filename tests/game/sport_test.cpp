@@ -48,10 +48,11 @@ TEST(Sport, RuntimeErrorInARuleIsReportedAndTheMatchGoesOn) {
   tools::PlayOptions o;
   o.sport = sport_with("runtime", R"(
 return {
-  match = { seconds = 20 },
+  match = { seconds = 60 },
   on = {
     shot = function(game, e) error("boom in the shot rule") end,
     goal = function(game, e) game.award(e.team == "blue" and "red" or "blue"); game.respawn(e.team, 1) end,
+    own_goal = function(game, e) game.award(e.team == "blue" and "red" or "blue"); game.respawn(e.team, 1) end,
   },
 })");
   o.seed = 3;
@@ -59,10 +60,11 @@ return {
   const tools::PlayResult r = tools::play(o, out, errors);
   EXPECT_GT(r.rule_errors, 0);
   EXPECT_NE(errors.str().find("sport.lua:5: boom in the shot rule (on.shot skipped)"), std::string::npos) << errors.str();
-  EXPECT_GE(r.stats.seconds, 20 - 1e-6);  // played to the time limit regardless
+  EXPECT_GE(r.stats.seconds, 60 - 1e-6);  // played to the time limit regardless
   int goals = 0;
   for (const auto& [team, n] : r.score) goals += n;
-  EXPECT_GT(goals, 0);  // the goal rule kept working (own goals are not awarded by this sport)
+  EXPECT_GT(goals, 0);  // the goal rules kept working
+  EXPECT_EQ(goals, r.stats.goals);
 }
 
 TEST(Sport, AirHockeyMatchIsPlayedAndRepeatable) {

@@ -1,0 +1,45 @@
+-- Shooting practice: one player, one goal, as many goals as possible before time runs out.
+-- A second sport written in Lua only (no C++ changes): see docs/writing-a-sport.md.
+local sport = {
+  name = "Shooting practice",
+  field = "field.lua",
+  particles = 1000,
+  match = { seconds = 60, start = "blue" },
+
+  -- Practice rewards a shot that scores, and does not punish a miss: the puck stays in play.
+  factors = { goal = 3, body = 2, field = 1 },
+
+  phrases = {
+    drop = "New puck {spot}",
+    shot = "Shot {n}",
+    goal = "Goal! {goals} from {shots}",
+    time_up = "Time! {goals} goals from {shots} shots",
+  },
+}
+
+local shots, goals = 0, 0
+
+sport.on = {
+  drop = function(game, e)
+    game.say("drop", { spot = e.actor })
+  end,
+
+  shot = function(game, e)
+    shots = shots + 1
+    game.say("shot", { n = shots })
+  end,
+
+  goal = function(game, e)
+    goals = goals + 1
+    game.award("blue")
+    game.say("goal", { goals = goals, shots = shots })
+    game.respawn("blue", 1.0)
+  end,
+
+  time_up = function(game, e)
+    game.say("time_up", { goals = goals, shots = shots })
+    game.finish("blue")
+  end,
+}
+
+return sport
