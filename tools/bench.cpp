@@ -4,6 +4,8 @@
 
 #include "box2d_backend.h"
 #include "field_loader.h"
+#include "game/bots.h"
+#include "sport.h"
 #include "quantum/world.h"
 #include "scenes.h"
 
@@ -66,6 +68,27 @@ void BM_FateReport(benchmark::State& state) {
   state.counters["particles"] = double(world.cloud().size());
 }
 
+// One second of Quantum air hockey between two simulated players: 60 frames of stepping, a fate
+// prediction and tweak every frame, the Lua rules and the bots. Each iteration is 1 s of play,
+// so its time is the share of real time a live match needs.
+void BM_MatchSecond(benchmark::State& state) {
+  lua::Sport sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  game::MatchConfig config;
+  config.particles = uint32_t(state.range(0));
+  config.seconds = 1e6;
+  config.first_spot = sport.first_spot();
+  game::Match match(sport.field(), config, sport, sport.handicaps());
+  game::Bots bots(match.field(), {0.6, 0.6}, 1);
+  const double dt = 1.0 / config.fps;
+  for (auto _ : state) {
+    for (int frame = 0; frame < 60; ++frame) {
+      match.step(bots.move(match.time() + dt, dt));
+      for (const game::GameEvent& e : match.take_events()) bots.hear(e);
+      match.take_said();
+    }
+  }
+}
+
 }  // namespace
 
 // Fixed iteration counts: every run replays the same seeded match (about 10 s of play per size,
@@ -75,6 +98,7 @@ BENCHMARK(BM_Step)->Arg(10'000)->Iterations(1200)->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_Step)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStep)->Arg(10'000)->Iterations(20)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStepQuiet)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
