@@ -67,7 +67,7 @@ void Bots::imagine(Bot& b, const GameEvent& e) {
   std::normal_distribution<double> noise(0, 1);
   if (e.type == "drop") {
     b.knows_ball = true, b.ball = e.at, b.ball_v = {0, 0};
-  } else if (e.type == "shot" || e.type == "intercept") {
+  } else if (e.type == "shot" || e.type == "intercept" || e.type == "retouch") {
     const double err = b.skill.imagine_noise;
     b.knows_ball = true;
     b.ball = e.at + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))};
@@ -75,8 +75,10 @@ void Bots::imagine(Bot& b, const GameEvent& e) {
     b.ball_v = speed * rotated(unit(e.velocity), b.skill.aim_noise * 0.5 * noise(b.rng));
     // The ball has flown on while the news travelled.
     fly(b.ball, b.ball_v, std::max(0.0, b.skill.reaction));
+  } else if (e.type == "goal" || e.type == "own_goal" || e.type == "out") {
+    b.knows_ball = false;  // the ball is gone until the next drop
   } else {
-    b.knows_ball = false;  // a goal or out: the ball is gone until the next drop
+    return;  // nothing about the ball
   }
   b.plan = Plan::Home;
 }
