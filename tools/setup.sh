@@ -10,6 +10,7 @@ packages=(
   libopencv-dev                # debug snapshots (and tracking, later)
   libluajit-5.1-dev            # field files and rules
   lua-busted                   # rule specs (quantum test)
+  libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips
   libcli11-dev nlohmann-json3-dev
   libboost-math-dev            # chi-square distribution for the statistical tests
   libgtest-dev libgmock-dev libbenchmark-dev
