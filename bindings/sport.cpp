@@ -117,12 +117,83 @@ Sport::Sport(const std::string& folder)
     }
   }
   lua_pop(L, 1);
+  read_audio(t);
   sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   push_game_api(L, this);
   game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
 }
 
 Sport::~Sport() = default;
+
+void Sport::read_audio(int t) {
+  namespace fs = std::filesystem;
+  lua_State* L = sandbox_.L();
+  auto fail = [&](const std::string& place, const std::string& message) {
+    return ScriptError(file_ + ": audio." + place + ": " + message);
+  };
+  // A sound file: in the sport's folder, else among the engine's own (sounds/).
+  const fs::path shared = QUANTUM_SOUNDS_DIR;
+  auto resolve = [&](const std::string& name) {
+    const fs::path own = fs::path(folder_) / name;
+    return (fs::exists(own) ? own : shared / name).lexically_normal().string();
+  };
+  for (const char* e : {"shot", "intercept", "retouch"}) audio_.sounds[e] = resolve("hit.wav");
+  for (const char* e : {"goal", "own_goal"}) audio_.sounds[e] = resolve("goal.wav");
+  audio_.sounds["drop"] = resolve("whistle.wav");
+  audio_.priorities = {{"goal", 3}, {"own_goal", 3}, {"match_end", 3}, {"time_up", 3}, {"drop", 2},
+                       {"out", 2},  {"shot", 1},     {"intercept", 1}, {"retouch", 0}};
+  lua_getfield(L, t, "audio");
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    return;
+  }
+  if (!lua_istable(L, -1)) throw ScriptError(file_ + ": audio: expected a table");
+  const int a = lua_gettop(L);
+  lua_getfield(L, a, "voice");
+  if (lua_isstring(L, -1)) audio_.voice = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  for (auto [key, out] : {std::pair{"rate", &audio_.rate}, {"volume", &audio_.volume}}) {
+    lua_getfield(L, a, key);
+    if (lua_isnumber(L, -1)) *out = int(lua_tonumber(L, -1));
+    else if (!lua_isnil(L, -1)) throw fail(key, "expected a number");
+    lua_pop(L, 1);
+  }
+  for (auto [key, out] : {std::pair{"listener", &audio_.listener}, {"facing", &audio_.facing}}) {
+    lua_getfield(L, a, key);
+    if (lua_istable(L, -1)) {
+      lua_rawgeti(L, -1, 1);
+      lua_rawgeti(L, -2, 2);
+      if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) throw fail(key, "expected a point {x, y}");
+      *out = {float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
+      lua_pop(L, 2);
+    } else if (!lua_isnil(L, -1)) {
+      throw fail(key, "expected a point {x, y}");
+    }
+    lua_pop(L, 1);
+  }
+  // sounds = {event = "file"}, recorded = {phrase key = "file"}, priorities = {event = n}
+  for (const char* key : {"sounds", "recorded", "priorities"}) {
+    lua_getfield(L, a, key);
+    if (lua_istable(L, -1)) {
+      lua_pushnil(L);
+      while (lua_next(L, -2)) {
+        const std::string k = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?";
+        if (std::string(key) == "priorities") {
+          if (!lua_isnumber(L, -1)) throw fail(std::string(key) + "." + k, "expected a number");
+          audio_.priorities[k] = int(lua_tonumber(L, -1));
+        } else {
+          if (lua_type(L, -1) != LUA_TSTRING) throw fail(std::string(key) + "." + k, "expected a file name");
+          (std::string(key) == "sounds" ? audio_.sounds : audio_.recorded)[k] = resolve(lua_tostring(L, -1));
+        }
+        lua_pop(L, 1);
+      }
+    } else if (!lua_isnil(L, -1)) {
+      throw fail(key, "expected a table");
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+}
 
 std::string Sport::phrase(const std::string& key, const std::map<std::string, std::string>& vars) const {
   const auto it = phrases_.find(key);

@@ -13,6 +13,16 @@
 
 namespace quantum::lua {
 
+// A sport's sound, from sport.lua's `audio` table (docs/lua-api.md). Paths are resolved.
+struct SportAudio {
+  std::string voice = "en";
+  int rate = 175, volume = 100;
+  Vec2 listener{0, 0}, facing{1, 0};
+  std::map<std::string, std::string> sounds;      // event type -> sound file
+  std::map<std::string, std::string> recorded;    // phrase key -> sound file spoken instead
+  std::map<std::string, int> priorities;          // event type -> announcer priority
+};
+
 class Sport final : public game::Rules {
  public:
   // `folder` holds sport.lua. Throws ScriptError naming the file (and line) for a script that
@@ -28,6 +38,7 @@ class Sport final : public game::Rules {
   int first_spot() const { return first_spot_; }  // match.start: where the first ball drops
   // The sport's handicap for every body of the field (1 where it names none).
   const std::vector<double>& handicaps() const { return handicaps_; }
+  const SportAudio& audio() const { return audio_; }
 
   // Replaces the sport's factor for a fate kind (goal, own_goal, body, out, field), e.g. to
   // compare a sport's factors with none. Throws std::invalid_argument for an unknown kind or a
@@ -36,6 +47,8 @@ class Sport final : public game::Rules {
 
   std::vector<double> factors(std::span<const game::FateView> fates, game::Match& match) override;
   void on_event(const game::GameEvent& event, game::Match& match) override;
+
+  void read_audio(int table);
 
   // "{team} shoots" with {team = "Blue"}: a phrase of the sport by key, or the text itself.
   std::string phrase(const std::string& key_or_text, const std::map<std::string, std::string>& vars) const;
@@ -55,6 +68,7 @@ class Sport final : public game::Rules {
   int first_spot_ = 0;
   std::vector<double> handicaps_;
   std::map<std::string, std::string> phrases_;
+  SportAudio audio_;
   game::Match* match_ = nullptr;
   const game::Match* reading_ = nullptr;
 };

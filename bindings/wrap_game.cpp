@@ -36,7 +36,9 @@ int say(lua_State* L) {
       lua_pop(L, 1);
     }
   }
-  m.say(sport_of(L)->phrase(key, vars));
+  const auto& recorded = sport_of(L)->audio().recorded;
+  const auto file = recorded.find(key);
+  m.say(sport_of(L)->phrase(key, vars), file == recorded.end() ? std::string() : file->second);
   return 0;
 }
 

@@ -7,11 +7,13 @@
 #include <fstream>
 #include <iostream>
 #include <atomic>
+#include <chrono>
 #include <mutex>
 #include <sstream>
 #include <thread>
 
 #include "event_log.h"
+#include "match_audio.h"
 #include "game/bots.h"
 #include "sport.h"
 
@@ -91,6 +93,8 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   std::ofstream file;
   std::ostream* log = open_event_log(o.events, file);
 
+  MatchAudio sound(o.audio, sport.audio(), errors);
+  const auto wall_start = std::chrono::steady_clock::now();
   PlayResult result;
   const double dt = 1.0 / config.fps;
   if (o.transcript) out << sport.name() << ": " << match.field().name << ", seed " << o.seed << '\n';
@@ -102,7 +106,12 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
       errors << "quantum: rules error: " << e << '\n';
       ++result.rule_errors;
     }
-    for (const game::GameEvent& e : events) bots.hear(e);
+    for (const game::GameEvent& e : events) bots.hear(e), sound.event(e);
+    for (const game::Said& s : said) sound.said(s);
+    sound.frame(match.time());
+    // On a sound card the match runs in real time: people are listening.
+    if (sound.on_device())
+      std::this_thread::sleep_until(wall_start + std::chrono::duration<double>(match.time()));
     if (o.transcript)
       for (const game::Said& s : said) out << stamp(s.t) << "  " << s.text << '\n';
     if (log)
@@ -110,6 +119,7 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
         *log << event_json(events[k], k + 1 == events.size() ? said : std::vector<game::Said>{}) << '\n';
   }
   if (log) log->flush();
+  sound.finish(match.time());
   result.score = match.score();
   result.winner = match.winner();
   result.stats = match.stats();

@@ -22,6 +22,7 @@ struct PlayOptions {
   std::vector<double> skills;   // per player, 0..1; empty: 0.6 each
   std::vector<double> handicaps;  // per player; empty: the sport's
   std::map<std::string, double> factors;  // overrides of the sport's factors by fate kind
+  std::string audio = "none";             // "" the sound card, "none", "wav:FILE" (see MatchAudio)
   bool transcript = true;
 };
 

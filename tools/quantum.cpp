@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
   play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)");
   play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
   play->add_option("--handicap", handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
+  game.audio = "";  // the command plays sound by default
+  play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)");
   play->add_flag("--quiet", [&](int64_t) { game.transcript = false; }, "no transcript");
 
   quantum::tools::PlayOptions study;

@@ -43,7 +43,9 @@ int Match::spot_of(const std::string& key) const {
   return field().spot_of_team(key);
 }
 
-void Match::say(std::string text) { said_.push_back({time(), std::move(text)}); }
+void Match::say(std::string text, std::string recording) {
+  said_.push_back({time(), std::move(text), handling_, std::move(recording)});
+}
 
 void Match::award(const std::string& team, int goals) {
   if (!score_.count(team)) throw std::invalid_argument("award: no team '" + team + "' in this field");
@@ -67,7 +69,7 @@ void Match::finish(const std::string& winner) {
   e.type = "match_end";
   e.actor = e.team = winner;
   events_.push_back(e);
-  rules_.on_event(e, *this);
+  tell_rules(e);
 }
 
 void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_touch) {
@@ -108,7 +110,7 @@ void Match::step(std::span<const BodyInput> input) {
     e.t = time();
     e.type = "time_up";
     events_.push_back(e);
-    rules_.on_event(e, *this);
+    tell_rules(e);
     if (!finished_) {  // rules that ignore the clock: the leader wins, equal scores draw
       std::string best;
       int most = -1, leaders = 0;
@@ -164,7 +166,13 @@ void Match::handle(const Event& e) {
     stats_.goals += e.type == EventType::Out ? 0 : 1;
   }
   events_.push_back(g);
-  rules_.on_event(g, *this);
+  tell_rules(g);
+}
+
+void Match::tell_rules(const GameEvent& e) {
+  const std::string outer = std::exchange(handling_, e.type);
+  rules_.on_event(e, *this);
+  handling_ = outer;
 }
 
 FateView Match::view(const FateGroup& group) const {

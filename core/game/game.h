@@ -74,6 +74,8 @@ struct MatchConfig {
 struct Said {
   double t;
   std::string text;
+  std::string event;      // the type of the event whose handler said it
+  std::string recording;  // a sound file to play instead of speaking the text ("" to speak it)
 };
 
 struct RallyStats {
@@ -91,7 +93,7 @@ class Match {
   void step(std::span<const BodyInput> input);
 
   // --- Actions for the rules.
-  void say(std::string text);
+  void say(std::string text, std::string recording = {});
   void award(const std::string& team, int goals = 1);
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   void respawn(int spot, double delay);
@@ -126,6 +128,7 @@ class Match {
 
  private:
   void handle(const Event& e);
+  void tell_rules(const GameEvent& e);
   void retweak();
   FateView view(const FateGroup& g) const;
 
@@ -146,6 +149,7 @@ class Match {
   double last_touch_t_ = 0;
   bool finished_ = false, time_up_told_ = false;
   std::string winner_;
+  std::string handling_;  // type of the event the rules are handling
 };
 
 }  // namespace quantum::game

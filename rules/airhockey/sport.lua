@@ -13,6 +13,14 @@ local sport = {
   -- 1 is even; above 1 helps that player (its intercepts and its shots on goal get likelier).
   handicaps = { ["Blue's mallet"] = 1, ["Red's mallet"] = 1 },
 
+  -- The announcer's voice (espeak-ng), and where the listener stands: the table's centre,
+  -- facing Red's end as Blue does, so a bounce off the left wall is heard on the left.
+  audio = {
+    voice = "en", rate = 170, volume = 100,
+    listener = { 0, 0 }, facing = { 1, 0 },
+    sounds = { shot = "hit.wav", intercept = "hit.wav", goal = "goal.wav", drop = "whistle.wav" },
+  },
+
   phrases = {
     drop = "The puck was dropped {spot}",
     shot = "{team} shoots",

@@ -9,6 +9,9 @@ local sport = {
   -- Practice rewards a shot that scores, and does not punish a miss: the puck stays in play.
   factors = { goal = 3, body = 2, field = 1 },
 
+  -- The listener stands behind the shooter, facing the goal.
+  audio = { voice = "en", rate = 180, listener = { -0.5, 0 }, facing = { 1, 0 } },
+
   phrases = {
     drop = "New puck {spot}",
     shot = "Shot {n}",

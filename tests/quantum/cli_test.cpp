@@ -3,9 +3,12 @@
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -19,7 +22,9 @@ struct Outcome {
 };
 
 Outcome quantum(const std::string& args) {
-  const std::string err_file = std::filesystem::temp_directory_path() / "quantum_cli_stderr.txt";
+  // One file per test process: CTest runs several at once.
+  const std::string err_file =
+      std::filesystem::temp_directory_path() / ("quantum_cli_stderr_" + std::to_string(getpid()) + ".txt");
   const std::string cmd = std::string(QUANTUM_BINARY) + " " + args + " 2>" + err_file;
   FILE* pipe = popen(cmd.c_str(), "r");
   Outcome run{-1, "", ""};
@@ -116,6 +121,32 @@ TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
   r = quantum("simulate " + kTable + " --snapshot /nonexistent/dir/x.png --seconds 2");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("/nonexistent/dir/x.png"), std::string::npos) << r.err;
+}
+
+TEST(Cli, PlayWithoutASoundCardWarnsOnceAndPlaysSilently) {
+  setenv("ALSOFT_DRIVERS", "nosuchdriver", 1);  // no backend: no device can open
+  const Outcome r = quantum("play rules/airhockey --seconds 5 --quiet");
+  unsetenv("ALSOFT_DRIVERS");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("no sound device"), std::string::npos) << r.err;
+}
+
+TEST(Cli, PlayRecordsTheMatchToAWav) {
+  const std::string wav = std::filesystem::temp_directory_path() / ("quantum_match_" + std::to_string(getpid()) + ".wav");
+  const Outcome r = quantum("play rules/airhockey --seconds 8 --quiet --audio wav:" + wav);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  // 44.1 kHz 16-bit stereo: 176,400 bytes a second, for the match and the last phrase ringing out.
+  const auto bytes = std::filesystem::file_size(wav);
+  EXPECT_GT(bytes, 8 * 176400u);
+  EXPECT_LT(bytes, 12 * 176400u);
+}
+
+TEST(Cli, PlayRefusesABadAudioOption) {
+  const Outcome r = quantum("play rules/airhockey --seconds 1 --quiet --audio speakers");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("--audio speakers"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -1,0 +1,79 @@
+// A match's sound through `play`: the sport's audio settings, and what happens when they are wrong.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "audio/audio.h"
+#include "play.h"
+#include "sport.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Air hockey with an `audio` table of our own.
+std::string sport_with_audio(const std::string& name, const std::string& audio) {
+  const fs::path dir = fs::temp_directory_path() / ("quantum_audio_sport_" + name);
+  fs::create_directories(dir);
+  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", dir / "field.lua", fs::copy_options::overwrite_existing);
+  std::ifstream in(QUANTUM_SOURCE_DIR "/rules/airhockey/sport.lua");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  s.replace(s.rfind("return sport"), 12, "sport.audio = " + audio + "\nreturn sport");
+  std::ofstream(dir / "sport.lua") << s;
+  return dir.string();
+}
+
+tools::PlayResult play_to(const std::string& sport, const std::string& wav, std::ostringstream& errors) {
+  tools::PlayOptions o;
+  o.sport = sport;
+  o.seconds = 10;
+  o.transcript = false;
+  o.audio = "wav:" + wav;
+  std::ostringstream out;
+  return tools::play(o, out, errors);
+}
+
+TEST(MatchAudio, AMatchIsHeardInItsWavFile) {
+  const std::string wav = (fs::temp_directory_path() / "quantum_match_audio.wav").string();
+  std::ostringstream errors;
+  play_to(QUANTUM_SOURCE_DIR "/rules/airhockey", wav, errors);
+  EXPECT_EQ(errors.str(), "");
+  const audio::Clip heard = audio::load_clip(wav);
+  EXPECT_EQ(heard.rate, 44100);
+  EXPECT_GT(heard.seconds(), 10.0);
+  double energy = 0;
+  for (int16_t s : heard.samples) energy += double(s) * s;
+  EXPECT_GT(std::sqrt(energy / heard.samples.size()) / 32768, 0.01);  // speech and sounds, not silence
+}
+
+TEST(MatchAudio, AnUnknownVoiceAndAMissingSoundFallBackWithOneWarningEach) {
+  const std::string sport = sport_with_audio("fallback", R"({ voice = "klingon-xx", sounds = { shot = "no-such.wav" } })");
+  const std::string wav = (fs::temp_directory_path() / "quantum_match_fallback.wav").string();
+  std::ostringstream errors;
+  const tools::PlayResult r = play_to(sport, wav, errors);
+  const std::string e = errors.str();
+  EXPECT_NE(e.find("unknown espeak-ng voice 'klingon-xx'; speaking with the default voice"), std::string::npos) << e;
+  EXPECT_NE(e.find("no-such.wav"), std::string::npos) << e;
+  EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 2) << e;  // once each, not once per use
+  EXPECT_GT(r.stats.seconds, 9.9);
+  EXPECT_TRUE(fs::exists(wav));
+}
+
+TEST(MatchAudio, BadAudioSettingsInASportAreNamed) {
+  try {
+    lua::Sport s(sport_with_audio("bad", R"({ listener = "centre" })"));
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("audio.listener: expected a point"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace quantum
