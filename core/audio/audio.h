@@ -40,8 +40,8 @@ struct Voice {
 };
 
 // espeak-ng in synchronous mode. Synthesizing a short phrase takes milliseconds and setting a
-// voice more, so each (voice, text) is synthesized once. espeak-ng has global state: one Speech
-// per process.
+// voice more, so each (voice, text) is synthesized once. espeak-ng has global state: all Speech
+// objects share one engine, and only one thread may speak at a time.
 class Speech {
  public:
   Speech();  // throws AudioError when espeak-ng or its data cannot be loaded
@@ -54,7 +54,6 @@ class Speech {
 
  private:
   std::map<std::string, Clip> cache_;
-  std::string voice_set_;
   int rate_ = 0;
 };
 

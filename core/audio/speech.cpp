@@ -1,6 +1,7 @@
 #include <espeak-ng/speak_lib.h>
 
 #include <cstring>
+#include <mutex>
 
 #include "audio/audio.h"
 
@@ -16,15 +17,28 @@ int collect(short* wav, int count, espeak_EVENT* events) {
   return 0;
 }
 
+// espeak-ng is one engine per process: initializing it twice and terminating both hangs in
+// espeak_Terminate. Every Speech shares one initialization, ended with the last of them.
+std::mutex engine_lock;
+int engine_users = 0, engine_rate = 0;
+
 }  // namespace
 
 Speech::Speech() {
-  rate_ = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, nullptr, espeakINITIALIZE_DONT_EXIT);
-  if (rate_ <= 0) throw AudioError("espeak-ng: cannot initialize (is espeak-ng-data installed?)");
-  espeak_SetSynthCallback(collect);
+  std::lock_guard<std::mutex> lock(engine_lock);
+  if (engine_users == 0) {
+    engine_rate = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, nullptr, espeakINITIALIZE_DONT_EXIT);
+    if (engine_rate <= 0) throw AudioError("espeak-ng: cannot initialize (is espeak-ng-data installed?)");
+    espeak_SetSynthCallback(collect);
+  }
+  ++engine_users;
+  rate_ = engine_rate;
 }
 
-Speech::~Speech() { espeak_Terminate(); }
+Speech::~Speech() {
+  std::lock_guard<std::mutex> lock(engine_lock);
+  if (--engine_users == 0) espeak_Terminate();
+}
 
 const Clip& Speech::say(const std::string& text, const Voice& v) {
   if (v.rate < espeakRATE_MINIMUM || v.rate > espeakRATE_MAXIMUM)
@@ -32,10 +46,8 @@ const Clip& Speech::say(const std::string& text, const Voice& v) {
   if (v.volume < 0 || v.volume > 200) throw AudioError("speech volume " + std::to_string(v.volume) + " is outside 0 to 200");
   const std::string key = v.name + '\x1f' + std::to_string(v.rate) + '\x1f' + std::to_string(v.volume) + '\x1f' + text;
   if (auto it = cache_.find(key); it != cache_.end()) return it->second;
-  if (voice_set_ != v.name) {
-    if (espeak_SetVoiceByName(v.name.c_str()) != EE_OK) throw AudioError("unknown espeak-ng voice '" + v.name + "'");
-    voice_set_ = v.name;
-  }
+  // The engine is shared, so the voice is set for every new phrase; cached ones cost nothing.
+  if (espeak_SetVoiceByName(v.name.c_str()) != EE_OK) throw AudioError("unknown espeak-ng voice '" + v.name + "'");
   espeak_SetParameter(espeakRATE, v.rate, 0);
   espeak_SetParameter(espeakVOLUME, v.volume, 0);
   Clip clip;
