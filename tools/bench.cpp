@@ -2,6 +2,7 @@
 // Run: build/quantum-bench   (figures and how to read them: docs/PERFORMANCE.md)
 #include <benchmark/benchmark.h>
 
+#include "audio/audio.h"
 #include "box2d_backend.h"
 #include "field_loader.h"
 #include "game/bots.h"
@@ -89,6 +90,27 @@ void BM_MatchSecond(benchmark::State& state) {
   }
 }
 
+// From an event's phrase to its first samples in the output buffer, for a phrase said before
+// (cached): the speech cache look-up, the announcer starting it (cutting off the one before),
+// and OpenAL mixing the first 64 frames. The sound card's own buffer comes on top of this.
+void BM_AnnounceLatency(benchmark::State& state) {
+  audio::Speech speech;
+  const audio::Voice voice;
+  speech.say("Goal for Blue!", voice);  // the cache is warm, as it is from the second goal on
+  auto mixer = audio::Mixer::open_loopback(44100);
+  audio::Announcer announcer(*mixer);
+  std::vector<int16_t> out;
+  int priority = 0;
+  int16_t loudest = 0;
+  for (auto _ : state) {
+    announcer.say(speech.say("Goal for Blue!", voice), ++priority, 0.0);  // each outranks the last
+    announcer.update(0.0);
+    mixer->render(64, out);
+    for (int16_t s : out) loudest = std::max<int16_t>(loudest, int16_t(std::abs(s)));
+  }
+  if (loudest == 0) state.SkipWithError("the phrase was not in the output");
+}
+
 }  // namespace
 
 // Fixed iteration counts: every run replays the same seeded match (about 10 s of play per size,
@@ -99,6 +121,7 @@ BENCHMARK(BM_Step)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_Step)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStep)->Arg(10'000)->Iterations(20)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStepQuiet)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);

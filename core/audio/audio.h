@@ -41,7 +41,7 @@ struct Voice {
 
 // espeak-ng in synchronous mode. Synthesizing a short phrase takes milliseconds and setting a
 // voice more, so each (voice, text) is synthesized once. espeak-ng has global state: all Speech
-// objects share one engine, and only one thread may speak at a time.
+// objects share one engine for the life of the process, and only one thread may speak at a time.
 class Speech {
  public:
   Speech();  // throws AudioError when espeak-ng or its data cannot be loaded

@@ -1,7 +1,6 @@
 #include <espeak-ng/speak_lib.h>
 
 #include <cstring>
-#include <mutex>
 
 #include "audio/audio.h"
 
@@ -17,28 +16,25 @@ int collect(short* wav, int count, espeak_EVENT* events) {
   return 0;
 }
 
-// espeak-ng is one engine per process: initializing it twice and terminating both hangs in
-// espeak_Terminate. Every Speech shares one initialization, ended with the last of them.
-std::mutex engine_lock;
-int engine_users = 0, engine_rate = 0;
+// espeak-ng is one engine per process. It is initialized once and never terminated:
+// espeak_Terminate (1.51, synchronous mode) can wait forever on a thread of its own, and the
+// process's exit frees everything anyway.
+int engine_rate() {
+  static const int rate = [] {
+    const int r = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, nullptr, espeakINITIALIZE_DONT_EXIT);
+    if (r > 0) espeak_SetSynthCallback(collect);
+    return r;
+  }();
+  return rate;
+}
 
 }  // namespace
 
-Speech::Speech() {
-  std::lock_guard<std::mutex> lock(engine_lock);
-  if (engine_users == 0) {
-    engine_rate = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, nullptr, espeakINITIALIZE_DONT_EXIT);
-    if (engine_rate <= 0) throw AudioError("espeak-ng: cannot initialize (is espeak-ng-data installed?)");
-    espeak_SetSynthCallback(collect);
-  }
-  ++engine_users;
-  rate_ = engine_rate;
+Speech::Speech() : rate_(engine_rate()) {
+  if (rate_ <= 0) throw AudioError("espeak-ng: cannot initialize (is espeak-ng-data installed?)");
 }
 
-Speech::~Speech() {
-  std::lock_guard<std::mutex> lock(engine_lock);
-  if (--engine_users == 0) espeak_Terminate();
-}
+Speech::~Speech() = default;
 
 const Clip& Speech::say(const std::string& text, const Voice& v) {
   if (v.rate < espeakRATE_MINIMUM || v.rate > espeakRATE_MAXIMUM)
