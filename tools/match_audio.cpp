@@ -1,7 +1,9 @@
 #include "match_audio.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <thread>
 #include <ostream>
 
 namespace quantum::tools {
@@ -105,13 +107,16 @@ void MatchAudio::frame(double now) {
 
 void MatchAudio::finish(double now) {
   if (!announcer_) return;
-  if (!wav_.empty()) {
-    // Let the last phrase and the horn ring out, at most three seconds.
-    double t = now;
-    for (; t < now + 3.0 && !announcer_->speaking().empty(); t += 0.05) frame(t);
-    frame(t + 0.5);
-    audio::write_wav(wav_, rendered_, mixer_->rate());
+  // Let the last phrase and the horn ring out, at most three seconds: on the sound card by
+  // waiting, into the file by rendering.
+  double t = now;
+  for (; t < now + 3.0 && !announcer_->speaking().empty(); t += 0.05) {
+    if (wav_.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    frame(t);
   }
+  if (wav_.empty()) return;
+  frame(t + 0.5);
+  audio::write_wav(wav_, rendered_, mixer_->rate());
 }
 
 }  // namespace quantum::tools
