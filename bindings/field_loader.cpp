@@ -130,10 +130,11 @@ Field read_field(Reader& r, int top) {
   if (r.field(top, "ball")) {
     if (!lua_istable(L, -1)) r.fail("ball", "expected a table, got " + r.type_at(-1));
     const int b = lua_gettop(L);
-    r.only_keys(b, "ball", {"radius", "wall_restitution", "body_restitution"});
+    r.only_keys(b, "ball", {"radius", "wall_restitution", "body_restitution", "audible_bounce"});
     f.ball_radius = r.number(b, "radius", "ball", f.ball_radius, false);
     f.wall_restitution = r.number(b, "wall_restitution", "ball", f.wall_restitution, false);
     f.body_restitution = r.number(b, "body_restitution", "ball", f.body_restitution, false);
+    f.audible_bounce = r.number(b, "audible_bounce", "ball", f.audible_bounce, false);
     lua_pop(L, 1);
   }
   r.array(top, "walls", "", [&](int w, const std::string& place) {

@@ -34,10 +34,11 @@ void push_score(lua_State* L, const std::map<std::string, int>& score) {
 }
 
 void push_event(lua_State* L, const game::GameEvent& e) {
-  lua_createtable(L, 0, 10);
+  lua_createtable(L, 0, 14);
   set(L, "type", e.type), set(L, "actor", e.actor), set(L, "team", e.team);
   set(L, "by", e.by), set(L, "by_team", e.by_team);
   set(L, "t", e.t), set(L, "p", e.p), set(L, "p_newtonian", e.p_newtonian), set(L, "particles", double(e.particles));
+  set(L, "x", e.at.x), set(L, "y", e.at.y), set(L, "vx", e.velocity.x), set(L, "vy", e.velocity.y);
   set(L, "speed", std::hypot(e.velocity.x, e.velocity.y));
 }
 

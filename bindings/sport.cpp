@@ -13,7 +13,8 @@ namespace {
 constexpr size_t kMemoryBudget = 64u << 20;
 constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops forever is skipped
 
-const char* const kHandlers[] = {"drop", "shot", "intercept", "retouch", "goal", "own_goal", "out", "time_up", "match_end"};
+const char* const kHandlers[] = {"drop",     "shot", "intercept", "retouch", "bounce",
+                                 "goal",     "own_goal", "out",  "time_up",   "match_end"};
 
 }  // namespace
 
@@ -140,8 +141,9 @@ void Sport::read_audio(int t) {
   for (const char* e : {"shot", "intercept", "retouch"}) audio_.sounds[e] = resolve("hit.wav");
   for (const char* e : {"goal", "own_goal"}) audio_.sounds[e] = resolve("goal.wav");
   audio_.sounds["drop"] = resolve("whistle.wav");
+  audio_.sounds["bounce"] = resolve("wall.wav");
   audio_.priorities = {{"goal", 3}, {"own_goal", 3}, {"match_end", 3}, {"time_up", 3}, {"drop", 2},
-                       {"out", 2},  {"shot", 1},     {"intercept", 1}, {"retouch", 0}};
+                       {"out", 2},  {"shot", 1},     {"intercept", 1}, {"retouch", 0}, {"bounce", 0}};
   lua_getfield(L, t, "audio");
   if (lua_isnil(L, -1)) {
     lua_pop(L, 1);

@@ -18,6 +18,7 @@ Actor actor_of(const Event& e, const Field& f) {
   switch (e.type) {
     case EventType::Drop: return {f.spots[e.actor].name, f.spots[e.actor].team};
     case EventType::Hit: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
+    case EventType::Bounce: return {f.wall_names[e.actor], ""};
     case EventType::Goal:
     case EventType::OwnGoal: return {f.goals[e.actor].name, f.goals[e.actor].team};
     case EventType::Out: return {"out", ""};
@@ -49,7 +50,7 @@ std::string event_json(const Event& e, const Field& f) {
   j["particles"] = e.particles;
   j["x"] = rounded(e.at.x);
   j["y"] = rounded(e.at.y);
-  if (e.type == EventType::Hit) j["vx"] = rounded(e.velocity.x), j["vy"] = rounded(e.velocity.y);
+  if (e.type == EventType::Hit || e.type == EventType::Bounce) j["vx"] = rounded(e.velocity.x), j["vy"] = rounded(e.velocity.y);
   return j.dump();
 }
 

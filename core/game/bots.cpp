@@ -67,7 +67,7 @@ void Bots::imagine(Bot& b, const GameEvent& e) {
   std::normal_distribution<double> noise(0, 1);
   if (e.type == "drop") {
     b.knows_ball = true, b.ball = e.at, b.ball_v = {0, 0};
-  } else if (e.type == "shot" || e.type == "intercept" || e.type == "retouch") {
+  } else if (e.type == "shot" || e.type == "intercept" || e.type == "retouch" || e.type == "bounce") {
     const double err = b.skill.imagine_noise;
     b.knows_ball = true;
     b.ball = e.at + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))};

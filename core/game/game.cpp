@@ -102,8 +102,9 @@ void Match::step(std::span<const BodyInput> input) {
     players_[k].position = input[k].position, players_[k].velocity = input[k].velocity;
   stats_.seconds = time();
   for (const Event& e : core_events_) handle(e);
-  // A ball crushed away without an outcome: nothing was announced, so it comes back where it was dropped.
-  if (!world_.live() && respawn_at_ < 0 && core_events_.empty() && !finished_) respawn(respawn_spot_, 1.0);
+  // A ball gone without an outcome that brings it back (crushed away, or a shot that left while its
+  // contact was caught up): it comes back where it was dropped.
+  if (!world_.live() && respawn_at_ < 0 && !finished_) respawn(respawn_spot_, 1.0);
   if (!finished_ && !time_up_told_ && time() >= config_.seconds - 1e-9) {
     time_up_told_ = true;
     GameEvent e;
@@ -152,6 +153,9 @@ void Match::handle(const Event& e) {
       rally_contacts_ += again ? 0 : 1;
       break;
     }
+    case EventType::Bounce:
+      g.type = "bounce", g.actor = f.wall_names[e.actor];
+      break;
     case EventType::Goal:
     case EventType::OwnGoal:
       g.type = e.type == EventType::Goal ? "goal" : "own_goal";
@@ -159,8 +163,9 @@ void Match::handle(const Event& e) {
       break;
     case EventType::Out: g.type = "out"; break;
   }
-  if (e.type != EventType::Drop && e.type != EventType::Hit) {
-    if (last_toucher_ >= 0) g.by = f.bodies[last_toucher_].name, g.by_team = f.bodies[last_toucher_].team;
+  if (e.type != EventType::Drop && e.type != EventType::Hit && last_toucher_ >= 0)
+    g.by = f.bodies[last_toucher_].name, g.by_team = f.bodies[last_toucher_].team;
+  if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out) {
     ++stats_.rallies;
     stats_.contacts += rally_contacts_;
     stats_.goals += e.type == EventType::Out ? 0 : 1;

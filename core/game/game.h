@@ -22,18 +22,19 @@ struct Player {
 };
 
 // What the rules are told. type: drop, shot, intercept, retouch (the same player meeting the
-// ball again within 0.25 s of its last touch: one swing), goal, own_goal, out, time_up, match_end.
+// ball again within 0.25 s of its last touch: one swing), bounce (off a wall, audibly), goal,
+// own_goal, out, time_up, match_end.
 struct GameEvent {
   double t = 0;
   std::string type;
-  std::string actor;   // the spot, the player, the goal ("" for out and time_up)
-  std::string team;    // the actor's team (goal: the team defending it)
-  std::string by;      // shot, intercept, goal, own_goal, out: the last player to touch the ball
+  std::string actor;   // the spot, the player, the wall, the goal ("" for out and time_up)
+  std::string team;    // the actor's team (goal: the team defending it; "" for a wall)
+  std::string by;      // all but drop, time_up and match_end: the last player to touch the ball
   std::string by_team;
   double p = 1, p_newtonian = 1;
   uint32_t particles = 0;
-  Vec2 at, velocity;   // where it happened; for a shot or intercept the shot's mean velocity
-  int actor_index = -1;  // spot, body or goal index in the field
+  Vec2 at, velocity;   // where it happened; for a shot, intercept or bounce the ball's mean velocity after it
+  int actor_index = -1;  // spot, body, wall or goal index in the field
 };
 
 // A fate as the rules see it.

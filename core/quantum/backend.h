@@ -27,7 +27,8 @@ struct StepContext {
 };
 
 // Something a particle ran into during a step. target: body k is k, goal g is n_bodies + g,
-// out is n_bodies + n_goals, and kCrushed marks a particle with no valid place left.
+// out is n_bodies + n_goals, wall w (bounced off at an audible speed, and nothing else met) is
+// n_bodies + n_goals + 1 + w, and kCrushed marks a particle with no valid place left.
 struct Contact {
   uint32_t particle;
   int32_t target;
@@ -38,8 +39,8 @@ class Backend {
  public:
   virtual ~Backend() = default;
   // Moves every particle of `cloud` through one step in place and appends one Contact per
-  // particle that touched a body, crossed a goal line or left the bounds, in any order.
-  // Particles that touched a body hold their state after the bounce.
+  // particle that touched a body, crossed a goal line, left the bounds or bounced audibly off a
+  // wall (the first such thing), in any order. Particles hold their state after the bounce.
   virtual void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) = 0;
 };
 

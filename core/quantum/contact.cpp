@@ -76,7 +76,7 @@ Box largest_clear_box(const Field& f, Vec2 centre, float r) {
 }  // namespace
 
 Geometry::Geometry(const Field& f)
-    : r(f.ball_radius), e_wall(f.wall_restitution), e_body(f.body_restitution) {
+    : r(f.ball_radius), e_wall(f.wall_restitution), e_body(f.body_restitution), audible_bounce(f.audible_bounce) {
   for (const Segment& s : f.segments) {
     const float dx = s.b.x - s.a.x, dy = s.b.y - s.a.y, l = norm(dx, dy);
     ax.push_back(s.a.x), ay.push_back(s.a.y);

@@ -31,7 +31,7 @@ struct Box {
 struct Geometry {
   explicit Geometry(const Field& field);
 
-  float r, e_wall, e_body;
+  float r, e_wall, e_body, audible_bounce;
   std::vector<float> ax, ay, tx, ty, nx, ny, len;  // segments: start, unit tangent, left normal
   std::vector<int> wall;
   std::vector<float> sx0, sy0, sx1, sy1;           // segment bounding boxes

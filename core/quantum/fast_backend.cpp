@@ -137,6 +137,7 @@ class FastBackend final : public Backend {
       case detail::HitKind::Body: return out.index;
       case detail::HitKind::Goal: return nb + out.index;
       case detail::HitKind::Out: return nb + ng;
+      case detail::HitKind::Wall: return nb + ng + 1 + out.index;
       default: return kCrushed;
     }
   }

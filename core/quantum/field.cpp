@@ -40,6 +40,7 @@ void finish_field(Field& f) {
   check_range(f.ball_radius, 1e-4f, 10.0f, "ball.radius");
   check_range(f.wall_restitution, 0.0f, 1.0f, "ball.wall_restitution");
   check_range(f.body_restitution, 0.0f, 1.0f, "ball.body_restitution");
+  check_range(f.audible_bounce, 0.0f, 1000.0f, "ball.audible_bounce");
   check_range(f.brownian, 0.0f, 10.0f, "brownian");
   check_range(f.max_body_speed, 0.1f, 1000.0f, "max_body_speed");
   for (size_t i = 0; i < f.segments.size(); ++i) {

@@ -42,6 +42,9 @@ struct Field {
   float ball_radius = 0.03f;
   float wall_restitution = 0.9f;
   float body_restitution = 0.9f;
+  // m/s: a wall bounce whose normal speed is below this is too soft to hear. It is neither
+  // announced nor decided: the particles just bounce.
+  float audible_bounce = 0.3f;
   float brownian = 0.0f;        // diffusion of the players' knowledge of the ball, m/sqrt(s)
   float max_body_speed = 30.0f;  // m/s; faster input is a tracking fault, not a player
   std::vector<std::string> wall_names;

@@ -12,6 +12,7 @@ const char* to_string(EventType type) {
   switch (type) {
     case EventType::Drop: return "drop";
     case EventType::Hit: return "hit";
+    case EventType::Bounce: return "bounce";
     case EventType::Goal: return "goal";
     case EventType::OwnGoal: return "own_goal";
     case EventType::Out: return "out";
@@ -28,7 +29,7 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
     throw std::invalid_argument("split jitter must be between 0 and 1.6 rad");
   if (!(config_.body_lookahead >= 0)) throw std::invalid_argument("body lookahead must be >= 0");
   internals_ = std::make_unique<WorldInternals>(field_);
-  internals_->tally.resize(field_.bodies.size() + field_.goals.size() + 1);
+  internals_->tally.resize(field_.bodies.size() + field_.goals.size() + 1 + field_.wall_names.size());
   internals_->resting.resize(field_.bodies.size());
   backend_ = backend ? std::move(backend) : make_fast_backend(field_);
   const size_t nb = field_.bodies.size();
@@ -163,7 +164,8 @@ void World::decide(float dt, std::vector<Event>& events) {
   std::sort(contacts_.begin(), contacts_.end(),
             [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
   const int nb = int(field_.bodies.size()), ng = int(field_.goals.size());
-  const int n_targets = nb + ng + 1;
+  const int first_wall = nb + ng + 1;  // targets: bodies, goals, out, walls
+  const int n_targets = first_wall + int(field_.wall_names.size());
   std::vector<Tally>& tally = internals_->tally;
   std::fill(tally.begin(), tally.end(), Tally{});
   const uint32_t slot = step_ % config_.purgatory_frames;
@@ -223,8 +225,14 @@ void World::decide(float dt, std::vector<Event>& events) {
   const Tally& t = tally[realized];
   Event e{time_, EventType::Hit, realized, t.tweaked / total, t.newtonian / total_newtonian, t.count,
           Vec2{float(t.cx / t.newtonian), float(t.cy / t.newtonian)}, Vec2{0, 0}};
-  if (realized < nb) {
-    realize_body(realized, dt);
+  if (realized < nb || realized >= first_wall) {
+    if (realized < nb) {
+      realize_body(realized, dt);
+    } else {
+      e.type = EventType::Bounce;
+      e.actor = realized - first_wall;
+      realize_bounce(realized);
+    }
     for (size_t i = 0; i < cloud_.size(); ++i)
       e.velocity.x += float(cloud_.weight(i) * cloud_.vx[i]), e.velocity.y += float(cloud_.weight(i) * cloud_.vy[i]);
   } else if (realized < nb + ng) {
@@ -266,7 +274,8 @@ void World::realize_body(int body, float dt) {
     if (slot_step_[slot] != step_ - age) continue;
     const Cloud& from = purgatory_[body * config_.purgatory_frames + slot];
     auto keep = [&](uint32_t i, detail::Mover m, detail::Outcome out) {
-      if (out.kind != detail::HitKind::None) return;  // went in, or out, while catching up
+      // Went in, or out, while catching up; bouncing off a wall meanwhile is part of the flight.
+      if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) return;
       if (detail::settle(g, now.data(), nb, 0, m, true).kind != detail::HitKind::None) return;
       scratch_.push(m.x, m.y, m.vx, m.vy, from.w[i], from.w[i]);
     };
@@ -289,9 +298,29 @@ void World::realize_body(int body, float dt) {
   cloud_.normalize();
   // Particles split at the moment of collision leave in slightly different directions (a mallet's
   // rough surface), so the shot fans out instead of repeating one path.
+  refill(true);
+}
+
+void World::realize_bounce(int target) {
+  // The ball is what bounced off the wall in this step, with the weights it had. Unlike a shot,
+  // a bounce starts no new flight: the particles keep their tweak and fates, a wall is smooth
+  // (no fanning out), and earlier bounces are not revived. Reviving them, as a body's purgatory
+  // does, mixes in flights that met the wall at other times and skewed the outcomes away from the
+  // tweaked odds (chi-square 452 on 16 degrees of freedom in Property.RealizedOutcomes...).
+  scratch_.clear();
+  for (const Contact& c : contacts_)
+    if (c.target == target) scratch_.push_from(cloud_, c.particle);
+  std::swap(cloud_, scratch_);
+  clear_purgatory();
+  ++version_;
+  cloud_.normalize();
+  refill(false);
+}
+
+void World::refill(bool jitter) {
   while (cloud_.size() < config_.particles) {
     const size_t before = cloud_.size();
-    split_round(true);
+    split_round(jitter);
     if (cloud_.size() == before) break;
   }
 }

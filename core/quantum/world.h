@@ -23,18 +23,18 @@ struct WorldConfig {
   float body_lookahead = 0.25f;   // s: prediction moves bodies on their velocity this long, then holds them
 };
 
-enum class EventType { Drop, Hit, Goal, OwnGoal, Out };
-const char* to_string(EventType type);  // "drop", "hit", "goal", "own_goal", "out"
+enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out };
+const char* to_string(EventType type);  // "drop", "hit", "bounce", "goal", "own_goal", "out"
 
 struct Event {
   double t;
   EventType type;
-  int actor;            // spot (drop), body (hit), goal (goal, own goal); -1 for out
+  int actor;            // spot (drop), body (hit), wall (bounce), goal (goal, own goal); -1 for out
   double p;             // probability with which this outcome was drawn (fate factors applied)
   double p_newtonian;   // the same without fate factors
   uint32_t particles;   // particles that carried the outcome
   Vec2 at;              // weighted centre of those particles
-  Vec2 velocity;        // hit: the shot's mean velocity, what a player sees of the swing; else 0
+  Vec2 velocity;        // hit, bounce: the ball's mean velocity afterwards (what a player makes of it); else 0
 };
 
 struct BodyInput {
@@ -61,8 +61,9 @@ class World {
   void set_cloud(Cloud cloud);
 
   // One frame: bodies move to their new input, particles diffuse, move and collide, and every
-  // body, goal and the bounds that particles reached is drawn against. Realized outcomes are
-  // appended to `events`. Throws InputError (and changes nothing) for bad input.
+  // body, goal, wall (bounced off audibly) and the bounds that particles reached is drawn
+  // against. Realized outcomes are appended to `events`. Throws InputError (and changes
+  // nothing) for bad input.
   void step(float dt, std::span<const BodyInput> input, std::vector<Event>& events);
 
   // Puts the bodies where `input` says without a step (setting up a scene). Throws InputError
@@ -102,6 +103,8 @@ class World {
   void check_bodies(std::span<const BodyInput> input) const;
   void decide(float dt, std::vector<Event>& events);
   void realize_body(int body, float dt);
+  void realize_bounce(int target);
+  void refill(bool jitter);
   void end_ball();
   void split_round(bool jitter);
   void clear_purgatory();

@@ -11,7 +11,8 @@ namespace {
 
 constexpr uint16_t kSolid = 0x0001;     // walls and bodies
 constexpr uint16_t kParticle = 0x0002;  // collide with solids, never with each other
-constexpr uintptr_t kBodyTag = uintptr_t(1) << 40;
+constexpr uintptr_t kBodyTag = uintptr_t(1) << 40;  // particles are 1..n, bodies kBodyTag + k
+constexpr uintptr_t kWallTag = uintptr_t(1) << 41;  // walls kWallTag + w
 
 // Box2D edges carry a skin of b2_polygonRadius. Shrinking the particle by it keeps wall contact
 // at the ball's radius; growing bodies by it keeps body contact there too.
@@ -30,22 +31,34 @@ b2FixtureDef solid(const b2Shape* shape, float restitution, uintptr_t tag) {
   return fd;
 }
 
-// Which particle first touched which body during one Step.
-class BodyContacts final : public b2ContactListener {
+// Which particle first touched which body, and which wall it first bounced off audibly, during
+// one Step. Box2D reports a contact before solving it, so the particle's velocity is the approach.
+class FirstContacts final : public b2ContactListener {
  public:
-  std::vector<int32_t>* first = nullptr;  // per particle: body index or -1
+  std::vector<int32_t>* body = nullptr;  // per particle: body index or -1
+  std::vector<int32_t>* wall = nullptr;  // per particle: wall index or -1
+  float audible = 0;
 
   void BeginContact(b2Contact* c) override {
-    const uintptr_t a = c->GetFixtureA()->GetUserData().pointer, b = c->GetFixtureB()->GetUserData().pointer;
-    record(a, b);
-    record(b, a);
+    b2Fixture *fa = c->GetFixtureA(), *fb = c->GetFixtureB();
+    b2WorldManifold m;
+    c->GetWorldManifold(&m);
+    record(fa, fb, m.normal);
+    record(fb, fa, -m.normal);
   }
 
  private:
-  void record(uintptr_t particle, uintptr_t body) {
-    if (particle == 0 || particle >= kBodyTag || body < kBodyTag) return;
-    int32_t& slot = (*first)[particle - 1];
-    if (slot < 0) slot = int32_t(body - kBodyTag);
+  // `normal` points from `particle` to `other`.
+  void record(b2Fixture* particle, b2Fixture* other, b2Vec2 normal) {
+    const uintptr_t p = particle->GetUserData().pointer, o = other->GetUserData().pointer;
+    if (p == 0 || p >= kBodyTag) return;
+    if (o >= kWallTag) {
+      int32_t& slot = (*wall)[p - 1];
+      if (slot < 0 && b2Dot(particle->GetBody()->GetLinearVelocity(), normal) > audible) slot = int32_t(o - kWallTag);
+    } else if (o >= kBodyTag) {
+      int32_t& slot = (*body)[p - 1];
+      if (slot < 0) slot = int32_t(o - kBodyTag);
+    }
   }
 };
 
@@ -70,7 +83,7 @@ class Box2DBackend final : public Backend {
     for (const Segment& s : field.segments) {
       b2EdgeShape edge;
       edge.SetTwoSided(b2Vec2(s.a.x, s.a.y), b2Vec2(s.b.x, s.b.y));
-      const b2FixtureDef fd = solid(&edge, field.wall_restitution, 0);
+      const b2FixtureDef fd = solid(&edge, field.wall_restitution, kWallTag + s.wall);
       ground->CreateFixture(&fd);
     }
     for (size_t k = 0; k < field.bodies.size(); ++k) {
@@ -114,7 +127,10 @@ class Box2DBackend final : public Backend {
         particles_[i]->SetLinearVelocity(b2Vec2(cloud.vx[i], cloud.vy[i]));
     }
     first_body_.assign(n, -1);
-    listener_.first = &first_body_;
+    first_wall_.assign(n, -1);
+    listener_.body = &first_body_;
+    listener_.wall = &first_wall_;
+    listener_.audible = field_.audible_bounce;
     world_.Step(ctx.dt, 8, 3);
     const int nb = ctx.n_bodies, ng = int(field_.goals.size());
     for (size_t i = 0; i < n; ++i) {
@@ -127,6 +143,7 @@ class Box2DBackend final : public Backend {
       if (target < 0 && (p.x < field_.bounds_min.x || p.x > field_.bounds_max.x || p.y < field_.bounds_min.y ||
                          p.y > field_.bounds_max.y))
         target = nb + ng;
+      if (target < 0 && first_wall_[i] >= 0) target = nb + ng + 1 + first_wall_[i];
       if (target >= 0) contacts.push_back({uint32_t(i), target});
     }
   }
@@ -154,14 +171,14 @@ class Box2DBackend final : public Backend {
 
   Field field_;
   b2World world_;
-  BodyContacts listener_;
+  FirstContacts listener_;
   std::vector<b2Body*> particles_, bodies_;
   struct Mirror {
     float x, y, vx, vy;  // what Box2D holds for the particle, as last copied into the cloud
   };
   std::vector<Mirror> mirrored_;
   std::vector<Vec2> start_;
-  std::vector<int32_t> first_body_;
+  std::vector<int32_t> first_body_, first_wall_;
   Vec2 inside_;
 };
 

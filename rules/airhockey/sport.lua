@@ -18,7 +18,7 @@ local sport = {
   audio = {
     voice = "en", rate = 170, volume = 100,
     listener = { 0, 0 }, facing = { 1, 0 },
-    sounds = { shot = "hit.wav", intercept = "hit.wav", goal = "goal.wav", drop = "whistle.wav" },
+    sounds = { shot = "hit.wav", intercept = "hit.wav", bounce = "wall.wav", goal = "goal.wav", drop = "whistle.wav" },
   },
 
   phrases = {

@@ -7,7 +7,10 @@
 #include <fstream>
 #include <sstream>
 
+#include <sndfile.h>
+
 #include "audio/audio.h"
+#include "match_audio.h"
 #include "play.h"
 #include "sport.h"
 
@@ -51,6 +54,49 @@ TEST(MatchAudio, AMatchIsHeardInItsWavFile) {
   double energy = 0;
   for (int16_t s : heard.samples) energy += double(s) * s;
   EXPECT_GT(std::sqrt(energy / heard.samples.size()) / 32768, 0.01);  // speech and sounds, not silence
+}
+
+// The whole path from the core's decision to the speakers: the puck is sent into the left wall
+// (y = +0.5, on the listener's left), the core realizes the bounce, the match announces it, and
+// the sport's wall sound plays there. Nothing else makes a sound in this scene.
+TEST(MatchAudio, ABounceOffTheLeftWallIsHeardOnTheLeft) {
+  const std::string wav = (fs::temp_directory_path() / "quantum_bounce_left.wav").string();
+  lua::Sport sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  game::MatchConfig config;
+  config.particles = 200;
+  game::Match match(sport.field(), config, sport);
+  std::vector<BodyInput> still;
+  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
+  Cloud ball;
+  ball.push(0.3f, 0.2f, 0.0f, 1.5f, 1, 1);
+  match.set_scene(still, ball, 0);
+  std::ostringstream warnings;
+  tools::MatchAudio audio("wav:" + wav, sport.audio(), warnings);
+  int bounces = 0;
+  for (int frame = 0; frame < 30; ++frame) {  // 0.5 s: the bounce back reaches the right wall at 0.87 s
+    match.step(still);
+    for (const game::GameEvent& e : match.take_events()) {
+      bounces += e.type == "bounce" && e.actor == "left wall";
+      audio.event(e);
+    }
+    for (const game::Said& s : match.take_said()) audio.said(s);
+    audio.frame(match.time());
+  }
+  audio.finish(match.time());
+  ASSERT_EQ(bounces, 1);  // the whole puck bounced: certain
+  EXPECT_EQ(warnings.str(), "");
+
+  SF_INFO info{};
+  SNDFILE* f = sf_open(wav.c_str(), SFM_READ, &info);
+  ASSERT_NE(f, nullptr) << sf_strerror(nullptr);
+  ASSERT_EQ(info.channels, 2);
+  std::vector<short> stereo(size_t(info.frames) * 2);
+  sf_readf_short(f, stereo.data(), info.frames);
+  sf_close(f);
+  double left = 0, right = 0;
+  for (size_t i = 0; i + 1 < stereo.size(); i += 2) left += double(stereo[i]) * stereo[i], right += double(stereo[i + 1]) * stereo[i + 1];
+  EXPECT_GT(std::sqrt(left / info.frames) / 32768, 0.005);  // the bounce is heard at all
+  EXPECT_GT(left, 9 * right) << "left " << left << ", right " << right;  // and from the left: 3x in amplitude
 }
 
 TEST(MatchAudio, AnUnknownVoiceAndAMissingSoundFallBackWithOneWarningEach) {

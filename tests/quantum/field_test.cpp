@@ -99,6 +99,9 @@ TEST_F(FieldFile, NumbersAreCheckedAfterReading) {
   EXPECT_NE(error_for(R"(return { spots = {} })").find("at least one respawn spot"), std::string::npos);
   EXPECT_NE(error_for(R"(return { ball = { radius = -1 }, spots = { { at = {0, 0} } } })").find("ball.radius"),
             std::string::npos);
+  EXPECT_NE(error_for(R"(return { ball = { audible_bounce = -0.1 }, spots = { { at = {0, 0} } } })")
+                .find("ball.audible_bounce"),
+            std::string::npos);
 }
 
 TEST_F(FieldFile, MustReturnATable) {

@@ -1,6 +1,6 @@
 // Differential test: the fast core and the Box2D reference (one rigid body per particle) move a
-// shared scene of 10,000 particles; their fate distributions must agree within a total variation
-// distance of 0.05.
+// shared scene of 10,000 particles; their fate distributions, and the walls they are first heard
+// bouncing off, must agree within a total variation distance of 0.05.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -31,25 +31,36 @@ Cloud scene() {
   return c;
 }
 
-// The first thing each particle reaches within 3 s (body, goal, out; the last index is "none"),
-// stepping the backend directly so no decision removes anything.
-std::vector<double> fates_by_stepping(Backend& backend, const Field& f) {
+struct Stepped {
+  std::vector<double> ends;         // the first body, goal or out each particle reaches; last: none
+  std::vector<double> first_walls;  // the first wall each bounces off audibly; last: none
+};
+
+// What each particle reaches within 3 s, stepping the backend directly so no decision removes
+// anything.
+Stepped fates_by_stepping(Backend& backend, const Field& f) {
   Cloud c = scene();
-  const int nb = int(f.bodies.size()), ng = int(f.goals.size());
+  const int nb = int(f.bodies.size()), ng = int(f.goals.size()), nw = int(f.wall_names.size());
+  const int first_wall = nb + ng + 1;
   std::vector<BodyMotion> bodies;
   for (const BodySpec& b : f.bodies) bodies.push_back({b.start, b.start, {0, 0}, b.radius});
-  std::vector<int> first(c.size(), -1);
+  std::vector<int> end(c.size(), -1), wall(c.size(), -1);
   std::vector<Contact> contacts;
   for (int s = 0; s < 180; ++s) {
     contacts.clear();
     const StepContext ctx{kDt, bodies.data(), nb, 0, 0.0f};
     backend.advance(c, ctx, contacts);
-    for (const Contact& k : contacts)
-      if (first[k.particle] < 0) first[k.particle] = k.target;
+    for (const Contact& k : contacts) {
+      int& slot = k.target >= first_wall ? wall[k.particle] : end[k.particle];
+      if (slot < 0 && end[k.particle] < 0) slot = k.target >= first_wall ? k.target - first_wall : k.target;
+    }
   }
-  std::vector<double> share(nb + ng + 2, 0);
-  for (int t : first) share[t < 0 ? nb + ng + 1 : t] += 1.0 / kParticles;
-  return share;
+  Stepped out{std::vector<double>(nb + ng + 2, 0), std::vector<double>(nw + 1, 0)};
+  for (size_t i = 0; i < c.size(); ++i) {
+    out.ends[end[i] < 0 ? nb + ng + 1 : end[i]] += 1.0 / kParticles;
+    out.first_walls[wall[i] < 0 ? nw : wall[i]] += 1.0 / kParticles;
+  }
+  return out;
 }
 
 double total_variation(const std::vector<double>& a, const std::vector<double>& b) {
@@ -62,7 +73,8 @@ TEST(Reference, FastCoreAndBox2DAgreeOnFates) {
   const Field f = test::quiet_airhockey();
   const auto fast = make_fast_backend(f);
   const auto box2d = make_box2d_backend(f);
-  const std::vector<double> a = fates_by_stepping(*fast, f), b = fates_by_stepping(*box2d, f);
+  const Stepped fast_run = fates_by_stepping(*fast, f), box2d_run = fates_by_stepping(*box2d, f);
+  const std::vector<double>&a = fast_run.ends, &b = box2d_run.ends;
 
   // The fast core's own prediction of the same scene, in the same categories.
   World world(f, WorldConfig{.particles = kParticles});
@@ -85,6 +97,11 @@ TEST(Reference, FastCoreAndBox2DAgreeOnFates) {
   EXPECT_LT(total_variation(predicted, b), 0.05);
   // Stepping and predicting without noise are the same physics.
   EXPECT_LT(total_variation(a, predicted), 0.01);
+  // Both report the same audible bounces.
+  for (size_t k = 0; k < fast_run.first_walls.size(); ++k)
+    std::cout << "first bounce " << k << ": fast " << fast_run.first_walls[k] << ", box2d " << box2d_run.first_walls[k] << '\n';
+  for (size_t k = 0; k + 1 < box2d_run.first_walls.size(); ++k) EXPECT_GT(box2d_run.first_walls[k], 0.02) << "wall " << k;
+  EXPECT_LT(total_variation(fast_run.first_walls, box2d_run.first_walls), 0.05);
 }
 
 TEST(Reference, Box2DBackendPlaysAMatch) {

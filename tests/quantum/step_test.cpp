@@ -78,7 +78,14 @@ TEST(Step, WallReflectsWithRestitution) {
   // It touched the wall after (0.5 - r - 0.3) / 2 s and then came back at 1.8 m/s.
   const float t_hit = (0.5f - f.ball_radius - 0.3f) / 2.0f;
   EXPECT_NEAR(c.y[0], 0.5f - f.ball_radius - 1.8f * (12 * kDt - t_hit), 1e-4);
-  EXPECT_TRUE(events.empty());
+  // The whole ball bounced, so the bounce is certain, announced once, at the wall.
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].type, EventType::Bounce);
+  EXPECT_EQ(f.wall_names[events[0].actor], "left wall");
+  EXPECT_DOUBLE_EQ(events[0].p, 1.0);
+  EXPECT_NEAR(events[0].t, std::ceil(t_hit / kDt) * kDt, 1e-6);
+  EXPECT_NEAR(events[0].at.y, 0.5f - f.ball_radius, 2.0f * kDt);
+  EXPECT_NEAR(events[0].velocity.y, -1.8f, 1e-4);
 }
 
 TEST(Step, CrossingAGoalMouthIsAGoal) {
@@ -104,7 +111,9 @@ TEST(Step, BallBesideTheMouthBouncesOffTheEndWall) {
   world.set_cloud(test::single(0.5f, 0.3f, 3.0f, 0));
   std::vector<Event> events;
   for (int s = 0; s < 20; ++s) world.step(kDt, {}, events);
-  EXPECT_TRUE(events.empty());
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].type, EventType::Bounce);
+  EXPECT_EQ(f.wall_names[events[0].actor], "Red's end");
   EXPECT_LT(world.cloud().vx[0], 0);
 }
 

@@ -9,6 +9,13 @@ local function first(events, kind)
   end
 end
 
+-- The first event that ends the ball's flight: anything but a bounce off a wall on the way.
+local function outcome(events)
+  for _, e in ipairs(events) do
+    if e.type ~= "bounce" then return e end
+  end
+end
+
 describe("Quantum air hockey", function()
   it("drops the puck in front of Blue's goal and says so", function()
     local s = quantum.scenario(SPORT, { seed = 1 })
@@ -55,14 +62,19 @@ describe("Quantum air hockey", function()
 
   -- Realized frequencies follow the probabilities the factors compute. A scene is set up n times
   -- with different seeds; its fates, tweaked by the sport's factors and the handicaps, give the
-  -- expected distribution of the first outcome; chi-square goodness of fit, rejected only below
+  -- expected distribution of the first outcome (bounces on the way are decisions of their own,
+  -- drawn with the same tweak); chi-square goodness of fit, rejected only below
   -- p = 0.001. Short flights: each draw is then made on fates predicted that very frame.
-  local function outcomes_follow_the_tweaked_fates(opts, setup, category)
+  local function outcomes_follow_the_tweaked_fates(opts, setup, category, classify)
+    classify = classify or function(events)
+      local e = outcome(events)
+      return e and e.type or "none"
+    end
     local probe = quantum.scenario(SPORT, opts)
     setup(probe)
     local expected, newtonian = {}, {}
     for _, f in ipairs(probe:fates()) do
-      local k = category(f.kind)
+      local k = category(f)
       expected[k] = (expected[k] or 0) + f.tweaked
       newtonian[k] = (newtonian[k] or 0) + f.mass
     end
@@ -71,8 +83,7 @@ describe("Quantum air hockey", function()
       opts.seed = seed
       local s = quantum.scenario(SPORT, opts)
       setup(s)
-      local e = s:run(3.0, "shot")[1]
-      local k = e and e.type or "none"
+      local k = classify(s:run(3.0, "shot"))
       seen[k] = (seen[k] or 0) + 1
     end
     local chi2, cells, report = 0, 0, ""
@@ -93,7 +104,7 @@ describe("Quantum air hockey", function()
     s:place("Red's mallet", 0.88, 0.06)
     s:ball { x = 0.5, y = 0.0, vx = 2.5, vy = 0.0, turn = 0.1, count = 400 }
   end
-  local function shot_or_goal(kind) return kind == "body" and "shot" or kind end
+  local function shot_or_goal(fate) return fate.kind == "body" and "shot" or fate.kind end
 
   it("realizes a handicapped intercept as often as its factors compute", function()
     local opts = { particles = 400, handicaps = { ["Red's mallet"] = 4 } }
@@ -114,6 +125,37 @@ describe("Quantum air hockey", function()
     local expected, newtonian = outcomes_follow_the_tweaked_fates({ particles = 400 }, own_goal_chance,
       shot_or_goal)
     assert.is_true(expected.own_goal < newtonian.own_goal / 4, "the own goal factor makes it rarer")
+  end)
+
+  it("hears the puck bounce off the wall it really bounced off, as often as the fates say", function()
+    -- A fan toward Red's left corner: part of it meets the left wall first, part Red's end.
+    local function corner(s)
+      s:place("Red's mallet", 0.6, -0.4)  -- out of the way
+      s:ball { x = 0.5, y = 0.2, vx = 2.2, vy = 1.2, turn = 0.25, count = 400, by = "Blue's mallet" }
+    end
+    local function first_wall(fate) return fate.path[1] or "no bounce" end
+    local function first_heard(events)
+      local e = events[1]
+      if e and e.type == "bounce" then
+        assert.are.equal("Blue's mallet", e.by)
+        return e.actor
+      end
+      return "no bounce"
+    end
+    local expected = outcomes_follow_the_tweaked_fates({ particles = 400 }, corner, first_wall, first_heard)
+    assert.is_true(expected["left wall"] > 0.1 and expected["Red's end"] > 0.1, "both walls are in play")
+  end)
+
+  it("stays silent about a bounce too soft to hear", function()
+    local s = quantum.scenario(SPORT, { seed = 1 })
+    s:ball { x = 0.0, y = 0.4, vx = 0.0, vy = 0.2, turn = 0.0 }  -- 0.2 m/s into the left wall
+    local events = s:run(1.5)
+    assert.is_nil(first(events, "bounce"))
+    local loud = quantum.scenario(SPORT, { seed = 1 })
+    loud:ball { x = 0.0, y = 0.4, vx = 0.0, vy = 0.6, turn = 0.0 }  -- 0.6 m/s: heard
+    local bounce = first(loud:run(1.5), "bounce")
+    assert.are.equal("left wall", bounce.actor)
+    assert.is_true(math.abs(bounce.y - (0.5 - 0.0315)) < 0.02, "placed at the wall, y = " .. bounce.y)
   end)
 
   it("ends the match when a team reaches first_to", function()
