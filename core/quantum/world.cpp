@@ -327,25 +327,35 @@ void World::refill(bool jitter) {
 
 void World::split_round(bool jitter) {
   const size_t target = config_.particles, n = cloud_.size();
+  if (n >= target) return;
   const double threshold = cloud_.mass / double(target);
+  // Copies are written into room made once: after a rejected bounce this round makes hundreds of
+  // thousands of them, and a push_back per array per copy was the round's main cost.
+  for (auto* v : {&cloud_.x, &cloud_.y, &cloud_.vx, &cloud_.vy}) v->resize(target);
+  for (auto* v : {&cloud_.w, &cloud_.tw}) v->resize(target);
+  float *x = cloud_.x.data(), *y = cloud_.y.data(), *vx = cloud_.vx.data(), *vy = cloud_.vy.data();
+  double *w = cloud_.w.data(), *tw = cloud_.tw.data();
+  size_t end = n;
   // Resume where the last round stopped: particles near the front were split already, and
   // scanning past them every step would cost a pass over the cloud.
   if (split_cursor_ >= n) split_cursor_ = 0;
-  for (size_t seen = 0; seen < n && cloud_.size() < target; ++seen, split_cursor_ = (split_cursor_ + 1) % n) {
+  for (size_t seen = 0; seen < n && end < target; ++seen, split_cursor_ = split_cursor_ + 1 == n ? 0 : split_cursor_ + 1) {
     const size_t i = split_cursor_;
-    if (cloud_.w[i] <= threshold) continue;
-    cloud_.w[i] *= 0.5, cloud_.tw[i] *= 0.5;
-    float cvx = cloud_.vx[i], cvy = cloud_.vy[i];
+    if (w[i] <= threshold) continue;
+    w[i] *= 0.5, tw[i] *= 0.5;
+    float cvx = vx[i], cvy = vy[i];
     if (jitter) {
       const float a = float((2 * rng_.uniform() - 1) * config_.split_jitter);
       const float c = std::cos(a), s = std::sin(a);
       const float rx = c * cvx - s * cvy, ry = s * cvx + c * cvy;
       cvx = rx, cvy = ry;
     }
-    // push() adds the copy's weight to the sums, which the halving above already kept.
-    cloud_.push(cloud_.x[i], cloud_.y[i], cvx, cvy, cloud_.w[i], cloud_.tw[i]);
-    cloud_.mass -= cloud_.w[i], cloud_.tmass -= cloud_.tw[i];
+    x[end] = x[i], y[end] = y[i], vx[end] = cvx, vy[end] = cvy, w[end] = w[i], tw[end] = tw[i];
+    ++end;
   }
+  // Halving a particle and adding its copy keeps both sums as they were.
+  for (auto* v : {&cloud_.x, &cloud_.y, &cloud_.vx, &cloud_.vy}) v->resize(end);
+  for (auto* v : {&cloud_.w, &cloud_.tw}) v->resize(end);
   ++version_;
 }
 
