@@ -2,6 +2,8 @@
 // Run: build/quantum-bench   (figures and how to read them: docs/PERFORMANCE.md)
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
+
 #include "audio/audio.h"
 #include "box2d_backend.h"
 #include "field_loader.h"
@@ -9,6 +11,8 @@
 #include "sport.h"
 #include "quantum/world.h"
 #include "scenes.h"
+#include "synthetic.h"
+#include "tracking/tracking.h"
 
 namespace {
 
@@ -115,6 +119,29 @@ void BM_AnnounceLatency(benchmark::State& state) {
   if (loudest == 0) state.SkipWithError("the phrase was not in the output");
 }
 
+// One 640x480 depth frame through the air hockey pipeline (background subtraction, arms, mallets,
+// hover test, Kalman filters), two players reaching in; the camera 1.3 m above a synthetic table.
+void BM_DepthFrame(benchmark::State& state) {
+  const std::string dir = (std::filesystem::temp_directory_path() / "quantum_bench_depth").string();
+  tools::DepthSceneOptions scene;
+  scene.frames = 60;
+  tools::write_depth_recording(dir, scene);
+  tracking::FakenectReader reader(dir);
+  std::vector<tracking::RecordedFrame> frames;
+  for (tracking::RecordedFrame f; reader.next(f);) frames.push_back(f);
+  std::filesystem::remove_all(dir);
+  tracking::DepthTracker tracker(tracking::tracked_field(airhockey(), Vec2{scene.length, scene.width}));
+  size_t k = 0;
+  for (; k < size_t(scene.background_frames); ++k) tracker.feed(frames[k]);
+  size_t players = 0;
+  for (auto _ : state) {
+    const auto seen = tracker.feed(frames[k]);
+    players += seen ? seen->players.size() : 0;
+    k = k + 1 < frames.size() ? k + 1 : size_t(scene.background_frames);
+  }
+  state.counters["players/frame"] = benchmark::Counter(double(players), benchmark::Counter::kAvgIterations);
+}
+
 }  // namespace
 
 // Fixed iteration counts: every run replays the same seeded match (about 10 s of play per size,
@@ -128,6 +155,7 @@ BENCHMARK(BM_StepSilentWalls)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DepthFrame)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStep)->Arg(10'000)->Iterations(20)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStepQuiet)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);

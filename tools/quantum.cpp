@@ -6,6 +6,7 @@
 #include "play.h"
 #include "simulate.h"
 #include "spec.h"
+#include "track.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
@@ -62,9 +63,19 @@ int main(int argc, char** argv) {
   CLI::App* test = app.add_subcommand("test", "run Lua rule specs (*_spec.lua) with the scenario API");
   test->add_option("PATHS", spec_paths, "spec files or folders (default: rules)");
 
+  quantum::tools::TrackOptions tracking;
+  CLI::App* track = app.add_subcommand("track", "print the players a tracking source sees, one JSON object per frame");
+  track->add_option("SOURCE", tracking.source, "fakenect:DIR (a Kinect recording) or kinect (a live Kinect)")->required();
+  track->add_option("--field", tracking.field, "field file or sport folder: its size and who plays from which end")
+      ->capture_default_str();
+  track->add_option("--field-size", tracking.field_size, "L,W: the field between the markers' centres, m "
+                                                          "(default: the field's own)");
+  track->add_option("--frames", tracking.frames, "stop after this many frames (default: all)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (test->parsed()) return quantum::tools::run_specs(spec_paths);
+    if (track->parsed()) quantum::tools::track(tracking, std::cout);
     if (balance->parsed()) {
       if (!study_skills.empty()) study.skills = quantum::tools::parse_list(study_skills, "--skill");
       if (!study_handicaps.empty()) study.handicaps = quantum::tools::parse_list(study_handicaps, "--handicap");

@@ -7,7 +7,9 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libbox2d-dev                 # reference physics backend
-  libopencv-dev                # debug snapshots (and tracking, later)
+  libopencv-dev libopencv-contrib-dev  # tracking (ArUco markers), debug snapshots
+  libeigen3-dev                # tracking: Kalman filters
+  libfreenect-dev              # tracking: a live Kinect, and its recording format
   libluajit-5.1-dev            # field files and rules
   lua-busted                   # rule specs (quantum test)
   libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips

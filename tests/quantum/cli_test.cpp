@@ -13,6 +13,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "synthetic.h"
+
 namespace {
 
 struct Outcome {
@@ -141,6 +143,52 @@ TEST(Cli, PlayRecordsTheMatchToAWav) {
   const auto bytes = std::filesystem::file_size(wav);
   EXPECT_GT(bytes, 8 * 176400u);
   EXPECT_LT(bytes, 12 * 176400u);
+}
+
+// `quantum track` on a synthetic recording: one JSON object per depth frame, nobody while the
+// background is learnt, both players after it; a corrupt frame stops it cleanly, named.
+TEST(Cli, TrackPrintsOneJsonObjectPerFrame) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_track_" + std::to_string(getpid()));
+  quantum::tools::DepthSceneOptions o;
+  o.frames = 20;
+  const auto truth = quantum::tools::write_depth_recording(dir.string(), o);
+  const Outcome r = quantum("track fakenect:" + dir.string() + " --field-size 0.9,0.45");
+  EXPECT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(r.out);
+  int n = 0;
+  for (std::string line; std::getline(lines, line); ++n) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    EXPECT_EQ(j.at("frame").get<int>(), n);
+    EXPECT_NEAR(j.at("t").get<double>(), truth[size_t(n)].t, 1e-5);
+    const nlohmann::json& players = j.at("players");
+    if (n < o.background_frames) {
+      EXPECT_TRUE(players.empty()) << line;
+      continue;
+    }
+    for (const nlohmann::json& p : players) {
+      for (const char* key : {"id", "team", "x", "y", "vx", "vy"}) EXPECT_TRUE(p.contains(key)) << key << ": " << line;
+      EXPECT_TRUE(p.at("team") == "blue" || p.at("team") == "red") << line;
+    }
+  }
+  EXPECT_EQ(n, o.background_frames + o.frames);
+
+  // A corrupt depth frame: the frames before it are out, then one error naming it.
+  std::ifstream index(dir / "INDEX.txt");
+  std::string line, fifth_depth;
+  for (int d = 0; std::getline(index, line);)
+    if (line[0] == 'd' && ++d == 5) fifth_depth = line;
+  std::ofstream(dir / fifth_depth) << "P5 640 480 65535\nshort";
+  const Outcome bad = quantum("track fakenect:" + dir.string() + " --field-size 0.9,0.45");
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 4);
+  EXPECT_NE(bad.err.find(fifth_depth + " (depth frame 4): truncated"), std::string::npos) << bad.err;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, TrackRefusesAnUnknownSource) {
+  const Outcome r = quantum("track webcam");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("unknown source 'webcam'"), std::string::npos) << r.err;
 }
 
 TEST(Cli, PlayRefusesABadAudioOption) {

@@ -1,0 +1,227 @@
+#include "synthetic.h"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/aruco.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "tracking/tracking.h"
+
+namespace quantum::tools {
+namespace {
+
+using V3 = cv::Vec3d;
+constexpr double kMiss = 1e30;
+
+// Smallest t > 0 with o + t d on the sphere (c, r), or kMiss.
+double hit_sphere(const V3& o, const V3& d, const V3& c, double r) {
+  const V3 q = o - c;
+  const double a = d.dot(d), b = q.dot(d), k = q.dot(q) - r * r, disc = b * b - a * k;
+  if (disc < 0) return kMiss;
+  const double t = (-b - std::sqrt(disc)) / a;
+  return t > 0 ? t : kMiss;
+}
+
+// A capsule from p to s of radius r: the cylinder between them and the two end spheres.
+double hit_capsule(const V3& o, const V3& d, const V3& p, const V3& s, double r) {
+  double best = std::min(hit_sphere(o, d, p, r), hit_sphere(o, d, s, r));
+  const V3 axis = s - p;
+  const double len = std::sqrt(axis.dot(axis));
+  const V3 e = axis / len, q = o - p;
+  const V3 dp = d - d.dot(e) * e, qp = q - q.dot(e) * e;
+  const double a = dp.dot(dp), b = qp.dot(dp), k = qp.dot(qp) - r * r, disc = b * b - a * k;
+  if (a > 0 && disc >= 0) {
+    const double t = (-b - std::sqrt(disc)) / a;
+    const double along = (q + t * d).dot(e);
+    if (t > 0 && along >= 0 && along <= len) best = std::min(best, t);
+  }
+  return best;
+}
+
+// A vertical cylinder (a mallet) standing at (x, y) from z0 to z1.
+double hit_mallet(const V3& o, const V3& d, double x, double y, double r, double z0, double z1) {
+  double best = kMiss;
+  if (d[2] < 0) {  // its top, seen from above
+    const double t = (z1 - o[2]) / d[2];
+    const double px = o[0] + t * d[0] - x, py = o[1] + t * d[1] - y;
+    if (t > 0 && px * px + py * py <= r * r) best = t;
+  }
+  const double qx = o[0] - x, qy = o[1] - y;
+  const double a = d[0] * d[0] + d[1] * d[1], b = qx * d[0] + qy * d[1], k = qx * qx + qy * qy - r * r;
+  const double disc = b * b - a * k;
+  if (a > 0 && disc >= 0) {
+    const double t = (-b - std::sqrt(disc)) / a, z = o[2] + t * d[2];
+    if (t > 0 && z >= z0 && z <= z1) best = std::min(best, t);
+  }
+  return best;
+}
+
+struct Player {
+  int end;  // -1 blue, +1 red
+  std::string id;
+  double phase[4], rate[4];
+  std::vector<std::pair<double, double>> lifts;  // [start, end) of each hover, seconds of play
+  std::vector<double> lift_height;
+};
+
+struct Pose {
+  double x, y, lift;
+};
+
+Pose pose_of(const Player& p, double t, float length, float width) {
+  Pose q;
+  q.x = p.end * (0.5 * length / 2 + 0.28 * length / 2 * std::sin(p.rate[0] * t + p.phase[0]) +
+                 0.08 * length / 2 * std::sin(p.rate[1] * t + p.phase[1]));
+  q.y = width / 2 * (0.55 * std::sin(p.rate[2] * t + p.phase[2]) + 0.15 * std::sin(p.rate[3] * t + p.phase[3]));
+  q.lift = 0;
+  for (size_t k = 0; k < p.lifts.size(); ++k)
+    if (t >= p.lifts[k].first && t < p.lifts[k].second) q.lift = p.lift_height[k];
+  return q;
+}
+
+}  // namespace
+
+void write_markers(const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
+  const char* corner[] = {"(+L/2, +W/2): Red's end, Blue's left", "(+L/2, -W/2): Red's end, Blue's right",
+                          "(-L/2, -W/2): Blue's end, Blue's right", "(-L/2, +W/2): Blue's end, Blue's left"};
+  for (int id = 0; id < 4; ++id) {
+    cv::Mat marker, page(760, 700, CV_8UC1, cv::Scalar(255));
+    dict->drawMarker(id, 600, marker);
+    marker.copyTo(page(cv::Rect(50, 50, 600, 600)));
+    cv::putText(page, "ArUco 4x4_50 id " + std::to_string(id) + ", centre on corner", {50, 700},
+                cv::FONT_HERSHEY_SIMPLEX, 0.8, cv::Scalar(0), 2);
+    cv::putText(page, corner[id], {50, 740}, cv::FONT_HERSHEY_SIMPLEX, 0.8, cv::Scalar(0), 2);
+    const std::string file = dir + "/marker-" + std::to_string(id) + ".png";
+    if (!cv::imwrite(file, page)) throw std::runtime_error("cannot write " + file);
+  }
+}
+
+std::vector<TruthFrame> write_depth_recording(const std::string& dir, const DepthSceneOptions& o) {
+  std::mt19937_64 rng(o.seed);
+  std::uniform_real_distribution<double> uni(0, 1);
+  std::normal_distribution<double> gauss(0, 1);
+  const tracking::DepthCamera cam;
+
+  // The camera: above the table's centre give or take a few centimetres, looking down, image
+  // right toward the red end, tilted a little.
+  const V3 centre(o.offset * (2 * uni(rng) - 1), o.offset * (2 * uni(rng) - 1), o.height);
+  const double ta = o.tilt * (2 * uni(rng) - 1), tb = o.tilt * (2 * uni(rng) - 1);
+  const cv::Matx33d down(1, 0, 0, 0, -1, 0, 0, 0, -1);
+  const cv::Matx33d rx(1, 0, 0, 0, std::cos(ta), -std::sin(ta), 0, std::sin(ta), std::cos(ta));
+  const cv::Matx33d ry(std::cos(tb), 0, std::sin(tb), 0, 1, 0, -std::sin(tb), 0, std::cos(tb));
+  const cv::Matx33d to_field = (down * rx * ry).t();  // camera directions to field directions
+
+  std::vector<Player> players;
+  for (int end : {-1, 1}) {
+    Player p;
+    p.end = end;
+    p.id = end < 0 ? o.blue : o.red;
+    for (int k = 0; k < 4; ++k) p.phase[k] = 6.2832 * uni(rng), p.rate[k] = 1.0 + 2.5 * uni(rng);
+    const double play = o.frames / o.fps;
+    for (double t = 0.5 + 2 * uni(rng); t < play;) {
+      const double on = 0.3 + 0.8 * uni(rng);
+      p.lifts.push_back({t, t + on});
+      p.lift_height.push_back(0.08 + 0.15 * uni(rng));
+      t += on + on * (1 - o.hover_share) / o.hover_share * (0.5 + uni(rng));
+    }
+    players.push_back(std::move(p));
+  }
+
+  // Marker bitmaps, 6 cells a side (4 data bits and the black border), 10 px a cell.
+  const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
+  std::vector<cv::Mat> bitmaps(4);
+  for (int id = 0; id < 4; ++id) dict->drawMarker(id, 60, bitmaps[size_t(id)]);
+  const double rim = o.marker_size / 2 + 0.02;  // the table reaches past the field's corners
+
+  tracking::FakenectWriter writer(dir);
+  std::ofstream truth_file(dir + "/truth.jsonl");
+  std::vector<TruthFrame> truth;
+  cv::Mat raw(cam.height, cam.width, CV_16UC1), bgr(cam.height, cam.width, CV_8UC3);
+  std::vector<V3> rays(size_t(cam.width * cam.height));
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u)
+      rays[size_t(v * cam.width + u)] = to_field * V3((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1);
+
+  const int total = o.background_frames + o.frames;
+  for (int f = 0; f < total; ++f) {
+    const double t = f / o.fps, play_t = (f - o.background_frames) / o.fps;
+    TruthFrame tf{f, t, {}};
+    struct Arm {
+      V3 wrist, shoulder, hand;
+      double x, y, lift;
+    };
+    std::vector<Arm> arms;
+    if (f >= o.background_frames) {
+      for (const Player& p : players) {
+        const Pose q = pose_of(p, play_t, o.length, o.width);
+        const V3 shoulder(p.end * (o.length / 2 + 0.35), 0.5 * q.y, 0.4);
+        V3 dir(q.x - shoulder[0], q.y - shoulder[1], 0);
+        dir /= std::sqrt(dir.dot(dir));
+        // Mallet 4 cm in radius, 5 cm tall; the hand grips it from behind and above, so the
+        // mallet's far rim is the arm's farthest point and the centre lies 4 cm behind it.
+        arms.push_back({V3(q.x, q.y, q.lift + 0.08) - 0.05 * dir, shoulder, V3(q.x, q.y, q.lift + 0.075) - 0.01 * dir,
+                        q.x, q.y, q.lift});
+        tf.players.push_back({p.id, q.x, q.y, q.lift > 0});
+      }
+    }
+    for (int v = 0; v < cam.height; ++v) {
+      uint16_t* r = raw.ptr<uint16_t>(v);
+      cv::Vec3b* c = bgr.ptr<cv::Vec3b>(v);
+      for (int u = 0; u < cam.width; ++u) {
+        const V3& d = rays[size_t(v * cam.width + u)];
+        // The ray's parameter is the camera's z: its camera-frame direction has z = 1.
+        double best = (-0.75 - centre[2]) / d[2];  // the floor
+        cv::Vec3b colour(60, 60, 60);
+        const double tt = -centre[2] / d[2];
+        const double px = centre[0] + tt * d[0], py = centre[1] + tt * d[1];
+        if (std::fabs(px) <= o.length / 2 + rim && std::fabs(py) <= o.width / 2 + rim) {
+          best = tt;
+          colour = cv::Vec3b(215, 215, 215);
+          for (int id = 0; id < 4; ++id) {
+            const Vec2 m = tracking::marker_position(id, o.length, o.width);
+            const double mx = (px - m.x) / o.marker_size + 0.5, my = 0.5 - (py - m.y) / o.marker_size;
+            if (mx >= 0 && mx < 1 && my >= 0 && my < 1) {
+              const uint8_t g = bitmaps[size_t(id)].at<uint8_t>(int(my * 60), int(mx * 60));
+              colour = cv::Vec3b(g, g, g);
+            }
+          }
+        }
+        for (const Arm& a : arms) {
+          const double hit = std::min({hit_mallet(centre, d, a.x, a.y, 0.04, a.lift, a.lift + 0.05),
+                                       hit_sphere(centre, d, a.hand, 0.035),
+                                       hit_capsule(centre, d, a.wrist, a.shoulder, 0.04)});
+          if (hit < best) best = hit, colour = cv::Vec3b(140, 170, 215);
+        }
+        c[u] = colour;
+        const uint16_t q = tracking::metres_to_raw(float(best));
+        const int noisy = q == tracking::kNoDepth ? q : int(std::lround(q + o.noise * gauss(rng)));
+        r[u] = uni(rng) < o.holes ? tracking::kNoDepth : uint16_t(std::clamp(noisy, 0, 2047));
+      }
+    }
+    // The Kinect also loses whole patches (shadows of its projector, shiny spots).
+    for (int k = 0; k < 4; ++k)
+      cv::circle(raw, {int(uni(rng) * cam.width), int(uni(rng) * cam.height)}, 2 + int(5 * uni(rng)),
+                 cv::Scalar(tracking::kNoDepth), cv::FILLED);
+    if (f % o.colour_every == 0) writer.rgb(t, bgr);
+    writer.depth(t, raw);
+    writer.accel(t);
+    nlohmann::ordered_json j;
+    j["frame"] = f;
+    j["t"] = t;
+    j["players"] = nlohmann::json::array();
+    for (const TruthPlayer& p : tf.players)
+      j["players"].push_back({{"id", p.id}, {"x", p.x}, {"y", p.y}, {"hovering", p.hovering}});
+    truth_file << j.dump() << '\n';
+    truth.push_back(std::move(tf));
+  }
+  return truth;
+}
+
+}  // namespace quantum::tools

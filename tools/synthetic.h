@@ -1,0 +1,52 @@
+// Synthetic recordings for the tracking tests: a Kinect above an air hockey table with the four
+// playfield markers, two players reaching in over the short ends with mallets (some lifted,
+// hovering), rendered by ray casting into libfreenect's record format with Kinect-like disparity
+// quantization, noise and holes, plus the ground truth. `quantum-synth` writes them from the
+// command line.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace quantum::tools {
+
+struct DepthSceneOptions {
+  // A small table, so that from 1.0 m up a Kinect's 57 x 44 degrees see it whole, markers included.
+  float length = 0.9f, width = 0.45f;  // the field between the markers' centres, m
+  float height = 1.3f;                 // the camera above the table, m
+  float tilt = 0.02f;                  // rad: the camera looks this far off straight down, at most
+  float offset = 0.02f;                // m: and stands this far off the table's centre, at most
+  float marker_size = 0.08f;           // m, printed side of a marker
+  int background_frames = 30;         // empty table first, for the background
+  int frames = 300;                   // then this many with the players
+  double fps = 30;
+  double hover_share = 0.3;           // of the play frames, roughly, each hand is lifted
+  float noise = 0.5f;                 // standard deviation of the raw disparity, in raw units
+  float holes = 0.01f;                // share of pixels with no reading, plus a few hole blobs
+  int colour_every = 15;              // a colour frame every this many depth frames
+  uint64_t seed = 1;
+  std::string blue = "Blue's mallet", red = "Red's mallet";  // the players' ids in the truth
+};
+
+struct TruthPlayer {
+  std::string id;
+  double x = 0, y = 0;  // the mallet's centre on the table, field metres
+  bool hovering = false;
+};
+
+struct TruthFrame {
+  int frame = 0;  // depth frames counted from 0, the background's included
+  double t = 0;
+  std::vector<TruthPlayer> players;  // empty during the background
+};
+
+// Writes the four playfield markers as printable PNGs, dir/marker-<id>.png, each captioned with
+// the corner it goes on.
+void write_markers(const std::string& dir);
+
+// Writes the recording into `dir` (INDEX.txt and the frames) and the truth into
+// dir/truth.jsonl, one JSON object per depth frame; returns the truth.
+std::vector<TruthFrame> write_depth_recording(const std::string& dir, const DepthSceneOptions& options);
+
+}  // namespace quantum::tools
