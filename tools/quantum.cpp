@@ -65,7 +65,12 @@ int main(int argc, char** argv) {
 
   quantum::tools::TrackOptions tracking;
   CLI::App* track = app.add_subcommand("track", "print the players a tracking source sees, one JSON object per frame");
-  track->add_option("SOURCE", tracking.source, "fakenect:DIR (a Kinect recording) or kinect (a live Kinect)")->required();
+  track->add_option("SOURCE", tracking.source, "fakenect:DIR (a Kinect recording), kinect (a live Kinect), "
+                                               "video:FILE or camera:N (hats seen from above)")->required();
+  track->add_option("--accel", tracking.accel, "with video or camera: accelerometer samples t,player,ax,ay,az from FILE "
+                                               "(CSV) or udp:PORT (one per datagram)");
+  track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")
+      ->capture_default_str();
   track->add_option("--field", tracking.field, "field file or sport folder: its size and who plays from which end")
       ->capture_default_str();
   track->add_option("--field-size", tracking.field_size, "L,W: the field between the markers' centres, m "

@@ -18,10 +18,19 @@ int main(int argc, char** argv) {
   app.add_option("--length", o.length, "the field's length between the markers, m")->capture_default_str();
   app.add_option("--width", o.width, "the field's width between the markers, m")->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the motion and the noise")->capture_default_str();
-  bool markers = false;
+  bool markers = false, hats = false;
   app.add_flag("--markers", markers, "write the four printable playfield markers into DIR instead");
+  app.add_flag("--hats", hats, "write a handball hall with hatted players instead: DIR/hats.avi, DIR/accel.csv, "
+                               "DIR/truth.jsonl (a 20 m x 10 m hall; --seed applies)");
   CLI11_PARSE(app, argc, argv);
   try {
+    if (hats) {
+      quantum::tools::HatSceneOptions h;
+      h.seed = o.seed;
+      const auto truth = quantum::tools::write_hat_video(dir, h);
+      std::cout << "wrote " << truth.frames.size() << " frames to " << dir << "/hats.avi\n";
+      return 0;
+    }
     if (markers) {
       quantum::tools::write_markers(dir);
       std::cout << "wrote " << dir << "/marker-0.png to marker-3.png\n";

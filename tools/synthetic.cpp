@@ -4,6 +4,7 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -220,6 +221,158 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
       j["players"].push_back({{"id", p.id}, {"x", p.x}, {"y", p.y}, {"hovering", p.hovering}});
     truth_file << j.dump() << '\n';
     truth.push_back(std::move(tf));
+  }
+  return truth;
+}
+
+namespace {
+
+struct Walker {
+  std::string team;
+  // Straight from a to b over the clip, or round a circle (centre a, radius r, period p).
+  Vec2 a, b;
+  double r = 0, period = 0;
+  std::string id;
+  Vec2 at(double t, double seconds) const {
+    if (period > 0) {
+      const double w = 2 * M_PI * t / period;
+      return {float(a.x + r * std::cos(w)), float(a.y + r * std::sin(w))};
+    }
+    const double s = t / seconds;
+    return {float(a.x + (b.x - a.x) * s), float(a.y + (b.y - a.y) * s)};
+  }
+};
+
+}  // namespace
+
+HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
+  std::filesystem::create_directories(dir);
+  std::mt19937_64 rng(o.seed);
+  std::normal_distribution<double> gauss(0, 1);
+  std::uniform_real_distribution<double> uni(0, 1);
+  const double L = o.length, W = o.width, T = o.seconds;
+  // Two of each team cross at the clip's middle (at x = -L/5 and +L/5); the third circles.
+  auto line = [](const char* team, Vec2 a, Vec2 b) { return Walker{team, a, b, 0, 0, ""}; };
+  auto circle = [](const char* team, Vec2 c, double r, double period) { return Walker{team, c, {}, r, period, ""}; };
+  std::vector<Walker> walkers = {
+      line("blue", {float(-0.45 * L), float(-0.3 * W)}, {float(0.05 * L), float(0.3 * W)}),
+      line("blue", {float(-0.425 * L), float(0.3 * W)}, {float(0.025 * L), float(-0.3 * W)}),
+      circle("blue", {float(0.15 * L), float(-0.25 * W)}, 0.075 * L, 6),
+      line("red", {float(0.45 * L), float(-0.3 * W)}, {float(-0.05 * L), float(0.3 * W)}),
+      line("red", {float(0.425 * L), float(0.3 * W)}, {float(-0.025 * L), float(-0.3 * W)}),
+      circle("red", {float(-0.15 * L), float(0.25 * W)}, 0.075 * L, 7),
+  };
+  // Ids as the tracker gives them: the team and a number in order along x at the start.
+  for (const char* team : {"blue", "red"}) {
+    std::vector<Walker*> members;
+    for (Walker& w : walkers)
+      if (w.team == team) members.push_back(&w);
+    std::sort(members.begin(), members.end(), [&](const Walker* a, const Walker* b) {
+      const Vec2 p = a->at(0, T), q = b->at(0, T);
+      return p.x != q.x ? p.x < q.x : p.y < q.y;
+    });
+    for (size_t k = 0; k < members.size(); ++k) members[k]->id = std::string(team) + " " + std::to_string(k + 1);
+  }
+
+  // The camera, looking down from above the hall's centre, a little off and tilted.
+  const double fx = (o.image_width / 2.0) / std::tan(o.horizontal_fov * M_PI / 360);
+  const double cx = (o.image_width - 1) / 2.0, cy = (o.image_height - 1) / 2.0;
+  const double ta = 0.02 * (2 * uni(rng) - 1), tb = 0.02 * (2 * uni(rng) - 1);
+  const cv::Matx33d down(1, 0, 0, 0, -1, 0, 0, 0, -1);
+  const cv::Matx33d rx(1, 0, 0, 0, std::cos(ta), -std::sin(ta), 0, std::sin(ta), std::cos(ta));
+  const cv::Matx33d ry(std::cos(tb), 0, std::sin(tb), 0, 1, 0, -std::sin(tb), 0, std::cos(tb));
+  const cv::Matx33d r = down * rx * ry;  // field to camera
+  const cv::Vec3d centre(0.2 * (2 * uni(rng) - 1), 0.2 * (2 * uni(rng) - 1), o.height);
+  const cv::Vec3d t = -(r * centre);
+  auto project = [&](double x, double y, double z) {
+    const cv::Vec3d c = r * cv::Vec3d(x, y, z) + t;
+    return cv::Point2d(fx * c[0] / c[2] + cx, fx * c[1] / c[2] + cy);
+  };
+
+  // The floor as a texture, 50 px a metre: wooden boards, the court's lines, the markers.
+  const double ppm = 50, margin = 2;
+  cv::Mat floor(int((W + 2 * margin) * ppm), int((L + 2 * margin) * ppm), CV_8UC3, cv::Scalar(150, 170, 185));
+  auto tex = [&](double x, double y) { return cv::Point2d((x + L / 2 + margin) * ppm, (W / 2 + margin - y) * ppm); };
+  for (double x = -L / 2 - margin; x < L / 2 + margin; x += 0.15)
+    cv::line(floor, tex(x, -W / 2 - margin), tex(x, W / 2 + margin), cv::Scalar(140, 160, 176), 1);
+  cv::rectangle(floor, tex(-L / 2, W / 2), tex(L / 2, -W / 2), cv::Scalar(235, 235, 235), 3);
+  cv::line(floor, tex(0, W / 2), tex(0, -W / 2), cv::Scalar(235, 235, 235), 3);
+  const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
+  for (int id = 0; id < 4; ++id) {
+    const Vec2 m = tracking::marker_position(id, float(L), float(W));
+    const int side = int(o.marker_size * ppm);
+    cv::Mat bitmap, colour;
+    dict->drawMarker(id, side, bitmap);
+    cv::cvtColor(bitmap, colour, cv::COLOR_GRAY2BGR);
+    const cv::Point2d c = tex(m.x, m.y);
+    colour.copyTo(floor(cv::Rect(int(c.x) - side / 2, int(c.y) - side / 2, side, side)));
+  }
+  // Texture pixels to image pixels: the floor plane's homography.
+  std::vector<cv::Point2f> from, to;
+  for (auto [x, y] : {std::pair{-L / 2, -W / 2}, {L / 2, -W / 2}, {L / 2, W / 2}, {-L / 2, W / 2}}) {
+    from.push_back(tex(x, y));
+    to.push_back(project(x, y, 0));
+  }
+  const cv::Mat h = cv::getPerspectiveTransform(from, to);
+
+  cv::VideoWriter video(dir + "/hats.avi", cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), o.fps,
+                        {o.image_width, o.image_height});
+  if (!video.isOpened()) throw std::runtime_error(dir + "/hats.avi: cannot write the video");
+  video.set(cv::VIDEOWRITER_PROP_QUALITY, 95);
+  HatTruth truth;
+  std::ofstream truth_file(dir + "/truth.jsonl");
+  const int frames = int(std::lround(T * o.fps));
+  cv::Mat image;
+  for (int f = 0; f < frames; ++f) {
+    const double time = f / o.fps;
+    cv::warpPerspective(floor, image, h, {o.image_width, o.image_height}, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                        cv::Scalar(90, 90, 90));
+    TruthFrame tf{f, time, {}};
+    std::vector<cv::Point2d> pixels;  // where each hat's centre is in the image
+    for (const Walker& w : walkers) {
+      const Vec2 p = w.at(time, T);
+      // Shoulders (dark shirts) under the hat; then the hat, seen from above.
+      const cv::Point2d s = project(p.x, p.y, o.hat_height - 0.3), c = project(p.x, p.y, o.hat_height);
+      const double scale = fx / (o.height - o.hat_height);
+      // Drawn with 4 fractional bits: whole-pixel centres would move a hat by up to 0.8 cm.
+      auto fixed = [](cv::Point2d p) { return cv::Point(int(std::lround(p.x * 16)), int(std::lround(p.y * 16))); };
+      cv::ellipse(image, fixed(s), cv::Size(int(0.25 * scale * 16), int(0.13 * scale * 16)), 0, 0, 360,
+                  cv::Scalar(55, 55, 55), cv::FILLED, cv::LINE_AA, 4);
+      const cv::Scalar hat = w.team == "blue" ? cv::Scalar(220, 80, 20) : cv::Scalar(30, 30, 220);
+      cv::circle(image, fixed(c), int(std::lround(o.hat_radius * scale * 16)), hat, cv::FILLED, cv::LINE_AA, 4);
+      tf.players.push_back({w.id, p.x, p.y, false});
+      pixels.push_back(c);
+    }
+    video.write(image);
+    nlohmann::ordered_json j;
+    j["frame"] = f;
+    j["t"] = time;
+    j["players"] = nlohmann::json::array();
+    for (size_t k = 0; k < tf.players.size(); ++k)
+      j["players"].push_back({{"id", tf.players[k].id}, {"x", tf.players[k].x}, {"y", tf.players[k].y},
+                              {"u", pixels[k].x}, {"v", pixels[k].y}});
+    truth_file << j.dump() << '\n';
+    truth.frames.push_back(std::move(tf));
+  }
+
+  // Accelerometers at 100 Hz: gravity, running's jolts, and a throw's whip (40 m/s^2 for 60 ms).
+  for (const auto& [who, when] : {std::pair{1, 2.0}, {3, 4.2}, {5, 6.5}, {2, 8.0}}) {
+    const Walker& w = walkers[size_t(who)];
+    const Vec2 a = w.at(when - 0.01, T), b = w.at(when + 0.01, T);
+    const double dx = b.x - a.x, dy = b.y - a.y, n = std::hypot(dx, dy);
+    truth.throws.push_back({when, w.id, dx / n, dy / n});
+  }
+  std::ofstream accel(dir + "/accel.csv");
+  accel << "t,player,ax,ay,az\n";
+  for (int k = 0; k < int(T * 100); ++k) {
+    const double time = k / 100.0;
+    for (const Walker& w : walkers) {
+      double whip = 0;
+      for (const TruthThrow& th : truth.throws)
+        if (th.player == w.id && time >= th.t && time < th.t + 0.06) whip = 40;
+      accel << time << ',' << w.id << ',' << 3 * gauss(rng) + whip << ',' << 3 * gauss(rng) << ','
+            << 9.81 + 3 * gauss(rng) << '\n';
+    }
   }
   return truth;
 }

@@ -49,4 +49,32 @@ void write_markers(const std::string& dir);
 // dir/truth.jsonl, one JSON object per depth frame; returns the truth.
 std::vector<TruthFrame> write_depth_recording(const std::string& dir, const DepthSceneOptions& options);
 
+// A handball hall seen from the ceiling: the four markers on its corners, three players a team
+// in coloured hats (blue and red), two of each team crossing paths, throws in their
+// accelerometer samples.
+struct HatSceneOptions {
+  float length = 20.0f, width = 10.0f;  // the hall's field between the markers' centres, m
+  float height = 13.0f;                 // the camera above the floor, m
+  float horizontal_fov = 82;            // degrees
+  int image_width = 1280, image_height = 720;
+  float marker_size = 0.6f;             // m
+  float hat_height = 1.8f, hat_radius = 0.13f;  // m
+  double seconds = 10, fps = 30;
+  uint64_t seed = 1;
+};
+
+struct TruthThrow {
+  double t = 0;
+  std::string player;
+  double dx = 0, dy = 0;  // the thrower's direction of motion
+};
+
+struct HatTruth {
+  std::vector<TruthFrame> frames;  // hats' positions (x, y under the hat), never hovering
+  std::vector<TruthThrow> throws;
+};
+
+// Writes dir/hats.avi (MJPG), dir/accel.csv (t,player,ax,ay,az at 100 Hz) and dir/truth.jsonl.
+HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& options);
+
 }  // namespace quantum::tools

@@ -7,14 +7,16 @@
 namespace quantum::tools {
 
 struct TrackOptions {
-  std::string source;                    // fakenect:DIR or kinect
+  std::string source;                    // fakenect:DIR, kinect, video:FILE or camera:N
+  std::string accel;                     // with video or camera: accelerometers, FILE (CSV) or udp:PORT
+  float fov = 82;                        // with video or camera: its horizontal field of view, degrees
   std::string field = "rules/airhockey"; // a field file or sport folder: who plays from which end
   std::string field_size;                // "L,W": the field between the markers, default the field's own
   int frames = 0;                        // stop after this many frames (0: at the end of the source)
 };
 
 // Writes {"frame": n, "t": s, "players": [{"id", "team", "x", "y", "vx", "vy"}]} per frame to
-// `out`. Throws for bad input (the message names the file and frame); frames before it are out.
+// `out`, with "actions": [{"type": "throw", "player", "dx", "dy"}] when something was thrown. Throws for bad input (the message names the file and frame); frames before it are out.
 void track(const TrackOptions& options, std::ostream& out);
 
 }  // namespace quantum::tools

@@ -27,10 +27,17 @@ struct TrackedPlayer {
   double x = 0, y = 0, vx = 0, vy = 0;  // field metres and m/s
 };
 
+// Something a player did: a throw, with its direction on the field (a unit vector).
+struct TrackedAction {
+  std::string type, player;
+  double dx = 0, dy = 0;
+};
+
 struct TrackedFrame {
   int frame = 0;
   double t = 0;  // seconds since the source's first frame
   std::vector<TrackedPlayer> players;  // those with input this frame (a hovering hand has none)
+  std::vector<TrackedAction> actions;  // what they did since the last frame
 };
 
 // Bad tracking input (markers not found, no camera, ...): the message says what and where.
@@ -124,6 +131,105 @@ class DepthTracker {
   std::vector<ArmMeasurement> arms_;
   std::vector<PointFilter> filters_;
   double last_t_ = 0;
+};
+
+// --- Handball: coloured hats seen from above, and accelerometers for throws.
+
+// A team's hat colour: OpenCV hue (0-180, wrapping), how far from it a pixel may be, and the
+// least saturation and value that count as coloured at all.
+struct HatColour {
+  std::string team;
+  int hue = 0, tolerance = 12, saturation = 110, value = 70;
+};
+
+struct HatConfig {
+  std::vector<HatColour> colours = {{"blue", 110}, {"red", 0}};
+  float hat_height = 1.8f;            // m above the floor: where the hats are, for the parallax
+  float horizontal_fov = 82;          // degrees: the camera's field of view across the image
+  int min_area = 25;                  // px: smaller coloured blobs are not hats
+  float merged = 0.5f;                // m: hats of one team nearer than this are crossing: both coast
+  float max_speed = 8;                // m/s: how far a lost hat may have run when it is found again
+  double filter_acceleration = 30;    // Kalman: m/s^2 a player may accelerate
+  double filter_measurement = 0.03;   // Kalman: m of measurement noise
+};
+
+// One CamShift tracker per hat. The first frame calibrates the camera from the playfield
+// markers and starts a tracker for every hat it shows; ids are the team and a number in order
+// along x ("blue 1", "blue 2", ...). When two hats of one team meet, their trackers coast on
+// their Kalman filters until the hats part again, so identities survive crossings.
+class HatTracker {
+ public:
+  explicit HatTracker(TrackedField field, HatConfig config = {});
+
+  // One colour frame (BGR). Throws TrackingError when the first frame lacks a marker.
+  TrackedFrame feed(const cv::Mat& bgr, int index, double t);
+
+  // Where a pixel at the hats' height is on the field (after the first frame).
+  Vec2 to_field(cv::Point2f pixel) const;
+
+ private:
+  struct Hat {
+    std::string id, team;
+    int colour;       // index into config_.colours
+    PointFilter filter;
+    int side;             // px: the CamShift window's side
+    double coasting = 0;  // s since it was last seen
+  };
+  struct Blob {
+    Vec2 at;
+    int area;
+  };
+  void calibrate(const cv::Mat& bgr);
+  std::vector<Blob> blobs(size_t colour) const;
+  void follow(cv::Size image, double dt);
+  void masks(const cv::Mat& bgr);
+  cv::Point2f to_image(double x, double y) const;
+
+  TrackedField field_;
+  HatConfig config_;
+  DepthCamera camera_;  // the colour camera's pinhole, from its size and field of view
+  std::optional<CameraPose> pose_;
+  std::vector<Hat> hats_;
+  std::vector<cv::Mat> masks_;  // per team colour: 255 where a pixel has it
+  cv::Mat hsv_;
+  double last_t_ = 0;
+};
+
+// Accelerometer samples (m/s^2) per player, from a CSV file (t,player,ax,ay,az, t in seconds
+// from the video's first frame) or live over UDP (the same fields, one sample per datagram).
+struct AccelSample {
+  double t = 0;
+  std::string player;
+  double ax = 0, ay = 0, az = 0;
+};
+
+class AccelSource {
+ public:
+  // "FILE" (CSV) or "udp:PORT". Throws TrackingError naming the file and line of bad input.
+  explicit AccelSource(const std::string& spec);
+  ~AccelSource();
+  // Samples up to time t (for UDP: everything received so far, stamped t).
+  std::vector<AccelSample> until(double t);
+
+ private:
+  std::vector<AccelSample> samples_;
+  size_t cursor_ = 0;
+  int socket_ = -1;
+};
+
+// Turns accelerometer peaks into throws: a player's acceleration magnitude crossing `threshold`
+// (default 25 m/s^2, about 2.5 g: an arm's whip, well above running's 1-1.5 g) is a throw, in
+// the direction the player is moving (toward the other end when standing still). One throw per
+// player per `refractory` seconds.
+class ThrowDetector {
+ public:
+  explicit ThrowDetector(double threshold = 25, double refractory = 0.5) : threshold_(threshold), refractory_(refractory) {}
+  // Adds the throws among `samples` to `frame`, whose players give the directions.
+  void add(const std::vector<AccelSample>& samples, TrackedFrame& frame);
+
+ private:
+  double threshold_, refractory_;
+  std::vector<std::pair<std::string, double>> last_;  // player, time of their last throw
 };
 
 }  // namespace quantum::tracking

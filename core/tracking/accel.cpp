@@ -1,0 +1,100 @@
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "tracking/tracking.h"
+
+namespace quantum::tracking {
+namespace {
+
+// "t,player,ax,ay,az"; false when the line does not have that shape.
+bool parse_sample(const std::string& line, AccelSample& s) {
+  std::stringstream in(line);
+  std::string field[5];
+  for (int k = 0; k < 5; ++k)
+    if (!std::getline(in, field[k], ',')) return false;
+  double* numbers[] = {&s.t, &s.ax, &s.ay, &s.az};
+  const int columns[] = {0, 2, 3, 4};
+  for (int k = 0; k < 4; ++k) {
+    const std::string& text = field[columns[k]];
+    char* end = nullptr;
+    *numbers[k] = std::strtod(text.c_str(), &end);
+    while (end && (*end == ' ' || *end == '\r' || *end == '\n')) ++end;
+    if (end == text.c_str() || !end || *end != 0 || !std::isfinite(*numbers[k])) return false;
+  }
+  s.player = field[1];
+  return !s.player.empty();
+}
+
+}  // namespace
+
+AccelSource::AccelSource(const std::string& spec) {
+  if (spec.rfind("udp:", 0) == 0) {
+    const int port = std::atoi(spec.c_str() + 4);
+    if (port <= 0 || port > 65535) throw TrackingError("--accel " + spec + ": expected udp:PORT");
+    socket_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(uint16_t(port));
+    a.sin_addr.s_addr = htonl(INADDR_ANY);
+    if (socket_ < 0 || ::bind(socket_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0)
+      throw TrackingError("--accel " + spec + ": cannot listen on UDP port " + std::to_string(port));
+    return;
+  }
+  std::ifstream in(spec);
+  if (!in) throw TrackingError(spec + ": cannot open the accelerometer file");
+  int n = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++n;
+    if (line.empty() || line[0] == '#' || (n == 1 && line.rfind("t,", 0) == 0)) continue;  // header, comments
+    AccelSample s;
+    if (!parse_sample(line, s)) throw TrackingError(spec + ":" + std::to_string(n) + ": expected t,player,ax,ay,az");
+    samples_.push_back(s);
+  }
+  std::stable_sort(samples_.begin(), samples_.end(), [](const AccelSample& a, const AccelSample& b) { return a.t < b.t; });
+}
+
+AccelSource::~AccelSource() {
+  if (socket_ >= 0) ::close(socket_);
+}
+
+std::vector<AccelSample> AccelSource::until(double t) {
+  std::vector<AccelSample> out;
+  if (socket_ >= 0) {
+    char buf[512];
+    for (ssize_t n; (n = ::recv(socket_, buf, sizeof buf - 1, 0)) > 0;) {
+      AccelSample s;
+      if (parse_sample(std::string(buf, size_t(n)), s)) s.t = t, out.push_back(s);  // a bad datagram is dropped
+    }
+    return out;
+  }
+  while (cursor_ < samples_.size() && samples_[cursor_].t <= t) out.push_back(samples_[cursor_++]);
+  return out;
+}
+
+void ThrowDetector::add(const std::vector<AccelSample>& samples, TrackedFrame& frame) {
+  for (const AccelSample& s : samples) {
+    if (std::sqrt(s.ax * s.ax + s.ay * s.ay + s.az * s.az) < threshold_) continue;
+    auto last = std::find_if(last_.begin(), last_.end(), [&](const auto& l) { return l.first == s.player; });
+    if (last != last_.end() && s.t - last->second < refractory_) continue;
+    if (last == last_.end()) last_.push_back({s.player, s.t});
+    else last->second = s.t;
+    const auto p = std::find_if(frame.players.begin(), frame.players.end(),
+                                [&](const TrackedPlayer& q) { return q.id == s.player; });
+    double dx = 0, dy = 0;
+    if (p != frame.players.end()) {
+      const double speed = std::hypot(p->vx, p->vy);
+      if (speed > 0.3) dx = p->vx / speed, dy = p->vy / speed;
+      else dx = p->team == "blue" ? 1 : -1;  // standing: toward the other end (blue attacks +x)
+    }
+    frame.actions.push_back({"throw", s.player, dx, dy});
+  }
+}
+
+}  // namespace quantum::tracking

@@ -1,0 +1,156 @@
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "tracking/tracking.h"
+
+namespace quantum::tracking {
+
+HatTracker::HatTracker(TrackedField field, HatConfig config) : field_(std::move(field)), config_(std::move(config)) {
+  if (config_.colours.empty()) throw std::invalid_argument("hat tracking needs at least one team colour");
+  if (!(config_.horizontal_fov > 1 && config_.horizontal_fov < 179))
+    throw std::invalid_argument("the camera's field of view must be between 1 and 179 degrees");
+}
+
+cv::Point2f HatTracker::to_image(double x, double y) const {
+  const cv::Vec3d c = pose_->r * cv::Vec3d(x, y, config_.hat_height) + pose_->t;
+  return {float(camera_.fx * c[0] / c[2] + camera_.cx), float(camera_.fy * c[1] / c[2] + camera_.cy)};
+}
+
+Vec2 HatTracker::to_field(cv::Point2f p) const {
+  // The pixel's ray, from the camera's centre, meets the plane of the hats.
+  const cv::Matx33d rt = pose_->r.t();
+  const cv::Vec3d centre = -(rt * pose_->t);
+  const cv::Vec3d d = rt * cv::Vec3d((p.x - camera_.cx) / camera_.fx, (p.y - camera_.cy) / camera_.fy, 1);
+  const double s = (config_.hat_height - centre[2]) / d[2];
+  return {float(centre[0] + s * d[0]), float(centre[1] + s * d[1])};
+}
+
+void HatTracker::calibrate(const cv::Mat& bgr) {
+  camera_.width = bgr.cols, camera_.height = bgr.rows;
+  camera_.fx = camera_.fy = float((bgr.cols / 2.0) / std::tan(config_.horizontal_fov * M_PI / 360));
+  camera_.cx = (bgr.cols - 1) / 2.0f, camera_.cy = (bgr.rows - 1) / 2.0f;
+  pose_ = locate_camera(bgr, field_, camera_);
+}
+
+void HatTracker::masks(const cv::Mat& bgr) {
+  cv::cvtColor(bgr, hsv_, cv::COLOR_BGR2HSV);
+  masks_.resize(config_.colours.size());
+  for (size_t k = 0; k < config_.colours.size(); ++k) {
+    const HatColour& c = config_.colours[k];
+    cv::Mat& m = masks_[k];
+    m.create(hsv_.size(), CV_8U);
+    for (int v = 0; v < hsv_.rows; ++v) {
+      const cv::Vec3b* p = hsv_.ptr<cv::Vec3b>(v);
+      uint8_t* out = m.ptr<uint8_t>(v);
+      for (int u = 0; u < hsv_.cols; ++u) {
+        const int d = std::abs(int(p[u][0]) - c.hue), hue = std::min(d, 180 - d);  // hue wraps at 180
+        out[u] = uint8_t(hue <= c.tolerance && p[u][1] >= c.saturation && p[u][2] >= c.value ? 255 : 0);
+      }
+    }
+    cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+  }
+}
+
+std::vector<HatTracker::Blob> HatTracker::blobs(size_t colour) const {
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(masks_[colour], labels, stats, centroids);
+  std::vector<Blob> out;
+  for (int l = 1; l < n; ++l) {
+    const int area = stats.at<int>(l, cv::CC_STAT_AREA);
+    if (area < config_.min_area) continue;
+    out.push_back({to_field({float(centroids.at<double>(l, 0)), float(centroids.at<double>(l, 1))}), area});
+  }
+  return out;
+}
+
+void HatTracker::follow(cv::Size image, double dt) {
+  for (Hat& h : hats_) h.filter.predict(dt), h.coasting += dt;
+  // Two hats of one team about to meet, by their filters: their blobs are about to become one.
+  // Both coast on the velocities they had while apart, which carry them past each other, so
+  // each comes out of the crossing on its own side.
+  std::vector<bool> crossing(hats_.size(), false);
+  for (size_t i = 0; i < hats_.size(); ++i)
+    for (size_t j = i + 1; j < hats_.size(); ++j)
+      if (hats_[i].colour == hats_[j].colour &&
+          std::hypot(hats_[i].filter.x() - hats_[j].filter.x(), hats_[i].filter.y() - hats_[j].filter.y()) <
+              config_.merged)
+        crossing[i] = crossing[j] = true;
+  // The others: CamShift on their team's colour, from where their filter expects them.
+  std::vector<std::optional<Vec2>> seen(hats_.size());
+  for (size_t i = 0; i < hats_.size(); ++i) {
+    Hat& h = hats_[i];
+    if (crossing[i]) continue;
+    const cv::Point2f p = to_image(h.filter.x(), h.filter.y());
+    cv::Rect window(int(p.x) - h.side / 2, int(p.y) - h.side / 2, h.side, h.side);
+    window &= cv::Rect(0, 0, image.width, image.height);
+    if (window.area() == 0) continue;
+    const cv::RotatedRect found =
+        cv::CamShift(masks_[size_t(h.colour)], window, {cv::TermCriteria::EPS | cv::TermCriteria::COUNT, 10, 0.5});
+    if (found.size.area() < config_.min_area) continue;
+    const Vec2 m = to_field(found.center);
+    if (std::hypot(m.x - h.filter.x(), m.y - h.filter.y()) < config_.merged) seen[i] = m;
+  }
+  // A hat lost for a while (its CamShift found nothing near where it should be) takes the nearest
+  // blob of its colour that no other hat holds, within what it can have walked meanwhile.
+  for (size_t colour = 0; colour < masks_.size(); ++colour) {
+    std::vector<Blob> free = blobs(colour);
+    for (size_t i = 0; i < hats_.size(); ++i) {
+      if (hats_[i].colour != int(colour)) continue;
+      const Vec2 at = seen[i] ? *seen[i] : Vec2{float(hats_[i].filter.x()), float(hats_[i].filter.y())};
+      if (seen[i] || crossing[i])
+        std::erase_if(free, [&](const Blob& b) { return std::hypot(b.at.x - at.x, b.at.y - at.y) < config_.merged; });
+    }
+    for (size_t i = 0; i < hats_.size(); ++i) {
+      Hat& h = hats_[i];
+      if (h.colour != int(colour) || seen[i] || crossing[i] || free.empty()) continue;
+      const double reach = config_.merged + config_.max_speed * h.coasting;
+      auto nearest = std::min_element(free.begin(), free.end(), [&](const Blob& a, const Blob& b) {
+        return std::hypot(a.at.x - h.filter.x(), a.at.y - h.filter.y()) < std::hypot(b.at.x - h.filter.x(), b.at.y - h.filter.y());
+      });
+      if (std::hypot(nearest->at.x - h.filter.x(), nearest->at.y - h.filter.y()) > reach) continue;
+      // Where it was is all it knows: it starts afresh there.
+      h.filter.reset();
+      seen[i] = nearest->at;
+      free.erase(nearest);
+    }
+  }
+  for (size_t i = 0; i < hats_.size(); ++i)
+    if (seen[i]) hats_[i].filter.correct(seen[i]->x, seen[i]->y), hats_[i].coasting = 0;
+}
+
+TrackedFrame HatTracker::feed(const cv::Mat& bgr, int index, double t) {
+  if (bgr.empty() || bgr.type() != CV_8UC3) throw TrackingError("frame " + std::to_string(index) + ": not a colour image");
+  if (!pose_) calibrate(bgr);
+  masks(bgr);
+  const double dt = hats_.empty() ? 0 : std::max(0.0, t - last_t_);
+  last_t_ = t;
+  if (hats_.empty()) {
+    // The first frame: a tracker per hat, numbered along x within its team.
+    for (size_t k = 0; k < masks_.size(); ++k) {
+      std::vector<Blob> found = blobs(k);
+      std::sort(found.begin(), found.end(),
+                [](const Blob& a, const Blob& b) { return a.at.x != b.at.x ? a.at.x < b.at.x : a.at.y < b.at.y; });
+      for (size_t i = 0; i < found.size(); ++i) {
+        const std::string& team = config_.colours[k].team;
+        // The CamShift window: twice the hat's diameter, room for a step between frames.
+        const int side = int(std::ceil(4 * std::sqrt(found[i].area / M_PI)));
+        Hat h{team + " " + std::to_string(i + 1), team, int(k),
+              PointFilter(config_.filter_acceleration, config_.filter_measurement), side};
+        h.filter.correct(found[i].at.x, found[i].at.y);
+        hats_.push_back(std::move(h));
+      }
+    }
+  } else {
+    follow(bgr.size(), dt);
+  }
+  TrackedFrame out;
+  out.frame = index;
+  out.t = t;
+  for (const Hat& h : hats_) out.players.push_back({h.id, h.team, h.filter.x(), h.filter.y(), h.filter.vx(), h.filter.vy()});
+  return out;
+}
+
+}  // namespace quantum::tracking

@@ -1,0 +1,118 @@
+// Handball hat tracking on synthetic hall videos (tools/synthetic.h): positions, identities
+// through crossings, throws from accelerometers, and bad accelerometer input.
+#include <gtest/gtest.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <opencv2/videoio.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "synthetic.h"
+#include "tracking/tracking.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The figures: identity kept through crossings, position error mean <= 5 cm on a 20 m
+// hall. Two seeds: two camera poses, each with two same-team crossings. Throws from the
+// accelerometers come out once each, by the right player, in the direction they run.
+TEST(Hats, PlayersAreFollowedThroughCrossingsAndTheirThrowsFound) {
+  for (const uint64_t seed : {1u, 2u}) {
+    const fs::path dir = fs::temp_directory_path() / ("quantum_hats_" + std::to_string(seed));
+    tools::HatSceneOptions o;
+    o.seed = seed;
+    const tools::HatTruth truth = tools::write_hat_video(dir.string(), o);
+    tracking::TrackedField field;
+    field.length = o.length, field.width = o.width;
+    tracking::HatConfig config;
+    config.horizontal_fov = o.horizontal_fov;
+    tracking::HatTracker tracker(field, config);
+    tracking::AccelSource accel((dir / "accel.csv").string());
+    tracking::ThrowDetector throws;
+    cv::VideoCapture video((dir / "hats.avi").string());
+    ASSERT_TRUE(video.isOpened());
+    cv::Mat image;
+    double sum = 0;
+    int n = 0, lost = 0;
+    std::vector<tracking::TrackedAction> actions;
+    std::vector<double> action_times;
+    for (int f = 0; video.read(image); ++f) {
+      const double t = f / o.fps;
+      tracking::TrackedFrame seen = tracker.feed(image, f, t);
+      throws.add(accel.until(t), seen);
+      for (const auto& a : seen.actions) actions.push_back(a), action_times.push_back(t);
+      const tools::TruthFrame& want = truth.frames.at(size_t(f));
+      ASSERT_EQ(seen.players.size(), want.players.size()) << "frame " << f;
+      for (const tools::TruthPlayer& p : want.players) {
+        const auto it = std::find_if(seen.players.begin(), seen.players.end(),
+                                     [&](const tracking::TrackedPlayer& s) { return s.id == p.id; });
+        ASSERT_NE(it, seen.players.end()) << p.id;
+        const double e = std::hypot(it->x - p.x, it->y - p.y);
+        sum += e, ++n;
+        lost += e > 1.0;  // a swapped or lost identity is metres off, a crossing's coast decimetres
+      }
+    }
+    fs::remove_all(dir);
+    std::cout << "seed " << seed << ": mean error " << 100 * sum / n << " cm over " << n << " positions, " << lost
+              << " more than 1 m off\n";
+    EXPECT_EQ(n, int(truth.frames.size() * 6));
+    EXPECT_LE(sum / n, 0.05);
+    EXPECT_EQ(lost, 0);
+    ASSERT_EQ(actions.size(), truth.throws.size());
+    for (size_t k = 0; k < actions.size(); ++k) {
+      EXPECT_EQ(actions[k].type, "throw");
+      EXPECT_EQ(actions[k].player, truth.throws[k].player);
+      EXPECT_NEAR(action_times[k], truth.throws[k].t, 0.05);
+      EXPECT_GT(actions[k].dx * truth.throws[k].dx + actions[k].dy * truth.throws[k].dy, 0.95);
+    }
+  }
+}
+
+TEST(Hats, ABadAccelerometerLineIsNamed) {
+  const fs::path file = fs::temp_directory_path() / "quantum_accel_bad.csv";
+  std::ofstream(file) << "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n0.01,blue 1,zero,0,9.8\n";
+  try {
+    tracking::AccelSource accel(file.string());
+    FAIL() << "no error";
+  } catch (const tracking::TrackingError& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string() + ":3: expected t,player,ax,ay,az"), std::string::npos) << e.what();
+  }
+  fs::remove(file);
+}
+
+// Live accelerometers: one sample per UDP datagram, stamped when it is read.
+TEST(Hats, AccelerometerSamplesArriveOverUdp) {
+  const int port = 47000 + int(getpid() % 1000);
+  tracking::AccelSource accel("udp:" + std::to_string(port));
+  const int out = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(uint16_t(port));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  for (const char* line : {"0.5,red 2,31.0,2.0,9.8", "not a sample", "0.6,red 2,1,2,3"})
+    ::sendto(out, line, std::strlen(line), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+  ::close(out);
+  std::vector<tracking::AccelSample> got;
+  for (int tries = 0; tries < 100 && got.size() < 2; ++tries) {
+    const auto more = accel.until(1.25);
+    got.insert(got.end(), more.begin(), more.end());
+    if (got.size() < 2) usleep(10000);
+  }
+  ASSERT_EQ(got.size(), 2u);  // the malformed datagram is dropped
+  EXPECT_EQ(got[0].player, "red 2");
+  EXPECT_DOUBLE_EQ(got[0].ax, 31.0);
+  EXPECT_DOUBLE_EQ(got[0].t, 1.25);
+  EXPECT_DOUBLE_EQ(got[1].az, 3.0);
+}
+
+}  // namespace
+}  // namespace quantum
