@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
   quantum::tools::TrackOptions tracking;
   CLI::App* track = app.add_subcommand("track", "print the players a tracking source sees, one JSON object per frame");
   track->add_option("SOURCE", tracking.source, "fakenect:DIR (a Kinect recording), kinect (a live Kinect), "
-                                               "video:FILE or camera:N (hats seen from above)")->required();
+                                               "video:FILE or camera:N (hats seen from above), tuio:PORT (TUIO 1.1)")
+      ->required();
   track->add_option("--accel", tracking.accel, "with video or camera: accelerometer samples t,player,ax,ay,az from FILE "
                                                "(CSV) or udp:PORT (one per datagram)");
   track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")

@@ -10,6 +10,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev  # tracking (ArUco markers), debug snapshots
   libeigen3-dev                # tracking: Kalman filters
   libfreenect-dev              # tracking: a live Kinect, and its recording format
+  liblo-dev                    # tracking: TUIO over OSC
   libluajit-5.1-dev            # field files and rules
   lua-busted                   # rule specs (quantum test)
   libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips

@@ -7,7 +7,7 @@
 namespace quantum::tools {
 
 struct TrackOptions {
-  std::string source;                    // fakenect:DIR, kinect, video:FILE or camera:N
+  std::string source;                    // fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT
   std::string accel;                     // with video or camera: accelerometers, FILE (CSV) or udp:PORT
   float fov = 82;                        // with video or camera: its horizontal field of view, degrees
   std::string field = "rules/airhockey"; // a field file or sport folder: who plays from which end

@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -230,6 +231,31 @@ class ThrowDetector {
  private:
   double threshold_, refractory_;
   std::vector<std::pair<std::string, double>> last_;  // player, time of their last throw
+};
+
+// --- TUIO 1.1 over OSC/UDP (liblo), so existing trackers can feed the engine.
+//
+// /tuio/2Dobj objects are players by class id: class i is the field's player i (its bodies'
+// order). /tuio/2Dcur cursors take the players no object holds, in the order they appear, and
+// free them when they leave. TUIO's normalized coordinates span the field: x from 0 at the blue
+// end to 1 at the red end, y from 0 at the blue player's left (TUIO's top) to 1 at the right.
+class TuioSource {
+ public:
+  // Listens on `port` (UDP). Throws TrackingError when it cannot.
+  TuioSource(int port, TrackedField field);
+  ~TuioSource();
+  TuioSource(const TuioSource&) = delete;
+  TuioSource& operator=(const TuioSource&) = delete;
+
+  // The next complete TUIO frame (closed by its fseq message), waiting up to `timeout` seconds;
+  // nothing when none came.
+  std::optional<TrackedFrame> next(double timeout);
+  double silent() const;  // seconds since the last message (since opening, before the first)
+
+  struct State;
+
+ private:
+  std::unique_ptr<State> state_;
 };
 
 }  // namespace quantum::tracking

@@ -1,0 +1,137 @@
+#include <lo/lo.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "tracking/tracking.h"
+
+namespace quantum::tracking {
+
+using Clock = std::chrono::steady_clock;
+
+struct TuioSource::State {
+  TrackedField field;
+  lo_server server = nullptr;
+  Clock::time_point opened = Clock::now(), last = opened;
+  std::optional<Clock::time_point> first;
+  struct Touch {
+    int player = -1;
+    bool placed = false;  // a set message has given its position
+    double x = 0, y = 0, vx = 0, vy = 0;
+  };
+  std::map<int32_t, Touch> objects, cursors;  // by session id
+  int frames = 0;
+  bool complete = false;  // an fseq closed a frame since the last next()
+
+  double seconds(Clock::time_point t) const { return std::chrono::duration<double>(t - *first).count(); }
+
+  // Field metres from TUIO's unit square.
+  void place(Touch& t, float x, float y, float vx, float vy) const {
+    t.x = (x - 0.5) * field.length, t.y = (0.5 - y) * field.width;
+    t.vx = vx * field.length, t.vy = -vy * field.width;
+    t.placed = true;
+  }
+
+  // Players held by objects, then free ones for cursors in the order they came.
+  void assign_cursors() {
+    std::vector<bool> held(field.players.size(), false);
+    for (const auto& [id, o] : objects)
+      if (o.player >= 0) held[size_t(o.player)] = true;
+    for (auto& [id, c] : cursors) {
+      if (c.player >= 0 && !held[size_t(c.player)]) {
+        held[size_t(c.player)] = true;
+        continue;
+      }
+      c.player = -1;
+      for (size_t k = 0; k < held.size() && c.player < 0; ++k)
+        if (!held[k]) c.player = int(k), held[k] = true;
+    }
+  }
+
+  void message(bool object, const char* types, lo_arg** argv, int argc) {
+    last = Clock::now();
+    if (!first) first = last;
+    if (argc < 1 || types[0] != 's') return;
+    const std::string command = &argv[0]->s;
+    std::map<int32_t, Touch>& touches = object ? objects : cursors;
+    if (command == "alive") {
+      std::map<int32_t, Touch> alive;
+      for (int k = 1; k < argc; ++k)
+        if (types[k] == 'i' && touches.count(argv[k]->i)) alive[argv[k]->i] = touches[argv[k]->i];
+        else if (types[k] == 'i') alive[argv[k]->i] = Touch{};
+      touches = std::move(alive);
+    } else if (command == "set") {
+      // 2Dcur: s x y X Y m; 2Dobj: s i x y a X Y A m r.
+      const std::string want = object ? "siiffffffff" : "sifffff";
+      if (argc < int(want.size()) || std::string(types).compare(0, want.size(), want) != 0)
+        return;  // not TUIO 1.1's shape: ignored, like any other unknown message
+      Touch& t = touches[argv[1]->i];
+      if (object) {
+        const int32_t cls = argv[2]->i;
+        t.player = cls >= 0 && size_t(cls) < field.players.size() ? cls : -1;
+        place(t, argv[3]->f, argv[4]->f, argv[6]->f, argv[7]->f);
+      } else {
+        place(t, argv[2]->f, argv[3]->f, argv[4]->f, argv[5]->f);
+      }
+    } else if (command == "fseq") {
+      complete = true;
+    }
+  }
+};
+
+namespace {
+
+int on_message(const char* path, const char* types, lo_arg** argv, int argc, lo_message, void* user) {
+  static_cast<TuioSource::State*>(user)->message(std::string(path) == "/tuio/2Dobj", types, argv, argc);
+  return 0;
+}
+
+void on_error(int number, const char* message, const char* where) {
+  // Reported by the constructor's check; a bad packet later is dropped.
+  (void)number, (void)message, (void)where;
+}
+
+}  // namespace
+
+TuioSource::TuioSource(int port, TrackedField field) : state_(std::make_unique<State>()) {
+  state_->field = std::move(field);
+  if (port <= 0 || port > 65535) throw TrackingError("tuio: port " + std::to_string(port) + " is not a UDP port");
+  state_->server = lo_server_new(std::to_string(port).c_str(), on_error);
+  if (!state_->server) throw TrackingError("tuio: cannot listen on UDP port " + std::to_string(port));
+  lo_server_add_method(state_->server, "/tuio/2Dcur", nullptr, on_message, state_.get());
+  lo_server_add_method(state_->server, "/tuio/2Dobj", nullptr, on_message, state_.get());
+}
+
+TuioSource::~TuioSource() {
+  if (state_->server) lo_server_free(state_->server);
+}
+
+double TuioSource::silent() const { return std::chrono::duration<double>(Clock::now() - state_->last).count(); }
+
+std::optional<TrackedFrame> TuioSource::next(double timeout) {
+  State& s = *state_;
+  const auto until = Clock::now() + std::chrono::duration<double>(timeout);
+  while (!s.complete) {
+    const int left = int(std::chrono::duration<double, std::milli>(until - Clock::now()).count());
+    if (left <= 0 || lo_server_recv_noblock(s.server, left) == 0) {
+      if (Clock::now() >= until) return std::nullopt;
+    }
+  }
+  s.complete = false;
+  s.assign_cursors();
+  TrackedFrame f;
+  f.frame = s.frames++;
+  f.t = s.seconds(s.last);
+  std::vector<bool> listed(s.field.players.size(), false);
+  for (const auto* touches : {&s.objects, &s.cursors})
+    for (const auto& [id, t] : *touches) {
+      if (t.player < 0 || !t.placed || listed[size_t(t.player)]) continue;
+      listed[size_t(t.player)] = true;
+      const TrackedField::Player& p = s.field.players[size_t(t.player)];
+      f.players.push_back({p.id, p.team, t.x, t.y, t.vx, t.vy});
+    }
+  return f;
+}
+
+}  // namespace quantum::tracking

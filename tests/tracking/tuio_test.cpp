@@ -1,0 +1,136 @@
+// TUIO 1.1 over OSC/UDP, sent with liblo as a tracker would send it.
+#include <gtest/gtest.h>
+
+#include <lo/lo.h>
+#include <unistd.h>
+
+#include <string>
+
+#include "tracking/tracking.h"
+
+namespace quantum {
+namespace {
+
+tracking::TrackedField table() {
+  tracking::TrackedField f;
+  f.length = 2, f.width = 1;
+  f.players = {{"Blue's mallet", "blue", -1}, {"Red's mallet", "red", 1}};
+  return f;
+}
+
+int test_port() { return 43000 + int(getpid() % 2000); }
+
+// One TUIO frame as a bundle: alive, set for each, fseq.
+struct Sender {
+  lo_address to = lo_address_new("127.0.0.1", std::to_string(test_port()).c_str());
+  int frame = 0;
+  ~Sender() { lo_address_free(to); }
+
+  void cursors(const std::vector<std::array<float, 3>>& touches) {  // session, x, y
+    lo_bundle b = lo_bundle_new(LO_TT_IMMEDIATE);
+    lo_message alive = lo_message_new();
+    lo_message_add_string(alive, "alive");
+    for (const auto& t : touches) lo_message_add_int32(alive, int(t[0]));
+    lo_bundle_add_message(b, "/tuio/2Dcur", alive);
+    for (const auto& t : touches) {
+      lo_message set = lo_message_new();
+      lo_message_add_string(set, "set");
+      lo_message_add_int32(set, int(t[0]));
+      for (float v : {t[1], t[2], 0.1f, 0.0f, 0.0f}) lo_message_add_float(set, v);
+      lo_bundle_add_message(b, "/tuio/2Dcur", set);
+    }
+    lo_message fseq = lo_message_new();
+    lo_message_add_string(fseq, "fseq");
+    lo_message_add_int32(fseq, ++frame);
+    lo_bundle_add_message(b, "/tuio/2Dcur", fseq);
+    lo_send_bundle(to, b);
+    lo_bundle_free_recursive(b);
+  }
+
+  void object(int session, int cls, float x, float y) {
+    lo_bundle b = lo_bundle_new(LO_TT_IMMEDIATE);
+    lo_message alive = lo_message_new();
+    lo_message_add_string(alive, "alive");
+    lo_message_add_int32(alive, session);
+    lo_bundle_add_message(b, "/tuio/2Dobj", alive);
+    lo_message set = lo_message_new();
+    lo_message_add_string(set, "set");
+    lo_message_add_int32(set, session);
+    lo_message_add_int32(set, cls);
+    for (float v : {x, y, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}) lo_message_add_float(set, v);
+    lo_bundle_add_message(b, "/tuio/2Dobj", set);
+    lo_message fseq = lo_message_new();
+    lo_message_add_string(fseq, "fseq");
+    lo_message_add_int32(fseq, ++frame);
+    lo_bundle_add_message(b, "/tuio/2Dobj", fseq);
+    lo_send_bundle(to, b);
+    lo_bundle_free_recursive(b);
+  }
+};
+
+const tracking::TrackedPlayer* find(const tracking::TrackedFrame& f, const std::string& id) {
+  for (const auto& p : f.players)
+    if (p.id == id) return &p;
+  return nullptr;
+}
+
+TEST(Tuio, CursorsAndObjectsBecomePlayersInFieldMetres) {
+  tracking::TuioSource source(test_port(), table());
+  Sender send;
+  EXPECT_FALSE(source.next(0.05));  // nothing sent yet
+
+  // One cursor: the first free player, Blue; TUIO's (0.25, 0.25) is x = -0.5, y = +0.25.
+  send.cursors({{{7, 0.25f, 0.25f}}});
+  std::optional<tracking::TrackedFrame> f = source.next(1.0);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->players.size(), 1u);
+  EXPECT_EQ(f->players[0].id, "Blue's mallet");
+  EXPECT_NEAR(f->players[0].x, -0.5, 1e-6);
+  EXPECT_NEAR(f->players[0].y, 0.25, 1e-6);
+  EXPECT_NEAR(f->players[0].vx, 0.2, 1e-6);  // 0.1 of the length per second
+
+  // A second cursor takes Red; the first keeps Blue.
+  send.cursors({{{7, 0.3f, 0.5f}}, {{9, 0.9f, 0.5f}}});
+  f = source.next(1.0);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->players.size(), 2u);
+  ASSERT_TRUE(find(*f, "Red's mallet"));
+  EXPECT_NEAR(find(*f, "Red's mallet")->x, 0.8, 1e-6);
+  EXPECT_NEAR(find(*f, "Blue's mallet")->x, -0.4, 1e-6);
+
+  // The first cursor leaves: Blue has no input.
+  send.cursors({{{9, 0.8f, 0.5f}}});
+  f = source.next(1.0);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->players.size(), 1u);
+  EXPECT_EQ(f->players[0].id, "Red's mallet");
+}
+
+TEST(Tuio, AnObjectIsThePlayerOfItsClass) {
+  tracking::TuioSource source(test_port() + 1, table());
+  Sender send;
+  lo_address_free(send.to);
+  send.to = lo_address_new("127.0.0.1", std::to_string(test_port() + 1).c_str());
+  send.object(3, 1, 0.75f, 0.1f);  // class 1: Red
+  const std::optional<tracking::TrackedFrame> f = source.next(1.0);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->players.size(), 1u);
+  EXPECT_EQ(f->players[0].id, "Red's mallet");
+  EXPECT_NEAR(f->players[0].x, 0.5, 1e-6);
+  EXPECT_NEAR(f->players[0].y, 0.4, 1e-6);
+}
+
+TEST(Tuio, APortInUseIsNamed) {
+  tracking::TuioSource first(test_port() + 2, table());
+  try {
+    tracking::TuioSource second(test_port() + 2, table());
+    FAIL() << "no error";
+  } catch (const tracking::TrackingError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot listen on UDP port " + std::to_string(test_port() + 2)),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace quantum

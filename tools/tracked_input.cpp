@@ -1,0 +1,153 @@
+#include "tracked_input.h"
+
+#include <libfreenect_sync.h>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <chrono>
+#include <optional>
+#include <thread>
+
+namespace quantum::tools {
+
+using Clock = std::chrono::steady_clock;
+using Status = TrackingInput::Status;
+
+namespace {
+
+constexpr double kSilence = 1.0;  // s without a TUIO message: the tracker is gone
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// A live Kinect through libfreenect's synchronous wrapper: depth (11-bit) and colour, taken as
+// registered.
+class LiveKinect {
+ public:
+  ~LiveKinect() {
+    if (frames_ > 0) freenect_sync_stop();
+  }
+  // False when no frame came (after the first one: the Kinect went away; it is asked again on the
+  // next call). Throws when there was never a Kinect.
+  bool next(tracking::RecordedFrame& f) {
+    void *depth = nullptr, *video = nullptr;
+    uint32_t depth_ts = 0, video_ts = 0;
+    if (freenect_sync_get_depth(&depth, &depth_ts, 0, FREENECT_DEPTH_11BIT) != 0 ||
+        freenect_sync_get_video(&video, &video_ts, 0, FREENECT_VIDEO_RGB) != 0) {
+      if (frames_ == 0) throw tracking::TrackingError("kinect: no Kinect found (is it plugged in, and may this user use it?)");
+      return false;
+    }
+    if (frames_ == 0) start_ = Clock::now();
+    f.index = frames_++;
+    f.t = since(start_);
+    f.depth = cv::Mat(480, 640, CV_16UC1, depth).clone();
+    cv::cvtColor(cv::Mat(480, 640, CV_8UC3, video), f.rgb, cv::COLOR_RGB2BGR);
+    f.file = "kinect";
+    return true;
+  }
+
+ private:
+  int frames_ = 0;
+  Clock::time_point start_;
+};
+
+}  // namespace
+
+struct TrackingInput::Impl {
+  tracking::TrackedField field;
+  // Kinect depth (a recording or live).
+  std::optional<tracking::FakenectReader> recording;
+  std::optional<LiveKinect> kinect;
+  std::optional<tracking::DepthTracker> depth;
+  // Hats in colour video (a file or a camera), throws from accelerometers.
+  std::optional<cv::VideoCapture> video;
+  int camera = -1;  // the camera's index when live
+  std::optional<tracking::HatTracker> hats;
+  std::optional<tracking::AccelSource> accel;
+  tracking::ThrowDetector throws;
+  double fps = 30;
+  int frames = 0;
+  Clock::time_point start = Clock::now(), retried = start;
+  // TUIO.
+  std::optional<tracking::TuioSource> tuio;
+  bool heard = false;
+
+  Status next_depth(tracking::TrackedFrame& out) {
+    tracking::RecordedFrame f;
+    if (recording ? !recording->next(f) : !kinect->next(f)) return recording ? Status::Ended : Status::Lost;
+    std::optional<tracking::TrackedFrame> seen = depth->feed(f);
+    if (!seen) {
+      out = {f.index, f.t, {}, {}};
+      return Status::Calibrating;
+    }
+    out = std::move(*seen);
+    return Status::Frame;
+  }
+
+  Status next_hats(tracking::TrackedFrame& out) {
+    cv::Mat image;
+    if (!video->read(image)) {
+      if (camera < 0) return Status::Ended;
+      // A camera that went away: ask for it again twice a second.
+      if (since(retried) > 0.5) retried = Clock::now(), video->open(camera);
+      return Status::Lost;
+    }
+    const double t = camera >= 0 ? since(start) : frames / fps;
+    out = hats->feed(image, frames++, t);
+    if (accel) throws.add(accel->until(t), out);
+    return Status::Frame;
+  }
+
+  Status next_tuio(tracking::TrackedFrame& out, double timeout) {
+    if (std::optional<tracking::TrackedFrame> f = tuio->next(timeout)) {
+      heard = true;
+      out = std::move(*f);
+      return Status::Frame;
+    }
+    return heard && tuio->silent() > kSilence ? Status::Lost : Status::Waiting;
+  }
+};
+
+TrackingInput::TrackingInput(const std::string& spec, const tracking::TrackedField& field, const SourceOptions& o)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.field = field;
+  auto after = [&](const char* prefix) { return spec.substr(std::string(prefix).size()); };
+  const bool hats = spec.rfind("video:", 0) == 0 || spec.rfind("camera:", 0) == 0;
+  if (!o.accel.empty() && !hats) throw std::invalid_argument("--accel goes with video:FILE or camera:N");
+  if (spec.rfind("fakenect:", 0) == 0 || spec == "kinect") {
+    if (spec == "kinect") m.kinect.emplace();
+    else m.recording.emplace(after("fakenect:"));
+    m.depth.emplace(field);
+  } else if (hats) {
+    m.video.emplace();
+    if (spec.rfind("camera:", 0) == 0) {
+      m.camera = std::atoi(after("camera:").c_str());
+      if (!m.video->open(m.camera)) throw tracking::TrackingError(spec + ": cannot open the camera");
+    } else if (!m.video->open(after("video:"))) {
+      throw tracking::TrackingError(after("video:") + ": cannot open the video");
+    }
+    if (m.camera < 0 && m.video->get(cv::CAP_PROP_FPS) > 0) m.fps = m.video->get(cv::CAP_PROP_FPS);
+    tracking::HatConfig config;
+    config.horizontal_fov = o.fov;
+    m.hats.emplace(field, config);
+    if (!o.accel.empty()) m.accel.emplace(o.accel);
+  } else if (spec.rfind("tuio:", 0) == 0) {
+    m.tuio.emplace(std::atoi(after("tuio:").c_str()), field);
+  } else {
+    throw std::invalid_argument("unknown source '" + spec +
+                                "': expected fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT");
+  }
+}
+
+TrackingInput::~TrackingInput() = default;
+
+bool TrackingInput::live() const { return impl_->kinect || impl_->camera >= 0 || impl_->tuio; }
+
+Status TrackingInput::next(tracking::TrackedFrame& frame, double timeout) {
+  Impl& m = *impl_;
+  if (m.depth) return m.next_depth(frame);
+  if (m.hats) return m.next_hats(frame);
+  return m.next_tuio(frame, timeout);
+}
+
+}  // namespace quantum::tools
