@@ -16,6 +16,7 @@
 #include "match_audio.h"
 #include "game/bots.h"
 #include "sport.h"
+#include "tracked_input.h"
 
 namespace quantum::tools {
 namespace {
@@ -38,6 +39,77 @@ std::string event_json(const game::GameEvent& e, const std::vector<game::Said>& 
   }
   return j.dump();
 }
+
+// Players from a tracking source: each tracked id moves the body of that name. Recordings are
+// replayed in match time; live sources as their frames come.
+class TrackedBodies {
+ public:
+  TrackedBodies(const std::string& spec, const Field& field)
+      : field_(field), input_(spec, tracking::tracked_field(field), SourceOptions{}) {
+    for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
+  }
+
+  bool live() const { return input_.live(); }
+
+  // Brings the bodies up to match time t. Lost or Ended when the source is; else Frame (and the
+  // bodies are as of the latest frame due, or as they were when nothing new came).
+  TrackingInput::Status advance(double t, double timeout) {
+    // A live source is asked at most once a frame of the match: a Kinect blocks until its next
+    // frame, and asking every step would hold the match to the camera's 30 Hz.
+    if (live() && seen_ && t < next_ask_) return TrackingInput::Status::Frame;
+    for (;;) {
+      if (!pending_) {
+        tracking::TrackedFrame f;
+        const TrackingInput::Status s = input_.next(f, timeout);
+        if (s == TrackingInput::Status::Calibrating) continue;  // the match waits for the source
+        // Nothing new: the bodies stay as they are; before the first frame the match waits.
+        if (s == TrackingInput::Status::Waiting)
+          return seen_ ? TrackingInput::Status::Frame : TrackingInput::Status::Lost;
+        if (s != TrackingInput::Status::Frame) return s;
+        if (t0_ < 0) t0_ = f.t - t;
+        f.t -= t0_;
+        pending_ = std::move(f);
+      }
+      if (pending_->t > t + 1e-9 && !live()) return TrackingInput::Status::Frame;  // not due yet
+      apply(*pending_);
+      seen_ = true;
+      next_ask_ = pending_->t + 1.0 / 60;
+      pending_.reset();
+      if (live()) return TrackingInput::Status::Frame;
+    }
+  }
+
+  // After a pause the source's clock went on without the match's.
+  void resync() { t0_ = -1, next_ask_ = 0; }
+
+  const std::vector<BodyInput>& bodies() const { return bodies_; }
+
+ private:
+  // Tracking glitches must not stop a match: positions stay within a field's size of the bounds
+  // and speeds under the field's limit, as the core requires.
+  void apply(const tracking::TrackedFrame& f) {
+    for (BodyInput& b : bodies_) b.velocity = {0, 0};  // no input: the body holds still
+    for (const tracking::TrackedPlayer& p : f.players) {
+      for (size_t k = 0; k < field_.bodies.size(); ++k) {
+        if (field_.bodies[k].name != p.id) continue;
+        const float slack = 0.5f * std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
+        bodies_[k].position = {std::clamp(float(p.x), field_.bounds_min.x - slack, field_.bounds_max.x + slack),
+                               std::clamp(float(p.y), field_.bounds_min.y - slack, field_.bounds_max.y + slack)};
+        const double speed = std::hypot(p.vx, p.vy), most = 0.99 * field_.max_body_speed;
+        const double scale = speed > most ? most / speed : 1.0;
+        bodies_[k].velocity = {float(p.vx * scale), float(p.vy * scale)};
+      }
+    }
+  }
+
+  Field field_;
+  TrackingInput input_;
+  std::vector<BodyInput> bodies_;
+  std::optional<tracking::TrackedFrame> pending_;
+  double t0_ = -1;        // source time at match time 0
+  bool seen_ = false;     // a frame has come
+  double next_ask_ = 0;   // match time from which a live source is asked again
+};
 
 std::string stamp(double t) {
   char buf[32];
@@ -67,8 +139,6 @@ std::vector<double> parse_list(const std::string& text, const std::string& optio
 }
 
 PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
-  if (o.input != "bots")
-    throw std::invalid_argument("--input " + o.input + ": only 'bots' (simulated players) is available so far");
   lua::Sport sport(o.sport);
   for (const auto& [kind, value] : o.factors) sport.set_factor(kind, value);
   const size_t n_players = sport.field().bodies.size();
@@ -89,18 +159,50 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   config.first_spot = sport.first_spot();
   game::Match match(sport.field(), config, sport, handicaps);
   game::Bots bots(match.field(), skills, o.seed);
+  std::optional<TrackedBodies> tracked;
+  if (o.input != "bots") tracked.emplace(o.input, match.field());
 
   std::ofstream file;
   std::ostream* log = open_event_log(o.events, file);
 
   MatchAudio sound(o.audio, sport.audio(), errors);
-  const auto wall_start = std::chrono::steady_clock::now();
+  auto wall_start = std::chrono::steady_clock::now();
   PlayResult result;
   const double dt = 1.0 / config.fps;
   if (o.transcript) out << sport.name() << ": " << match.field().name << ", seed " << o.seed << '\n';
+  // People are listening, or playing: on a sound card or with live players the match runs in
+  // real time.
+  const bool real_time = sound.on_device() || (tracked && tracked->live());
+  bool paused = false;
   while (!match.finished()) {
-    match.step(bots.move(match.time() + dt, dt));
-    const std::vector<game::GameEvent> events = match.take_events();
+    std::vector<game::GameEvent> host_events;  // the host's own: the input paused or resumed
+    if (tracked) {
+      const TrackingInput::Status status = tracked->advance(match.time() + dt, paused ? 0.1 : 0.0);
+      if (status == TrackingInput::Status::Ended) {
+        if (o.transcript) out << stamp(match.time()) << "  (the recording is over)\n";
+        break;
+      }
+      const bool lost = status == TrackingInput::Status::Lost;
+      if (lost != paused) {
+        // A camera that went away pauses the match, with an announcement, until it is back.
+        paused = lost;
+        const char* key = lost ? "paused" : "resumed";
+        const std::string text = sport.phrase(key, {});
+        match.say(text != key ? text : lost ? "The players cannot be seen. The match is paused" : "Play on");
+        game::GameEvent e;
+        e.t = match.time();
+        e.type = key;
+        host_events.push_back(e);
+        if (!lost) {
+          tracked->resync();
+          wall_start = std::chrono::steady_clock::now() - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                              std::chrono::duration<double>(match.time()));
+        }
+      }
+    }
+    if (!paused) match.step(tracked ? tracked->bodies() : bots.move(match.time() + dt, dt));
+    std::vector<game::GameEvent> events = match.take_events();
+    events.insert(events.begin(), host_events.begin(), host_events.end());
     const std::vector<game::Said> said = match.take_said();
     for (const std::string& e : match.take_errors()) {
       errors << "quantum: rules error: " << e << '\n';
@@ -109,9 +211,7 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
     for (const game::GameEvent& e : events) bots.hear(e), sound.event(e);
     for (const game::Said& s : said) sound.said(s);
     sound.frame(match.time());
-    // On a sound card the match runs in real time: people are listening.
-    if (sound.on_device())
-      std::this_thread::sleep_until(wall_start + std::chrono::duration<double>(match.time()));
+    if (real_time && !paused) std::this_thread::sleep_until(wall_start + std::chrono::duration<double>(match.time()));
     if (o.transcript)
       for (const game::Said& s : said) out << stamp(s.t) << "  " << s.text << '\n';
     if (log)

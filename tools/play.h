@@ -1,5 +1,5 @@
-// `quantum play`: a match of a sport (rules/<sport>) between simulated players, told by the
-// announcer as a transcript and written out as JSON-lines events.
+// `quantum play`: a match of a sport (rules/<sport>) between simulated players or tracked ones,
+// told by the announcer as a transcript and written out as JSON-lines events.
 #pragma once
 
 #include <cstdint>
@@ -14,7 +14,7 @@ namespace quantum::tools {
 
 struct PlayOptions {
   std::string sport = "rules/airhockey";
-  std::string input = "bots";
+  std::string input = "bots";   // or a tracking source: fakenect:DIR, kinect, video:FILE, camera:N, tuio:PORT
   uint64_t seed = 1;
   double seconds = 0;           // 0: the sport's own time limit
   uint32_t particles = 0;       // 0: the sport's own

@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
   std::string skills, handicaps;
   CLI::App* play = app.add_subcommand("play", "play a match of a sport between simulated players");
   play->add_option("SPORT", game.sport, "sport folder")->capture_default_str();
-  play->add_option("--input", game.input, "where the players come from: bots (simulated players)")->capture_default_str();
+  play->add_option("--input", game.input, "where the players come from: bots (simulated players), or tracking: "
+                                         "fakenect:DIR, kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str();
   play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str();
   play->add_option("--seconds", game.seconds, "time limit (default: the sport's)");
   play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)")

@@ -4,8 +4,14 @@
 #include <lo/lo.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <thread>
 
+#include "play.h"
 #include "tracking/tracking.h"
 
 namespace quantum {
@@ -130,6 +136,54 @@ TEST(Tuio, APortInUseIsNamed) {
               std::string::npos)
         << e.what();
   }
+}
+
+// `quantum play --input tuio:PORT`: the match waits for the tracker, plays while its frames come,
+// pauses with an announcement when it falls silent for a second, and resumes when it is back.
+TEST(Tuio, AMatchPausesWhileItsTrackerIsSilent) {
+  const int port = test_port() + 3;
+  const std::string events = (std::filesystem::temp_directory_path() / ("quantum_tuio_play_" + std::to_string(port))).string();
+  tools::PlayOptions o;
+  o.input = "tuio:" + std::to_string(port);
+  o.seconds = 1.5;
+  o.events = events;
+  std::ostringstream out, errors;
+  std::atomic<bool> done{false};
+  tools::PlayResult result;
+  std::thread match([&] {
+    result = tools::play(o, out, errors);
+    done = true;
+  });
+  Sender send;
+  lo_address_free(send.to);
+  send.to = lo_address_new("127.0.0.1", std::to_string(port).c_str());
+  // The two mallets as cursors, 60 frames a second: 1 s, then 2 s of silence, then on until the end.
+  auto play_for = [&](double seconds) {
+    for (int k = 0; k < int(seconds * 60) && !done; ++k) {
+      send.cursors({{{1, 0.1f, 0.5f}}, {{2, 0.9f, 0.5f}}});
+      std::this_thread::sleep_for(std::chrono::microseconds(16667));
+    }
+  };
+  play_for(1.0);
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  play_for(10.0);
+  match.join();
+  ASSERT_TRUE(done);
+  const std::string transcript = out.str();
+  EXPECT_NE(transcript.find("The players cannot be seen. The match is paused"), std::string::npos) << transcript;
+  EXPECT_NE(transcript.find("Play on"), std::string::npos) << transcript;
+  EXPECT_NEAR(result.stats.seconds, 1.5, 0.02);  // match time: the pause is not played
+  std::ifstream log(events);
+  int paused = 0, resumed = 0;
+  for (std::string line; std::getline(log, line);) {
+    paused += line.find("\"type\":\"paused\"") != std::string::npos;
+    resumed += line.find("\"type\":\"resumed\"") != std::string::npos;
+  }
+  // Once before the first frame (the match waits for its players), once for the silence (more if
+  // this machine stalled the sender for a second), and every pause ends.
+  EXPECT_GE(paused, 2);
+  EXPECT_EQ(resumed, paused);
+  std::filesystem::remove(events);
 }
 
 }  // namespace
