@@ -4,9 +4,12 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <opencv2/core/utils/logger.hpp>
+
 #include <chrono>
 #include <optional>
-#include <thread>
+
+#include "system/quiet.h"
 
 namespace quantum::tools {
 
@@ -31,8 +34,14 @@ class LiveKinect {
   bool next(tracking::RecordedFrame& f) {
     void *depth = nullptr, *video = nullptr;
     uint32_t depth_ts = 0, video_ts = 0;
-    if (freenect_sync_get_depth(&depth, &depth_ts, 0, FREENECT_DEPTH_11BIT) != 0 ||
-        freenect_sync_get_video(&video, &video_ts, 0, FREENECT_VIDEO_RGB) != 0) {
+    bool got = false;
+    {
+      // libfreenect prints its troubles to stdout, where the JSON lines go.
+      const system::Quiet quiet({1, 2});
+      got = freenect_sync_get_depth(&depth, &depth_ts, 0, FREENECT_DEPTH_11BIT) == 0 &&
+            freenect_sync_get_video(&video, &video_ts, 0, FREENECT_VIDEO_RGB) == 0;
+    }
+    if (!got) {
       if (frames_ == 0) throw tracking::TrackingError("kinect: no Kinect found (is it plugged in, and may this user use it?)");
       return false;
     }
@@ -119,6 +128,8 @@ TrackingInput::TrackingInput(const std::string& spec, const tracking::TrackedFie
     else m.recording.emplace(after("fakenect:"));
     m.depth.emplace(field);
   } else if (hats) {
+    // OpenCV's capture backends warn about every one they try; the one line below says it.
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
     m.video.emplace();
     if (spec.rfind("camera:", 0) == 0) {
       m.camera = std::atoi(after("camera:").c_str());

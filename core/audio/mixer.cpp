@@ -3,12 +3,8 @@
 #include <alc.h>
 #include <alext.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cstdio>
-
 #include "audio/audio.h"
+#include "system/quiet.h"
 
 namespace quantum::audio {
 namespace {
@@ -20,14 +16,8 @@ ALCdevice* dev(void* p) { return static_cast<ALCdevice*>(p); }
 // Opens the default device with stderr silenced: without a sound card ALSA and OpenAL each
 // print several lines of their own, and the caller says it in one.
 static ALCdevice* open_default_quietly() {
-  std::fflush(stderr);
-  const int saved = dup(2), null = open("/dev/null", O_WRONLY);
-  if (saved >= 0 && null >= 0) dup2(null, 2);
-  ALCdevice* d = alcOpenDevice(nullptr);
-  if (saved >= 0 && null >= 0) dup2(saved, 2);
-  if (null >= 0) close(null);
-  if (saved >= 0) close(saved);
-  return d;
+  const system::Quiet quiet({2});
+  return alcOpenDevice(nullptr);
 }
 
 std::unique_ptr<Mixer> Mixer::open_device() {

@@ -185,6 +185,20 @@ TEST(Cli, TrackPrintsOneJsonObjectPerFrame) {
   std::filesystem::remove_all(dir);
 }
 
+// No Kinect and no camera on a build machine: one line each, and nothing on stdout, which carries
+// JSON lines (libfreenect and OpenCV's backends would print their own diagnostics there).
+TEST(Cli, TrackWithoutADeviceSaysSoInOneLine) {
+  for (const char* source : {"kinect", "camera:7"}) {
+    const Outcome r = quantum(std::string("track ") + source + " --frames 1");
+    EXPECT_EQ(r.status, 1) << source;
+    EXPECT_EQ(r.out, "") << source;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(std::string("quantum: ") + (source[0] == 'k' ? "kinect: no Kinect found" : "camera:7: cannot open")),
+              std::string::npos)
+        << r.err;
+  }
+}
+
 TEST(Cli, TrackRefusesAnUnknownSource) {
   const Outcome r = quantum("track webcam");
   EXPECT_EQ(r.status, 1);
