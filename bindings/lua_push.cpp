@@ -1,5 +1,6 @@
 #include "lua_push.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace quantum::lua {
@@ -40,6 +41,7 @@ void push_event(lua_State* L, const game::GameEvent& e) {
   set(L, "t", e.t), set(L, "p", e.p), set(L, "p_newtonian", e.p_newtonian), set(L, "particles", double(e.particles));
   set(L, "x", e.at.x), set(L, "y", e.at.y), set(L, "vx", e.velocity.x), set(L, "vy", e.velocity.y);
   set(L, "speed", std::hypot(e.velocity.x, e.velocity.y));
+  if (!e.powerup.empty()) set(L, "powerup", e.powerup);
 }
 
 void push_fate(lua_State* L, const game::FateView& f) {
@@ -49,6 +51,39 @@ void push_fate(lua_State* L, const game::FateView& f) {
   set(L, "mass", f.mass), set(L, "tweaked", f.tweaked), set(L, "count", double(f.count));
   push_strings(L, f.path);
   lua_setfield(L, -2, "path");
+}
+
+void push_player(lua_State* L, const game::Match& match, size_t k) {
+  const game::Player& p = match.players()[k];
+  lua_createtable(L, 0, 9);
+  set(L, "name", p.name), set(L, "team", p.team);
+  set(L, "x", p.position.x), set(L, "y", p.position.y), set(L, "vx", p.velocity.x), set(L, "vy", p.velocity.y);
+  set(L, "speed", std::hypot(p.velocity.x, p.velocity.y));
+  set(L, "handicap", p.handicap);
+  std::vector<std::string> held;
+  for (const game::ActivePowerup& a : match.powerups())
+    if (a.player == int(k)) held.push_back(a.name);
+  push_strings(L, held);
+  lua_setfield(L, -2, "powerups");
+}
+
+void push_powerup(lua_State* L, const game::Match& match, const game::ActivePowerup& p) {
+  lua_createtable(L, 0, int(p.params.size()) + 3);
+  for (const auto& [key, value] : p.params) set(L, key.c_str(), value);
+  set(L, "name", p.name);
+  set(L, "player", match.players()[size_t(p.player)].name);
+  set(L, "remaining", std::max(0.0, p.until - match.time()));
+}
+
+std::map<std::string, double> numbers_of(lua_State* L, int index) {
+  std::map<std::string, double> out;
+  if (!lua_istable(L, index)) return out;
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TNUMBER) out[lua_tostring(L, -2)] = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+  }
+  return out;
 }
 
 }  // namespace quantum::lua

@@ -13,8 +13,8 @@ namespace {
 constexpr size_t kMemoryBudget = 64u << 20;
 constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops forever is skipped
 
-const char* const kHandlers[] = {"drop",     "shot", "intercept", "retouch", "bounce",
-                                 "goal",     "own_goal", "out",  "time_up",   "match_end"};
+const char* const kHandlers[] = {"drop",     "shot", "intercept", "retouch", "bounce",    "goal",
+                                 "own_goal", "out",  "time_up",   "match_end", "powerup", "powerup_end"};
 
 }  // namespace
 
@@ -103,7 +103,8 @@ Sport::Sport(const std::string& folder)
     while (lua_next(L, -2)) {
       const std::string key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?";
       if (std::find(std::begin(kHandlers), std::end(kHandlers), key) == std::end(kHandlers))
-        throw fail("on." + key, "unknown event (known: drop, shot, intercept, retouch, goal, own_goal, out, time_up, match_end)");
+        throw fail("on." + key, "unknown event (known: drop, shot, intercept, retouch, bounce, goal, own_goal, out, "
+                                "time_up, match_end, powerup, powerup_end)");
       if (!lua_isfunction(L, -1)) throw fail("on." + key, std::string("expected a function, got ") + luaL_typename(L, -1));
       lua_pop(L, 1);
     }
@@ -267,7 +268,7 @@ std::vector<double> Sport::factors(std::span<const game::FateView> fates, game::
                                                      "] returned " + luaL_typename(L, -1) + ", not a number >= 0 (skipped)");
       lua_pop(L, 1);
     }
-    out.push_back(factor);
+    out.push_back(factor * powerup_factors(f, match));
   }
   lua_settop(L, sport - 1);
   reading_ = nullptr;
@@ -279,6 +280,7 @@ void Sport::on_event(const game::GameEvent& e, game::Match& match) {
   game::Match* outer = match_;
   const game::Match* outer_reading = reading_;
   match_ = &match, reading_ = &match;
+  if (e.type == "powerup" || e.type == "powerup_end") announce_powerup(e, match);
   const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   lua_getfield(L, -1, "on");
@@ -293,6 +295,125 @@ void Sport::on_event(const game::GameEvent& e, game::Match& match) {
   }
   lua_settop(L, top);
   match_ = outer, reading_ = outer_reading;
+}
+
+int Sport::powerup(const std::string& name) {
+  if (const auto it = powerups_.find(name); it != powerups_.end()) return it->second;
+  namespace fs = std::filesystem;
+  if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
+    throw std::invalid_argument("power-up '" + name + "': names are lower-case letters, digits and _");
+  const fs::path own = fs::path(folder_) / "powerups" / (name + ".lua");
+  const fs::path shared = fs::path(folder_).lexically_normal().parent_path() / "powerups" / (name + ".lua");
+  const fs::path file = fs::exists(own) ? own : shared;
+  if (!fs::exists(file))
+    throw ScriptError("no power-up '" + name + "' (looked for " + own.string() + " and " + shared.string() + ")");
+  lua_State* L = sandbox_.L();
+  sandbox_.run_file(file.string());
+  const std::string where = file.string() + ": ";
+  if (!lua_istable(L, -1)) {
+    lua_pop(L, 1);
+    throw ScriptError(where + "must return a table");
+  }
+  lua_getfield(L, -1, "factor");
+  const bool has_factor = lua_isfunction(L, -1);
+  lua_getfield(L, -2, "duration");
+  const bool has_duration = lua_isnumber(L, -1) && lua_tonumber(L, -1) > 0;
+  lua_pop(L, 2);
+  if (!has_factor || !has_duration) {
+    lua_pop(L, 1);
+    throw ScriptError(where + "needs factor = function(fate, holder, game, p) and duration = seconds > 0");
+  }
+  return powerups_[name] = luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+void Sport::grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts) {
+  lua_State* L = sandbox_.L();
+  const int script = powerup(name);
+  const int top = lua_gettop(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, script);
+  const int t = lua_gettop(L);
+  // The script's defaults, then the grant's own numbers.
+  lua_getfield(L, t, "defaults");
+  std::map<std::string, double> params = numbers_of(L, lua_gettop(L));
+  lua_pop(L, 1);
+  for (const auto& [key, value] : opts) params[key] = value;
+  lua_getfield(L, t, "duration");
+  double seconds = lua_tonumber(L, -1);
+  lua_pop(L, 1);
+  if (const auto it = params.find("seconds"); it != params.end()) seconds = it->second, params.erase(it);
+  // start(holder, game, p) may note what the power-up needs later (black ice: the velocity to keep).
+  lua_getfield(L, t, "start");
+  if (lua_isfunction(L, -1)) {
+    game::Match* outer = match_;
+    const game::Match* outer_reading = reading_;
+    match_ = &match, reading_ = &match;
+    push_player(L, match, size_t(player));
+    lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+    lua_createtable(L, 0, int(params.size()));
+    for (const auto& [key, value] : params) {
+      lua_pushnumber(L, value);
+      lua_setfield(L, -2, key.c_str());
+    }
+    lua_pushvalue(L, -1);
+    lua_insert(L, -5);  // a reference to the params table below the function, for after the call
+    std::string error;
+    const bool ok = sandbox_.call(3, 0, error);
+    match_ = outer, reading_ = outer_reading;
+    if (!ok) {
+      lua_settop(L, top);
+      throw ScriptError(error + " (start of power-up " + name + ")");
+    }
+    params = numbers_of(L, lua_gettop(L));
+  }
+  lua_settop(L, top);
+  match.grant(player, name, seconds, std::move(params));
+}
+
+double Sport::powerup_factors(const game::FateView& fate, game::Match& match) {
+  lua_State* L = sandbox_.L();
+  double factor = 1;
+  for (const game::ActivePowerup& a : match.powerups()) {
+    const auto script = powerups_.find(a.name);
+    if (script == powerups_.end()) continue;  // granted before a reload dropped it: its new script loads on the next grant
+    const int top = lua_gettop(L);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, script->second);
+    lua_getfield(L, -1, "factor");
+    push_fate(L, fate);
+    push_player(L, match, size_t(a.player));
+    lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+    push_powerup(L, match, a);
+    std::string error;
+    if (!sandbox_.call(4, 1, error)) {
+      match.report_error(error + " (power-up " + a.name + " skipped)");
+    } else if (lua_isnumber(L, -1) && std::isfinite(lua_tonumber(L, -1)) && lua_tonumber(L, -1) >= 0) {
+      factor *= lua_tonumber(L, -1);
+    } else if (!lua_isnil(L, -1)) {
+      match.report_error("power-up " + a.name + ": factor returned " + luaL_typename(L, -1) +
+                         ", not a number >= 0 (skipped)");
+    }
+    lua_settop(L, top);
+  }
+  return factor;
+}
+
+void Sport::announce_powerup(const game::GameEvent& e, game::Match& match) {
+  const auto script = powerups_.find(e.powerup);
+  if (script == powerups_.end()) return;
+  lua_State* L = sandbox_.L();
+  const int top = lua_gettop(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, script->second);
+  lua_getfield(L, -1, "phrases");
+  if (lua_istable(L, -1)) {
+    lua_getfield(L, -1, e.type == "powerup" ? "start" : "over");
+    if (lua_isstring(L, -1)) {
+      // The script's phrase, with the sport's own phrase of the same key in its place if it has one.
+      const std::string key = e.powerup + (e.type == "powerup" ? "_start" : "_over");
+      const std::map<std::string, std::string> vars{{"player", e.actor}, {"team", e.team}};
+      const std::string own = phrase(key, vars);
+      match.say(own != key ? own : phrase(lua_tostring(L, -1), vars));
+    }
+  }
+  lua_settop(L, top);
 }
 
 }  // namespace quantum::lua

@@ -53,6 +53,13 @@ class Sport final : public game::Rules {
   // "{team} shoots" with {team = "Blue"}: a phrase of the sport by key, or the text itself.
   std::string phrase(const std::string& key_or_text, const std::map<std::string, std::string>& vars) const;
 
+  // Gives player `player` (a body index) the power-up `name`: its script (powerups/<name>.lua in
+  // the sport's folder, else in the folder beside it, rules/powerups/) is loaded once, its start
+  // runs, and the match holds it for opts.seconds (default the script's duration). `opts` are its
+  // numbers (strength, ...), over the script's defaults. Throws ScriptError for a script that
+  // does not load, std::invalid_argument for a bad name or value.
+  void grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);
+
   // For wrap_game.cpp: the match the current call acts on.
   game::Match* match() const { return match_; }
   const game::Match* reading() const { return reading_; }
@@ -68,6 +75,10 @@ class Sport final : public game::Rules {
   int first_spot_ = 0;
   std::vector<double> handicaps_;
   std::map<std::string, std::string> phrases_;
+  std::map<std::string, int> powerups_;  // loaded power-up scripts: name -> their table in the registry
+  int powerup(const std::string& name);  // loads it on first use
+  double powerup_factors(const game::FateView& fate, game::Match& match);
+  void announce_powerup(const game::GameEvent& e, game::Match& match);
   SportAudio audio_;
   game::Match* match_ = nullptr;
   const game::Match* reading_ = nullptr;

@@ -82,30 +82,63 @@ int teams(lua_State* L) {
   return 1;
 }
 
-// game.players(): {name, team, speed, handicap} for each player, in the field's order.
+// game.players(): {name, team, x, y, vx, vy, speed, handicap, powerups} for each player, in the
+// field's order.
 int players(lua_State* L) {
-  const std::vector<game::Player>& ps = reading(L).players();
-  lua_createtable(L, int(ps.size()), 0);
-  for (size_t i = 0; i < ps.size(); ++i) {
-    lua_createtable(L, 0, 4);
-    lua_pushstring(L, ps[i].name.c_str());
-    lua_setfield(L, -2, "name");
-    lua_pushstring(L, ps[i].team.c_str());
-    lua_setfield(L, -2, "team");
-    lua_pushnumber(L, std::hypot(ps[i].velocity.x, ps[i].velocity.y));
-    lua_setfield(L, -2, "speed");
-    lua_pushnumber(L, ps[i].handicap);
-    lua_setfield(L, -2, "handicap");
+  const game::Match& m = reading(L);
+  lua_createtable(L, int(m.players().size()), 0);
+  for (size_t i = 0; i < m.players().size(); ++i) {
+    push_player(L, m, i);
     lua_rawseti(L, -2, int(i + 1));
   }
+  return 1;
+}
+
+int player_index(lua_State* L, const game::Match& m, int arg) {
+  const std::string name = luaL_checkstring(L, arg);
+  for (size_t k = 0; k < m.players().size(); ++k)
+    if (m.players()[k].name == name) return int(k);
+  return luaL_error(L, "no player '%s' in this field", name.c_str());
+}
+
+// game.grant(player, powerup [, {seconds =, strength =, ...}]): see docs/writing-a-powerup.md.
+int grant(lua_State* L) {
+  game::Match& m = acting(L, "grant");
+  const int player = player_index(L, m, 1);
+  const std::string name = luaL_checkstring(L, 2);
+  std::map<std::string, double> opts = numbers_of(L, 3);
+  return guarded(L, [&] {
+    sport_of(L)->grant(m, player, name, std::move(opts));
+    return 0;
+  });
+}
+
+// game.powerups(): {name, player, remaining, <its numbers>} for each active power-up.
+int powerups(lua_State* L) {
+  const game::Match& m = reading(L);
+  lua_createtable(L, int(m.powerups().size()), 0);
+  for (size_t i = 0; i < m.powerups().size(); ++i) {
+    push_powerup(L, m, m.powerups()[i]);
+    lua_rawseti(L, -2, int(i + 1));
+  }
+  return 1;
+}
+
+// game.last_touch(): the last player to touch the ball this rally, or nil.
+int last_touch(lua_State* L) {
+  const game::Match& m = reading(L);
+  if (m.last_toucher() < 0) return 0;
+  lua_pushstring(L, m.players()[size_t(m.last_toucher())].name.c_str());
   return 1;
 }
 
 }  // namespace
 
 void push_game_api(lua_State* L, Sport* sport) {
-  const luaL_Reg functions[] = {{"say", say},     {"award", award}, {"respawn", respawn}, {"finish", finish},
-                                {"score", score}, {"time", time},   {"teams", teams},     {"players", players}};
+  const luaL_Reg functions[] = {{"say", say},         {"award", award},       {"respawn", respawn},
+                                {"finish", finish},   {"grant", grant},       {"score", score},
+                                {"time", time},       {"teams", teams},       {"players", players},
+                                {"powerups", powerups}, {"last_touch", last_touch}};
   lua_newtable(L);
   for (const luaL_Reg& f : functions) {
     lua_pushlightuserdata(L, sport);

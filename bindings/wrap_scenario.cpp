@@ -86,13 +86,35 @@ int gc(lua_State* L) {
   return 0;
 }
 
+// The match sees the bodies as the scenario has them now (power-ups read their motion).
+int show(lua_State* L, Scenario& s) {
+  std::vector<BodyInput> input;
+  for (const Motion& m : s.bodies) input.push_back({m.position, m.velocity});
+  return guarded(L, [&] {
+    s.match->place_players(input);
+    return 0;
+  });
+}
+
 // s:place(player, x, y): the body is there, at rest.
 int place(lua_State* L) {
   Scenario& s = check(L);
   Motion& m = s.bodies[body_index(L, s, 2)];
   m.position = m.target = {float(luaL_checknumber(L, 3)), float(luaL_checknumber(L, 4))};
   m.velocity = {0, 0}, m.until = 0;
-  return 0;
+  return show(L, s);
+}
+
+// s:grant(player, powerup [, {seconds =, strength =, ...}]): as game.grant, from the spec.
+int grant(lua_State* L) {
+  Scenario& s = check(L);
+  const int player = body_index(L, s, 2);
+  const std::string name = luaL_checkstring(L, 3);
+  std::map<std::string, double> opts = numbers_of(L, 4);
+  return guarded(L, [&] {
+    s.sport->grant(*s.match, player, name, std::move(opts));
+    return 0;
+  });
 }
 
 // s:move(player, x, y, seconds): moves there in a straight line at constant speed.
@@ -104,7 +126,7 @@ int move(lua_State* L) {
   m.target = {float(luaL_checknumber(L, 3)), float(luaL_checknumber(L, 4))};
   m.velocity = {float((m.target.x - m.position.x) / seconds), float((m.target.y - m.position.y) / seconds)};
   m.until = s.match->time() + seconds;
-  return 0;
+  return show(L, s);
 }
 
 // s:ball{x =, y =, vx =, vy =, spread = 0.01 (m), turn = 0.05 (rad), count = 400, by = player}:
@@ -238,7 +260,7 @@ int chi_square_p(lua_State* L) {
 }  // namespace
 
 void open_scenario(lua_State* L) {
-  const luaL_Reg methods[] = {{"place", place}, {"move", move},     {"ball", ball},   {"run", run},
+  const luaL_Reg methods[] = {{"place", place}, {"move", move},     {"ball", ball},   {"run", run}, {"grant", grant},
                               {"events", events}, {"said", said},   {"errors", errors}, {"fates", fates},
                               {"score", score},   {"time", time}};
   luaL_newmetatable(L, kMeta);

@@ -72,8 +72,47 @@ void Match::finish(const std::string& winner) {
   tell_rules(e);
 }
 
-void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_touch) {
+void Match::grant(int player, const std::string& name, double seconds, std::map<std::string, double> params) {
+  if (player < 0 || player >= int(players_.size())) throw std::invalid_argument("grant: no player " + std::to_string(player));
+  if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("grant: seconds must be in (0, 3600]");
+  std::erase_if(powerups_, [&](const ActivePowerup& p) { return p.player == player && p.name == name; });
+  powerups_.push_back({name, player, time() + seconds, std::move(params)});
+  GameEvent e;
+  e.t = time();
+  e.type = "powerup";
+  e.actor = players_[size_t(player)].name, e.team = players_[size_t(player)].team, e.actor_index = player;
+  e.powerup = name;
+  e.at = players_[size_t(player)].position;
+  events_.push_back(e);
+  tell_rules(e);
+}
+
+void Match::expire_powerups() {
+  for (size_t k = 0; k < powerups_.size();) {
+    if (time() < powerups_[k].until - 1e-9) {
+      ++k;
+      continue;
+    }
+    const ActivePowerup p = powerups_[k];
+    powerups_.erase(powerups_.begin() + long(k));
+    GameEvent e;
+    e.t = time();
+    e.type = "powerup_end";
+    e.actor = players_[size_t(p.player)].name, e.team = players_[size_t(p.player)].team, e.actor_index = p.player;
+    e.powerup = p.name;
+    e.at = players_[size_t(p.player)].position;
+    events_.push_back(e);
+    tell_rules(e);
+  }
+}
+
+void Match::place_players(std::span<const BodyInput> input) {
   world_.place_bodies(input);
+  for (size_t k = 0; k < players_.size(); ++k) players_[k].position = input[k].position, players_[k].velocity = input[k].velocity;
+}
+
+void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_touch) {
+  place_players(input);
   world_.set_cloud(std::move(cloud));
   world_.set_last_touch(last_touch);
   respawn_at_ = -1;
@@ -102,6 +141,7 @@ void Match::step(std::span<const BodyInput> input) {
     players_[k].position = input[k].position, players_[k].velocity = input[k].velocity;
   stats_.seconds = time();
   for (const Event& e : core_events_) handle(e);
+  expire_powerups();
   // A ball gone without an outcome that brings it back (crushed away, or a shot that left while its
   // contact was caught up): it comes back where it was dropped.
   if (!world_.live() && respawn_at_ < 0 && !finished_) respawn(respawn_spot_, 1.0);

@@ -23,7 +23,7 @@ struct Player {
 
 // What the rules are told. type: drop, shot, intercept, retouch (the same player meeting the
 // ball again within 0.25 s of its last touch: one swing), bounce (off a wall, audibly), goal,
-// own_goal, out, time_up, match_end.
+// own_goal, out, time_up, match_end; powerup and powerup_end when a power-up starts and ends.
 struct GameEvent {
   double t = 0;
   std::string type;
@@ -35,6 +35,7 @@ struct GameEvent {
   uint32_t particles = 0;
   Vec2 at, velocity;   // where it happened; for a shot, intercept or bounce the ball's mean velocity after it
   int actor_index = -1;  // spot, body, wall or goal index in the field
+  std::string powerup;   // powerup, powerup_end: the power-up's name (actor is its holder)
 };
 
 // A fate as the rules see it.
@@ -79,6 +80,16 @@ struct Said {
   std::string recording;  // a sound file to play instead of speaking the text ("" to speak it)
 };
 
+// A power-up a player holds: its script's name (rules/powerups/<name>.lua), until when, and its
+// numbers (strength, and whatever its start stored). The host keeps them, so they survive a
+// reload of the scripts.
+struct ActivePowerup {
+  std::string name;
+  int player = -1;  // body index
+  double until = 0;
+  std::map<std::string, double> params;
+};
+
 struct RallyStats {
   int rallies = 0;      // balls dropped that ended (goal, own goal or out)
   int contacts = 0;     // shots and intercepts within those rallies
@@ -99,8 +110,15 @@ class Match {
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   void respawn(int spot, double delay);
   void finish(const std::string& winner);  // "" for a draw
+  // Gives `player` (a body index) a power-up for `seconds`; it ends with a powerup_end event. A
+  // second one of the same name replaces the first. Throws std::invalid_argument for bad values.
+  void grant(int player, const std::string& name, double seconds, std::map<std::string, double> params);
 
-  // Sets up a scene (a rule spec): the players where `input` says, and the ball replaced by
+  // Puts the players where (and as fast as) `input` says without a step (a rule spec's scene).
+  // Throws InputError like step().
+  void place_players(std::span<const BodyInput> input);
+
+  // Sets up a scene (a rule spec): the players where (and as fast as) `input` says, the ball replaced by
   // `cloud`, a pending drop cancelled, `last_touch` (a body, or -1) the last player to touch it.
   // Throws std::invalid_argument for what the world refuses.
   void set_scene(std::span<const BodyInput> input, Cloud cloud, int last_touch = -1);
@@ -115,6 +133,8 @@ class Match {
   bool finished() const { return finished_; }
   const std::string& winner() const { return winner_; }
   const RallyStats& stats() const { return stats_; }
+  const std::vector<ActivePowerup>& powerups() const { return powerups_; }
+  int last_toucher() const { return last_toucher_; }  // body of the last announced touch this rally, -1 for none
   int spot_of(const std::string& team_or_name) const;  // -1 when there is none
 
   // Events and phrases since the last call, in order.
@@ -129,6 +149,7 @@ class Match {
 
  private:
   void handle(const Event& e);
+  void expire_powerups();
   void tell_rules(const GameEvent& e);
   void retweak();
   FateView view(const FateGroup& g) const;
@@ -137,6 +158,7 @@ class Match {
   MatchConfig config_;
   Rules& rules_;
   std::vector<Player> players_;
+  std::vector<ActivePowerup> powerups_;
   std::map<std::string, int> score_;
   std::vector<GameEvent> events_;
   std::vector<Said> said_;

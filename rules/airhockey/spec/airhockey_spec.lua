@@ -9,12 +9,8 @@ local function first(events, kind)
   end
 end
 
--- The first event that ends the ball's flight: anything but a bounce off a wall on the way.
-local function outcome(events)
-  for _, e in ipairs(events) do
-    if e.type ~= "bounce" then return e end
-  end
-end
+local helpers = dofile((debug.getinfo(1, "S").source:sub(2):gsub("airhockey/spec/[^/]*$", "")) .. "spec_helpers.lua")
+local outcome = helpers.outcome
 
 describe("Quantum air hockey", function()
   it("drops the puck in front of Blue's goal and says so", function()
@@ -60,43 +56,8 @@ describe("Quantum air hockey", function()
     assert.is_true(intercepted >= 18, intercepted .. " of 20 shots intercepted")
   end)
 
-  -- Realized frequencies follow the probabilities the factors compute. A scene is set up n times
-  -- with different seeds; its fates, tweaked by the sport's factors and the handicaps, give the
-  -- expected distribution of the first outcome (bounces on the way are decisions of their own,
-  -- drawn with the same tweak); chi-square goodness of fit, rejected only below
-  -- p = 0.001. Short flights: each draw is then made on fates predicted that very frame.
   local function outcomes_follow_the_tweaked_fates(opts, setup, category, classify)
-    classify = classify or function(events)
-      local e = outcome(events)
-      return e and e.type or "none"
-    end
-    local probe = quantum.scenario(SPORT, opts)
-    setup(probe)
-    local expected, newtonian = {}, {}
-    for _, f in ipairs(probe:fates()) do
-      local k = category(f)
-      expected[k] = (expected[k] or 0) + f.tweaked
-      newtonian[k] = (newtonian[k] or 0) + f.mass
-    end
-    local n, seen = 400, {}
-    for seed = 1, n do
-      opts.seed = seed
-      local s = quantum.scenario(SPORT, opts)
-      setup(s)
-      local k = classify(s:run(3.0, "shot"))
-      seen[k] = (seen[k] or 0) + 1
-    end
-    local chi2, cells, report = 0, 0, ""
-    for k, p in pairs(expected) do
-      assert.is_true(p * n >= 5, k .. " is too rare for chi-square; change the scene")
-      chi2 = chi2 + ((seen[k] or 0) - p * n) ^ 2 / (p * n)
-      cells = cells + 1
-      report = report .. string.format(" %s: Newtonian %.3f, tweaked %.3f, seen %d/%d;", k, newtonian[k], p, seen[k] or 0, n)
-    end
-    for k, count in pairs(seen) do assert.is_not_nil(expected[k], "unpredicted outcome " .. k .. " x" .. count) end
-    local p = quantum.chi_square_p(chi2, cells - 1)
-    assert.is_true(p > 0.001, string.format("chi2 = %.2f, p = %.5f;%s", chi2, p, report))
-    return expected, newtonian
+    return helpers.outcomes_follow_the_tweaked_fates(SPORT, opts, setup, category, classify)
   end
 
   -- A shot at Red's goal with Red's mallet half in the way.
@@ -104,7 +65,7 @@ describe("Quantum air hockey", function()
     s:place("Red's mallet", 0.88, 0.06)
     s:ball { x = 0.5, y = 0.0, vx = 2.5, vy = 0.0, turn = 0.1, count = 400 }
   end
-  local function shot_or_goal(fate) return fate.kind == "body" and "shot" or fate.kind end
+  local shot_or_goal = helpers.shot_or_goal
 
   it("realizes a handicapped intercept as often as its factors compute", function()
     local opts = { particles = 400, handicaps = { ["Red's mallet"] = 4 } }

@@ -1,0 +1,10 @@
+-- Slow motion: a penalty while the holder moves faster than `limit` m/s.
+return {
+  name = "slow motion",
+  duration = 10,
+  defaults = { strength = 0.2, limit = 1.0 },
+  phrases = { start = "Slow motion for {player}", over = "{player} is back to full speed" },
+  factor = function(fate, holder, game, p)
+    if fate.kind == "body" and fate.actor == holder.name and holder.speed > p.limit then return p.strength end
+  end,
+}
