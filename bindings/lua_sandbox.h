@@ -18,7 +18,8 @@ class Sandbox {
  public:
   // `libraries`: which of Lua's own go into the scripts' environment besides the base
   // functions: "math" always; "string" and "table" when `rules` is true (sports need them,
-  // field files are data). No io, os, debug, package, ffi, load or dofile.
+  // field files are data), and os.clock. No io, the rest of os, debug, package, ffi, jit,
+  // require, load, loadstring, dofile or collectgarbage.
   Sandbox(size_t memory_budget, int instruction_budget, bool rules);
   ~Sandbox();
   Sandbox(const Sandbox&) = delete;

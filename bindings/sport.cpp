@@ -373,10 +373,15 @@ double Sport::powerup_factors(const game::FateView& fate, game::Match& match) {
   lua_State* L = sandbox_.L();
   double factor = 1;
   for (const game::ActivePowerup& a : match.powerups()) {
-    const auto script = powerups_.find(a.name);
-    if (script == powerups_.end()) continue;  // granted before a reload dropped it: its new script loads on the next grant
+    int script = LUA_NOREF;
+    try {
+      script = powerup(a.name);  // granted before this sport was reloaded: its script loads here
+    } catch (const std::exception& e) {
+      match.report_error(std::string(e.what()) + " (power-up " + a.name + " skipped)");
+      continue;
+    }
     const int top = lua_gettop(L);
-    lua_rawgeti(L, LUA_REGISTRYINDEX, script->second);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, script);
     lua_getfield(L, -1, "factor");
     push_fate(L, fate);
     push_player(L, match, size_t(a.player));
@@ -394,6 +399,81 @@ double Sport::powerup_factors(const game::FateView& fate, game::Match& match) {
     lua_settop(L, top);
   }
   return factor;
+}
+
+void Sport::reload_powerup(const std::string& name) {
+  const auto it = powerups_.find(name);
+  if (it == powerups_.end()) return;  // never used: it loads fresh when granted
+  const int old = it->second;
+  powerups_.erase(it);
+  try {
+    powerup(name);
+  } catch (...) {
+    powerups_[name] = old;
+    throw;
+  }
+  luaL_unref(sandbox_.L(), LUA_REGISTRYINDEX, old);
+}
+
+namespace {
+
+// Copies the plain data at `index` of `from` onto the top of `to`: what survives a reload.
+void copy_plain(lua_State* from, int index, lua_State* to, int depth) {
+  index = index < 0 ? lua_gettop(from) + index + 1 : index;
+  switch (lua_type(from, index)) {
+    case LUA_TBOOLEAN: lua_pushboolean(to, lua_toboolean(from, index)); return;
+    case LUA_TNUMBER: lua_pushnumber(to, lua_tonumber(from, index)); return;
+    case LUA_TSTRING: {
+      size_t n = 0;
+      const char* text = lua_tolstring(from, index, &n);
+      lua_pushlstring(to, text, n);
+      return;
+    }
+    case LUA_TTABLE:
+      if (depth < 16) break;
+      [[fallthrough]];
+    default: lua_pushnil(to); return;  // functions and the like belong to the old script
+  }
+  lua_newtable(to);
+  lua_pushnil(from);
+  while (lua_next(from, index)) {
+    const int key = lua_type(from, -2);
+    if (key == LUA_TSTRING || key == LUA_TNUMBER) {
+      copy_plain(from, -2, to, depth + 1);
+      copy_plain(from, -1, to, depth + 1);
+      lua_rawset(to, -3);
+    }
+    lua_pop(from, 1);
+  }
+}
+
+}  // namespace
+
+void Sport::take_over(Sport& old, game::Match& match) {
+  lua_State* from = old.sandbox_.L();
+  lua_State* L = sandbox_.L();
+  const int old_top = lua_gettop(from), top = lua_gettop(L);
+  lua_rawgeti(from, LUA_REGISTRYINDEX, old.sport_ref_);
+  lua_getfield(from, -1, "state");
+  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+  const int t = lua_gettop(L);
+  copy_plain(from, -1, L, 0);
+  lua_settop(from, old_top);
+  lua_getfield(L, t, "on_reload");
+  if (lua_isfunction(L, -1)) {
+    lua_insert(L, -2);  // on_reload, state
+    lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+    lua_insert(L, -2);  // on_reload, game, state
+    game::Match* outer = match_;
+    match_ = &match, reading_ = &match;
+    std::string error;
+    if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
+    match_ = outer, reading_ = nullptr;
+  } else {
+    lua_pop(L, 1);
+    lua_setfield(L, t, "state");
+  }
+  lua_settop(L, top);
 }
 
 void Sport::announce_powerup(const game::GameEvent& e, game::Match& match) {

@@ -60,6 +60,16 @@ class Sport final : public game::Rules {
   // does not load, std::invalid_argument for a bad name or value.
   void grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);
 
+  // Loads power-up `name` again from its file (it changed). Throws ScriptError, naming the file
+  // and line, when it does not load; the version loaded before stays.
+  void reload_powerup(const std::string& name);
+  bool has_powerup(const std::string& name) const { return powerups_.count(name) > 0; }
+
+  // After a reload: this (new) sport takes over from `old`. Its `on_reload(game, state)` gets a
+  // copy of the old sport table's `state` (plain data: numbers, strings, booleans, tables);
+  // without one, the copy becomes its `state`.
+  void take_over(Sport& old, game::Match& match);
+
   // For wrap_game.cpp: the match the current call acts on.
   game::Match* match() const { return match_; }
   const game::Match* reading() const { return reading_; }

@@ -2,6 +2,7 @@
 // Run: build/quantum-bench   (figures and how to read them: docs/PERFORMANCE.md)
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <filesystem>
 
 #include "audio/audio.h"
@@ -98,6 +99,36 @@ void BM_MatchSecond(benchmark::State& state) {
   }
 }
 
+// One frame of a match at the sport's 1000 particles during which the sport reloads: sport.lua
+// loaded again into a fresh sandbox (with its field), its state carried over, the match handed
+// to it, and a power-up script loaded again; then the frame itself. Longest iteration reported
+// as well: a reload must fit in one 60 Hz frame (16.7 ms) with the frame.
+void BM_FrameWithReload(benchmark::State& state) {
+  auto sport = std::make_unique<lua::Sport>(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  game::MatchConfig config;
+  config.seconds = 1e6;
+  config.first_spot = sport->first_spot();
+  game::Match match(sport->field(), config, *sport, sport->handicaps());
+  game::Bots bots(match.field(), {0.6, 0.6}, 1);
+  const double dt = 1.0 / config.fps;
+  for (int frame = 0; frame < 60; ++frame) match.step(bots.move(match.time() + dt, dt));
+  sport->grant(match, 1, "penalty", {});
+  double longest = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    auto fresh = std::make_unique<lua::Sport>(QUANTUM_SOURCE_DIR "/rules/airhockey");
+    fresh->take_over(*sport, match);
+    match.set_rules(*fresh);
+    sport = std::move(fresh);
+    sport->grant(match, 1, "penalty", {});  // its script loads into the new sandbox
+    match.step(bots.move(match.time() + dt, dt));
+    for (const game::GameEvent& e : match.take_events()) bots.hear(e);
+    match.take_said();
+    longest = std::max(longest, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  state.counters["longest_ms"] = longest;
+}
+
 // From an event's phrase to its first samples in the output buffer, for a phrase said before
 // (cached): the speech cache look-up, the announcer starting it (cutting off the one before),
 // and OpenAL mixing the first 64 frames. The sound card's own buffer comes on top of this.
@@ -155,6 +186,7 @@ BENCHMARK(BM_StepSilentWalls)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FrameWithReload)->Iterations(200)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DepthFrame)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStep)->Arg(10'000)->Iterations(20)->Unit(benchmark::kMicrosecond);

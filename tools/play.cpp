@@ -16,6 +16,7 @@
 #include "match_audio.h"
 #include "game/bots.h"
 #include "sport.h"
+#include "reloader.h"
 #include "tracked_input.h"
 
 namespace quantum::tools {
@@ -139,7 +140,8 @@ std::vector<double> parse_list(const std::string& text, const std::string& optio
 }
 
 PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
-  lua::Sport sport(o.sport);
+  auto owned = std::make_unique<lua::Sport>(o.sport);
+  lua::Sport& sport = *owned;  // the first version, for the settings a reload does not change
   for (const auto& [kind, value] : o.factors) sport.set_factor(kind, value);
   const size_t n_players = sport.field().bodies.size();
   std::vector<double> skills = o.skills.empty() ? std::vector<double>(n_players, 0.6) : o.skills;
@@ -161,6 +163,8 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   game::Bots bots(match.field(), skills, o.seed);
   std::optional<TrackedBodies> tracked;
   if (o.input != "bots") tracked.emplace(o.input, match.field());
+  std::optional<RulesReloader> reloader;
+  if (o.watch) reloader.emplace(o.sport, o.factors);
 
   std::ofstream file;
   std::ostream* log = open_event_log(o.events, file);
@@ -175,6 +179,8 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   const bool real_time = sound.on_device() || (tracked && tracked->live());
   bool paused = false;
   while (!match.finished()) {
+    // Between two frames: the scripts that changed are loaded again.
+    if (reloader) reloader->poll(owned, match, errors);
     std::vector<game::GameEvent> host_events;  // the host's own: the input paused or resumed
     if (tracked) {
       const TrackingInput::Status status = tracked->advance(match.time() + dt, paused ? 0.1 : 0.0);
@@ -187,7 +193,7 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
         // A camera that went away pauses the match, with an announcement, until it is back.
         paused = lost;
         const char* key = lost ? "paused" : "resumed";
-        const std::string text = sport.phrase(key, {});
+        const std::string text = owned->phrase(key, {});
         match.say(text != key ? text : lost ? "The players cannot be seen. The match is paused" : "Play on");
         game::GameEvent e;
         e.t = match.time();
@@ -245,6 +251,7 @@ BalanceResult balance(const PlayOptions& options, int matches) {
   if (matches < 1 || matches > 100'000) throw std::invalid_argument("--matches must be in [1, 100000]");
   PlayOptions quiet = options;
   quiet.transcript = false;
+  quiet.watch = false;
   quiet.events.clear();
   std::vector<PlayResult> results(static_cast<size_t>(matches));
   std::atomic<int> next{0};

@@ -24,6 +24,7 @@ struct PlayOptions {
   std::map<std::string, double> factors;  // overrides of the sport's factors by fate kind
   std::string audio = "none";             // "" the sound card, "none", "wav:FILE" (see MatchAudio)
   bool transcript = true;
+  bool watch = true;                      // reload the sport's and power-ups' scripts when they change
 };
 
 struct PlayResult {

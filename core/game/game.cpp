@@ -10,7 +10,7 @@ namespace quantum::game {
 constexpr double kRetouch = 0.25;  // s
 
 Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps)
-    : world_(std::move(field), WorldConfig{config.particles, 3, config.seed}), config_(config), rules_(rules) {
+    : world_(std::move(field), WorldConfig{config.particles, 3, config.seed}), config_(config), rules_(&rules) {
   if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
   if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
   const Field& f = world_.field();
@@ -216,7 +216,7 @@ void Match::handle(const Event& e) {
 
 void Match::tell_rules(const GameEvent& e) {
   const std::string outer = std::exchange(handling_, e.type);
-  rules_.on_event(e, *this);
+  rules_->on_event(e, *this);
   handling_ = outer;
 }
 
@@ -254,7 +254,7 @@ void Match::retweak() {
   FateReport report = world_.predict();
   std::vector<FateView> views;
   for (const FateGroup& g : report.groups) views.push_back(view(g));
-  std::vector<double> factors = rules_.factors(views, *this);
+  std::vector<double> factors = rules_->factors(views, *this);
   if (factors.size() != views.size()) {
     report_error("rules gave " + std::to_string(factors.size()) + " factors for " + std::to_string(views.size()) +
                  " fates; factors skipped");

@@ -104,6 +104,10 @@ class Match {
   // One frame with the players' new positions (one input per body of the field).
   void step(std::span<const BodyInput> input);
 
+  // Hands the match to new rules between two frames (a reloaded sport); everything the match
+  // holds (score, players, power-ups, the ball) stays.
+  void set_rules(Rules& rules) { rules_ = &rules; }
+
   // --- Actions for the rules.
   void say(std::string text, std::string recording = {});
   void award(const std::string& team, int goals = 1);
@@ -156,7 +160,7 @@ class Match {
 
   World world_;
   MatchConfig config_;
-  Rules& rules_;
+  Rules* rules_;
   std::vector<Player> players_;
   std::vector<ActivePowerup> powerups_;
   std::map<std::string, int> score_;

@@ -1,0 +1,158 @@
+// Hot reload: scripts edited while a match runs take effect between two frames; a broken edit is
+// reported with its file and line and the old version goes on; the match keeps its state.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "reloader.h"
+#include "sport.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A copy of rules/airhockey and rules/powerups in a fresh folder, to edit.
+struct Rules {
+  fs::path root, sport, powerups;
+  explicit Rules(const std::string& name) {
+    root = fs::temp_directory_path() / ("quantum_reload_" + name);
+    fs::remove_all(root);
+    sport = root / "airhockey", powerups = root / "powerups";
+    fs::create_directories(root);
+    fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", sport, fs::copy_options::recursive);
+    fs::copy(QUANTUM_SOURCE_DIR "/rules/powerups", powerups, fs::copy_options::recursive);
+  }
+  ~Rules() { fs::remove_all(root); }
+  void write(const fs::path& file, const std::string& text) const {
+    // As an editor saves: a new file renamed over the old one.
+    const fs::path tmp = file.string() + ".tmp";
+    std::ofstream(tmp) << text;
+    fs::rename(tmp, file);
+  }
+};
+
+struct Running {
+  std::unique_ptr<lua::Sport> sport;
+  std::unique_ptr<game::Match> match;
+  std::vector<BodyInput> still;
+
+  explicit Running(const Rules& r) {
+    sport = std::make_unique<lua::Sport>(r.sport.string());
+    game::MatchConfig config;
+    config.particles = 400;
+    match = std::make_unique<game::Match>(sport->field(), config, *sport);
+    for (const BodySpec& b : sport->field().bodies) still.push_back({b.start, {0, 0}});
+    still[1].position = {0.88f, 0.06f};  // Red's mallet half in the way of a shot
+    Cloud ball;
+    for (int i = 0; i < 200; ++i) {
+      const double a = 0.1 * (i / 199.0 - 0.5);
+      ball.push(0.5f, 0.0f, float(2.5 * std::cos(a)), float(2.5 * std::sin(a)), 1.0 / 200, 1.0 / 200);
+    }
+    match->set_scene(still, ball, 0);
+  }
+
+  double red_intercept() const {
+    double p = 0;
+    for (const game::FateView& f : match->fates())
+      if (f.kind == "body" && f.actor == "Red's mallet") p += f.tweaked;
+    return p;
+  }
+};
+
+// inotify delivers the rename a moment later: poll until something reloads or fails (or 1 s).
+int poll_until_reloaded(tools::RulesReloader& reloader, Running& m, std::ostringstream& errors) {
+  for (int tries = 0; tries < 50; ++tries) {
+    if (const int n = reloader.poll(m.sport, *m.match, errors)) return n;
+    if (!errors.str().empty()) return 0;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return 0;
+}
+
+TEST(Reload, AnEditedPowerUpActsFromTheNextFrame) {
+  const Rules r("powerup");
+  Running m(r);
+  tools::RulesReloader reloader(r.sport.string());
+  m.sport->grant(*m.match, 1, "penalty", {{"strength", 0.5}});
+  m.match->step(m.still);
+  const double before = m.red_intercept();
+  ASSERT_GT(before, 0.1);
+  // The designer makes the penalty total while the match runs.
+  r.write(r.powerups / "penalty.lua",
+          "return { duration = 10, defaults = { strength = 0.3 },\n"
+          "  factor = function(fate, holder, game, p)\n"
+          "    if fate.kind == 'body' and fate.actor == holder.name then return 0 end\n"
+          "  end }\n");
+  std::ostringstream errors;
+  EXPECT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
+  m.match->step(m.still);
+  EXPECT_EQ(m.red_intercept(), 0.0) << "the new penalty acts at once";
+  EXPECT_EQ(m.match->powerups().size(), 1u);  // still held, with its time
+  EXPECT_EQ(errors.str(), "");
+}
+
+TEST(Reload, ABrokenEditIsReportedAndTheOldVersionGoesOn) {
+  const Rules r("broken");
+  Running m(r);
+  tools::RulesReloader reloader(r.sport.string());
+  m.sport->grant(*m.match, 1, "penalty", {{"strength", 0.5}});
+  m.match->step(m.still);
+  const double before = m.red_intercept();
+  r.write(r.powerups / "penalty.lua", "return {\n  duration = 10,\n  factor = function(fate\n}\n");
+  std::ostringstream errors;
+  poll_until_reloaded(reloader, m, errors);
+  EXPECT_NE(errors.str().find("reload failed: "), std::string::npos) << errors.str();
+  EXPECT_NE(errors.str().find("penalty.lua:4:"), std::string::npos) << errors.str();
+  EXPECT_NE(errors.str().find("the previous version goes on"), std::string::npos) << errors.str();
+  m.match->step(m.still);
+  EXPECT_NEAR(m.red_intercept(), before, 0.05);  // the old penalty still acts
+  // Fixed, it loads.
+  r.write(r.powerups / "penalty.lua",
+          "return { duration = 10, factor = function(fate, holder) if fate.actor == holder.name then return 0 end end }\n");
+  std::ostringstream later;
+  EXPECT_EQ(poll_until_reloaded(reloader, m, later), 1) << later.str();
+  m.match->step(m.still);
+  EXPECT_EQ(m.red_intercept(), 0.0);
+}
+
+TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
+  const Rules r("sport");
+  Running m(r);
+  tools::RulesReloader reloader(r.sport.string());
+  m.match->award("red", 2);
+  m.sport->grant(*m.match, 0, "attract", {});
+  // The new version changes a phrase and takes its state over in on_reload.
+  std::ifstream in(r.sport / "sport.lua");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  s.replace(s.rfind("return sport"), 12,
+            "sport.state = { reloads = 0 }\n"
+            "sport.on_reload = function(game, old)\n"
+            "  sport.state = { reloads = ((old and old.reloads) or 0) + 1 }\n"
+            "  game.say('reloaded ' .. sport.state.reloads .. ' times')\n"
+            "end\n"
+            "return sport");
+  r.write(r.sport / "sport.lua", s);
+  std::ostringstream errors;
+  ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
+  r.write(r.sport / "sport.lua", s);  // and once more: the state comes along
+  ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
+  std::vector<std::string> said;
+  for (const game::Said& x : m.match->take_said()) said.push_back(x.text);
+  ASSERT_GE(said.size(), 2u);
+  EXPECT_EQ(said[said.size() - 2], "reloaded 1 times");
+  EXPECT_EQ(said.back(), "reloaded 2 times");
+  EXPECT_EQ(m.match->score().at("red"), 2);          // the score stays
+  EXPECT_EQ(m.match->powerups().size(), 1u);         // and the power-up with it
+  m.match->step(m.still);                            // the match goes on under the new rules
+  EXPECT_TRUE(m.match->world().live());
+}
+
+}  // namespace
+}  // namespace quantum
