@@ -59,7 +59,7 @@ void push_player(lua_State* L, const game::Match& match, size_t k) {
   set(L, "name", p.name), set(L, "team", p.team);
   set(L, "x", p.position.x), set(L, "y", p.position.y), set(L, "vx", p.velocity.x), set(L, "vy", p.velocity.y);
   set(L, "speed", std::hypot(p.velocity.x, p.velocity.y));
-  set(L, "handicap", p.handicap);
+  set(L, "handicap", match.handicap_now(int(k)));
   std::vector<std::string> held;
   for (const game::ActivePowerup& a : match.powerups())
     if (a.player == int(k)) held.push_back(a.name);

@@ -80,6 +80,20 @@ Sport::Sport(const std::string& folder)
     }
   }
   lua_pop(L, 1);
+  if (typed(t, "balance", LUA_TTABLE, "")) {
+    const int b = lua_gettop(L);
+    if (typed(b, "per_goal", LUA_TNUMBER, "balance")) {
+      balance_per_goal_ = lua_tonumber(L, -1);
+      if (!(balance_per_goal_ >= 0 && balance_per_goal_ <= 10)) throw fail("balance.per_goal", "must be in [0, 10]");
+    }
+    lua_pop(L, 1);
+    if (typed(b, "most", LUA_TNUMBER, "balance")) {
+      balance_most_ = lua_tonumber(L, -1);
+      if (!(balance_most_ >= 1 && std::isfinite(balance_most_))) throw fail("balance.most", "must be >= 1");
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
   if (typed(t, "factors", LUA_TTABLE, "")) {
     for (const char* kind : {"goal", "own_goal", "body", "out", "field"}) {
       if (typed(lua_gettop(L), kind, LUA_TNUMBER, "factors") && !(lua_tonumber(L, -1) >= 0))

@@ -38,6 +38,9 @@ class Sport final : public game::Rules {
   int first_spot() const { return first_spot_; }  // match.start: where the first ball drops
   // The sport's handicap for every body of the field (1 where it names none).
   const std::vector<double>& handicaps() const { return handicaps_; }
+  // Automatic balance (sport.lua's `balance`): see game::MatchConfig.
+  double balance_per_goal() const { return balance_per_goal_; }
+  double balance_most() const { return balance_most_; }
   const SportAudio& audio() const { return audio_; }
 
   // Replaces the sport's factor for a fate kind (goal, own_goal, body, out, field), e.g. to
@@ -84,6 +87,7 @@ class Sport final : public game::Rules {
   double seconds_ = 180;
   int first_spot_ = 0;
   std::vector<double> handicaps_;
+  double balance_per_goal_ = 0, balance_most_ = 2;
   std::map<std::string, std::string> phrases_;
   std::map<std::string, int> powerups_;  // loaded power-up scripts: name -> their table in the registry
   int powerup(const std::string& name);  // loads it on first use

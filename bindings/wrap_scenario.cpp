@@ -58,6 +58,8 @@ int scenario(lua_State* L) {
     config.particles = s->sport->particles();
     config.seconds = s->sport->seconds();
     config.first_spot = s->sport->first_spot();
+    config.balance_per_goal = s->sport->balance_per_goal();
+    config.balance_most = s->sport->balance_most();
     std::vector<double> handicaps = s->sport->handicaps();
     if (lua_istable(L, 2)) {
       config.seed = uint64_t(field_number(L, 2, "seed", 1));

@@ -159,6 +159,8 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   config.seed = o.seed;
   config.seconds = o.seconds > 0 ? o.seconds : sport.seconds();
   config.first_spot = sport.first_spot();
+  config.balance_per_goal = o.auto_balance >= 0 ? o.auto_balance : sport.balance_per_goal();
+  config.balance_most = sport.balance_most();
   game::Match match(sport.field(), config, sport, handicaps);
   game::Bots bots(match.field(), skills, o.seed);
   std::optional<TrackedBodies> tracked;

@@ -21,6 +21,7 @@ struct PlayOptions {
   std::string events;           // JSON-lines file, "-" for stdout, empty for none
   std::vector<double> skills;   // per player, 0..1; empty: 0.6 each
   std::vector<double> handicaps;  // per player; empty: the sport's
+  double auto_balance = -1;       // handicap boost per goal behind; < 0: the sport's (docs/lua-api.md)
   std::map<std::string, double> factors;  // overrides of the sport's factors by fate kind
   std::string audio = "none";             // "" the sound card, "none", "wav:FILE" (see MatchAudio)
   bool transcript = true;

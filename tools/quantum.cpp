@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)");
   play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
   play->add_option("--handicap", handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
+  play->add_option("--auto-balance", game.auto_balance, "automatic balance: each goal behind multiplies a team's "
+                                                        "handicaps by 1 + this (default: the sport's)")
+      ->check(CLI::Range(0.0, 10.0));
   game.audio = "";  // the command plays sound by default
   play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)");
   play->add_flag("--quiet", [&](int64_t) { game.transcript = false; }, "no transcript");
@@ -57,6 +60,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 10'000'000u));
   balance->add_option("--skill", study_skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
   balance->add_option("--handicap", study_handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
+  balance->add_option("--auto-balance", study.auto_balance, "automatic balance: each goal behind multiplies a "
+                                                            "team's handicaps by 1 + this (default: the sport's)")
+      ->check(CLI::Range(0.0, 10.0));
   balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
       ->capture_default_str()->check(CLI::IsMember({"sport", "flat"}));
 
@@ -91,7 +97,8 @@ int main(int argc, char** argv) {
       const quantum::tools::BalanceResult r = quantum::tools::balance(study, matches);
       std::cout << r.matches << " matches of " << study.sport << " (seeds " << study.seed << " to "
                 << study.seed + uint64_t(matches) - 1 << ", skills " << (study_skills.empty() ? "0.6 each" : study_skills)
-                << ", handicaps " << (study_handicaps.empty() ? "the sport's" : study_handicaps) << ", "
+                << ", handicaps " << (study_handicaps.empty() ? "the sport's" : study_handicaps)
+                << (study.auto_balance >= 0 ? ", auto-balance " + std::to_string(study.auto_balance) : "") << ", "
                 << study_factors << " factors)\n";
       std::cout << "wins:";
       for (const auto& [team, n] : r.wins) std::cout << ' ' << team << ' ' << n << " (" << 100.0 * n / r.matches << " %)";

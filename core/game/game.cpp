@@ -13,6 +13,8 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
     : world_(std::move(field), WorldConfig{config.particles, 3, config.seed}), config_(config), rules_(&rules) {
   if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
   if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
+  if (!(config.balance_per_goal >= 0 && config.balance_per_goal <= 10 && config.balance_most >= 1))
+    throw std::invalid_argument("automatic balance: per goal must be in [0, 10] and the most >= 1");
   const Field& f = world_.field();
   if (!handicaps.empty() && handicaps.size() != f.bodies.size())
     throw std::invalid_argument("got " + std::to_string(handicaps.size()) + " handicaps for " +
@@ -250,6 +252,16 @@ std::vector<FateView> Match::fates() const {
   return out;
 }
 
+double Match::handicap_now(int k) const {
+  const Player& p = players_[size_t(k)];
+  if (config_.balance_per_goal <= 0) return p.handicap;
+  int lead = 0;
+  for (const auto& [team, goals] : score_) lead = std::max(lead, goals);
+  const auto own = score_.find(p.team);
+  const int behind = lead - (own == score_.end() ? 0 : own->second);
+  return p.handicap * std::min(config_.balance_most, std::pow(1 + config_.balance_per_goal, behind));
+}
+
 void Match::retweak() {
   FateReport report = world_.predict();
   std::vector<FateView> views;
@@ -266,15 +278,15 @@ void Match::retweak() {
     const FateView& v = views[k];
     double h = 1;
     if (v.kind == "body") {
-      h = players_[report.groups[k].fate.target].handicap;
+      h = handicap_now(report.groups[k].fate.target);
     } else if (!v.favours.empty()) {
       if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) {
-        h = players_[last_toucher_].handicap;
+        h = handicap_now(last_toucher_);
       } else {
         double sum = 0;
         int n = 0;
-        for (const Player& p : players_)
-          if (p.team == v.favours) sum += p.handicap, ++n;
+        for (size_t p = 0; p < players_.size(); ++p)
+          if (players_[p].team == v.favours) sum += handicap_now(int(p)), ++n;
         if (n > 0) h = sum / n;
       }
     }

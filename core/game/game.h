@@ -71,6 +71,10 @@ struct MatchConfig {
   double fps = 60;
   double seconds = 120;       // time limit; the rules hear time_up when it runs out
   int first_spot = 0;         // where the first ball drops, at once
+  // Automatic balance: for every goal a team trails by, its players' handicaps are multiplied by
+  // (1 + balance_per_goal), up to balance_most times their own. 0 is off.
+  double balance_per_goal = 0;
+  double balance_most = 2;
 };
 
 struct Said {
@@ -139,6 +143,9 @@ class Match {
   const RallyStats& stats() const { return stats_; }
   const std::vector<ActivePowerup>& powerups() const { return powerups_; }
   int last_toucher() const { return last_toucher_; }  // body of the last announced touch this rally, -1 for none
+  // Player k's handicap as it applies now: its own, times the automatic balance's boost while
+  // its team trails.
+  double handicap_now(int k) const;
   int spot_of(const std::string& team_or_name) const;  // -1 when there is none
 
   // Events and phrases since the last call, in order.

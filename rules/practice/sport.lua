@@ -12,7 +12,12 @@ local sport = {
   -- The listener stands behind the shooter, facing the goal.
   audio = { voice = "en", rate = 180, listener = { -0.5, 0 }, facing = { 1, 0 } },
 
+  -- Every third goal earns the goal seeker (rules/powerups/goal_seeker.lua) for ten seconds.
+  streak_reward = { every = 3, powerup = "goal_seeker", seconds = 10 },
+
   phrases = {
+    goal_seeker_start = "Hat trick! Your shots seek the goal",
+    goal_seeker_over = "The goal seeker is gone",
     drop = "New puck {spot}",
     shot = "Shot {n}",
     goal = "Goal! {goals} from {shots}",
@@ -36,6 +41,9 @@ sport.on = {
     goals = goals + 1
     game.award("blue")
     game.say("goal", { goals = goals, shots = shots })
+    if goals % sport.streak_reward.every == 0 then
+      game.grant(e.by, sport.streak_reward.powerup, { seconds = sport.streak_reward.seconds })
+    end
     game.respawn("blue", 1.0)
   end,
 

@@ -1,12 +1,14 @@
 // Handicaps, measured as the issue asks: a weak simulated player (skill 0, Red) against a strong
 // one (skill 1, Blue) over 200 seeded matches, without and with a handicap of 2 for the weak
-// one (since bounces are heard, skill counts for much more: docs/gameflow.md). Fixed seeds; 300 particles keep the 400 matches within a minute on two cores.
+// one (since bounces are heard, skill counts for much more: docs/gameflow.md). Fixed seeds; 300
+// particles keep the 400 matches within a minute on two cores. And the automatic balance.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 
 #include "play.h"
+#include "sport.h"
 
 namespace quantum {
 namespace {
@@ -56,6 +58,29 @@ TEST(Balance, ResultsDoNotDependOnHowMatchesAreSpread) {
   EXPECT_EQ(wins, all.wins);
   EXPECT_EQ(draws, all.draws);
   EXPECT_THROW(tools::balance(o, 0), std::invalid_argument);
+}
+
+// The automatic balance: each goal behind multiplies the trailing team's handicaps by 1 + per
+// goal, up to `most` times their own; the leaders keep theirs.
+TEST(Balance, AutoBalanceBoostsTheTrailingTeamPerGoalUpToItsMost) {
+  lua::Sport sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  game::MatchConfig config;
+  config.particles = 100;
+  config.balance_per_goal = 0.5;
+  config.balance_most = 2;
+  game::Match match(sport.field(), config, sport, {1.0, 1.2});
+  EXPECT_DOUBLE_EQ(match.handicap_now(0), 1.0);
+  EXPECT_DOUBLE_EQ(match.handicap_now(1), 1.2);
+  match.award("red", 1);
+  EXPECT_DOUBLE_EQ(match.handicap_now(0), 1.5);  // Blue trails by one
+  EXPECT_DOUBLE_EQ(match.handicap_now(1), 1.2);
+  match.award("red", 2);
+  EXPECT_DOUBLE_EQ(match.handicap_now(0), 2.0);  // 1.5^3 = 3.375, held at twice its own
+  match.award("blue", 4);
+  EXPECT_DOUBLE_EQ(match.handicap_now(0), 1.0);
+  EXPECT_DOUBLE_EQ(match.handicap_now(1), 1.2 * 1.5);
+  config.balance_per_goal = -1;
+  EXPECT_THROW(game::Match(sport.field(), config, sport), std::invalid_argument);
 }
 
 }  // namespace

@@ -31,6 +31,29 @@ describe("Shooting practice", function()
     assert.is_true(scored >= 7, scored .. " of 10 straight shots scored")
   end)
 
+  it("gives the goal seeker for every third goal", function()
+    local s = quantum.scenario(SPORT, { seed = 3 })
+    local goals = 0
+    for _ = 1, 3 do
+      s:place("Shooter", -0.3, 0.0)
+      s:run(goals == 0 and 0.05 or 1.05)        -- the puck drops at (-0.1, 0), 1 s after a goal
+      s:move("Shooter", 0.05, 0.0, 0.15)        -- strike straight at the goal
+      goals = goals + count(s:run(2.0, "goal"), "goal")
+    end
+    local granted = 0
+    for _, e in ipairs(s:events()) do
+      if e.type == "powerup" then
+        granted = granted + 1
+        assert.are.equal("goal_seeker", e.powerup)
+        assert.are.equal("Shooter", e.actor)
+      end
+    end
+    assert.are.equal(3, goals, "straight shots; this seed scores all three")
+    assert.are.equal(1, granted)
+    local said = table.concat(s:said(), " | ")
+    assert.is_truthy(said:find("Hat trick! Your shots seek the goal", 1, true), said)
+  end)
+
   it("tells the tally when time is up, and ends the session", function()
     local s = quantum.scenario(SPORT, { seed = 2 })
     s:place("Shooter", -0.45, 0.4)  -- in a corner, never touching the puck
