@@ -64,9 +64,11 @@ Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules) : ins
 Sandbox::~Sandbox() { lua_close(L_); }
 
 bool Sandbox::call(int nargs, int nresults, std::string& error) {
-  lua_sethook(L_, on_budget_spent, LUA_MASKCOUNT, instructions_);
+  // A call made from inside another (game.grant running a power-up's start from a handler)
+  // spends the outer call's budget; only the outermost arms and disarms it.
+  if (depth_++ == 0) lua_sethook(L_, on_budget_spent, LUA_MASKCOUNT, instructions_);
   const int status = lua_pcall(L_, nargs, nresults, 0);
-  lua_sethook(L_, nullptr, 0, 0);
+  if (--depth_ == 0) lua_sethook(L_, nullptr, 0, 0);
   if (status == 0) return true;
   const char* m = lua_tostring(L_, -1);
   error = m ? m : (status == LUA_ERRMEM ? "not enough memory" : "error object is not a string");

@@ -45,6 +45,7 @@ class Sandbox {
   lua_State* L_ = nullptr;
   int env_ = LUA_NOREF;
   int instructions_;
+  int depth_ = 0;  // calls in progress (a handler's game.grant calls into the script again)
 };
 
 }  // namespace quantum::lua

@@ -316,8 +316,10 @@ int Sport::powerup(const std::string& name) {
   namespace fs = std::filesystem;
   if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
     throw std::invalid_argument("power-up '" + name + "': names are lower-case letters, digits and _");
-  const fs::path own = fs::path(folder_) / "powerups" / (name + ".lua");
-  const fs::path shared = fs::path(folder_).lexically_normal().parent_path() / "powerups" / (name + ".lua");
+  fs::path sport = fs::path(folder_).lexically_normal();
+  if (sport.filename().empty()) sport = sport.parent_path();  // "rules/practice/"
+  const fs::path own = sport / "powerups" / (name + ".lua");
+  const fs::path shared = sport.parent_path() / "powerups" / (name + ".lua");
   const fs::path file = fs::exists(own) ? own : shared;
   if (!fs::exists(file))
     throw ScriptError("no power-up '" + name + "' (looked for " + own.string() + " and " + shared.string() + ")");
@@ -431,35 +433,67 @@ void Sport::reload_powerup(const std::string& name) {
 
 namespace {
 
-// Copies the plain data at `index` of `from` onto the top of `to`: what survives a reload.
-void copy_plain(lua_State* from, int index, lua_State* to, int depth) {
-  index = index < 0 ? lua_gettop(from) + index + 1 : index;
-  switch (lua_type(from, index)) {
-    case LUA_TBOOLEAN: lua_pushboolean(to, lua_toboolean(from, index)); return;
-    case LUA_TNUMBER: lua_pushnumber(to, lua_tonumber(from, index)); return;
-    case LUA_TSTRING: {
-      size_t n = 0;
-      const char* text = lua_tolstring(from, index, &n);
-      lua_pushlstring(to, text, n);
+// Copies the plain data at `index` of `from` onto the top of `to`: what survives a reload. A
+// table met again (shared, or a cycle) is the same table in the copy, and at most kMaxNodes
+// values are copied: a designer's state must not hang a reload.
+struct PlainCopy {
+  static constexpr int kMaxNodes = 100000;
+  lua_State* from;
+  lua_State* to;
+  int seen;  // index in `to` of a table: from's table pointer -> its copy
+  int nodes = 0;
+
+  void copy(int index) {
+    index = index < 0 ? lua_gettop(from) + index + 1 : index;
+    if (++nodes > kMaxNodes) {
+      lua_pushnil(to);
       return;
     }
-    case LUA_TTABLE:
-      if (depth < 16) break;
-      [[fallthrough]];
-    default: lua_pushnil(to); return;  // functions and the like belong to the old script
-  }
-  lua_newtable(to);
-  lua_pushnil(from);
-  while (lua_next(from, index)) {
-    const int key = lua_type(from, -2);
-    if (key == LUA_TSTRING || key == LUA_TNUMBER) {
-      copy_plain(from, -2, to, depth + 1);
-      copy_plain(from, -1, to, depth + 1);
-      lua_rawset(to, -3);
+    switch (lua_type(from, index)) {
+      case LUA_TBOOLEAN: lua_pushboolean(to, lua_toboolean(from, index)); return;
+      case LUA_TNUMBER: lua_pushnumber(to, lua_tonumber(from, index)); return;
+      case LUA_TSTRING: {
+        size_t n = 0;
+        const char* text = lua_tolstring(from, index, &n);
+        lua_pushlstring(to, text, n);
+        return;
+      }
+      case LUA_TTABLE: break;
+      default: lua_pushnil(to); return;  // functions and the like belong to the old script
     }
-    lua_pop(from, 1);
+    lua_pushlightuserdata(to, const_cast<void*>(lua_topointer(from, index)));
+    lua_rawget(to, seen);
+    if (!lua_isnil(to, -1)) return;
+    lua_pop(to, 1);
+    lua_newtable(to);
+    lua_pushlightuserdata(to, const_cast<void*>(lua_topointer(from, index)));
+    lua_pushvalue(to, -2);
+    lua_rawset(to, seen);
+    lua_pushnil(from);
+    while (lua_next(from, index)) {
+      const int key = lua_type(from, -2);
+      if (key == LUA_TSTRING || key == LUA_TNUMBER) {
+        copy(-2);
+        copy(-1);
+        if (lua_isnil(to, -2)) lua_pop(to, 2);
+        else lua_rawset(to, -3);
+      }
+      lua_pop(from, 1);
+    }
   }
-}
+
+  // Under lua_cpcall on `to`: running out of the new sandbox's memory is an error, not a panic.
+  static int run(lua_State* L) {
+    auto* c = static_cast<PlainCopy*>(lua_touserdata(L, 1));
+    lua_settop(L, 0);
+    lua_newtable(L);
+    c->seen = lua_gettop(L);
+    c->copy(-1);
+    lua_remove(L, c->seen);
+    lua_setfield(L, LUA_REGISTRYINDEX, "quantum.reload_state");  // out of the protected call
+    return 0;
+  }
+};
 
 }  // namespace
 
@@ -471,7 +505,17 @@ void Sport::take_over(Sport& old, game::Match& match) {
   lua_getfield(from, -1, "state");
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int t = lua_gettop(L);
-  copy_plain(from, -1, L, 0);
+  PlainCopy copy{from, L, 0};
+  if (lua_cpcall(L, PlainCopy::run, &copy) != 0) {
+    match.report_error(std::string("reload: the old state could not be carried over: ") +
+                       (lua_tostring(L, -1) ? lua_tostring(L, -1) : "error"));
+    lua_pop(L, 1);
+    lua_pushnil(L);
+  } else {
+    lua_getfield(L, LUA_REGISTRYINDEX, "quantum.reload_state");
+    lua_pushnil(L);
+    lua_setfield(L, LUA_REGISTRYINDEX, "quantum.reload_state");
+  }
   lua_settop(from, old_top);
   lua_getfield(L, t, "on_reload");
   if (lua_isfunction(L, -1)) {
@@ -479,10 +523,11 @@ void Sport::take_over(Sport& old, game::Match& match) {
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     lua_insert(L, -2);  // on_reload, game, state
     game::Match* outer = match_;
+    const game::Match* outer_reading = reading_;
     match_ = &match, reading_ = &match;
     std::string error;
     if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
-    match_ = outer, reading_ = nullptr;
+    match_ = outer, reading_ = outer_reading;
   } else {
     lua_pop(L, 1);
     lua_setfield(L, t, "state");

@@ -208,7 +208,8 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
         }
       }
     }
-    if (!paused) match.step(tracked ? tracked->bodies() : bots.move(match.time() + dt, dt));
+    if (paused) std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a camera is asked again, not spun on
+    else match.step(tracked ? tracked->bodies() : bots.move(match.time() + dt, dt));
     std::vector<game::GameEvent> events = match.take_events();
     events.insert(events.begin(), host_events.begin(), host_events.end());
     const std::vector<game::Said> said = match.take_said();

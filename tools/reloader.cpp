@@ -18,8 +18,10 @@ RulesReloader::RulesReloader(const std::string& sport_folder, std::map<std::stri
   fd_ = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error(std::string("cannot watch the rules: ") + std::strerror(errno));
   // Editors save in place (close after write) or write a new file and rename it over the old.
-  const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE;
-  const fs::path sport = fs::path(sport_folder).lexically_normal();
+  const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO;
+  fs::path sport = fs::path(sport_folder).lexically_normal();
+  if (sport.filename().empty()) sport = sport.parent_path();  // "rules/practice/"
+  folder_ = sport.string();
   for (const fs::path& dir : {sport, sport / "powerups", sport.parent_path() / "powerups"}) {
     if (!fs::is_directory(dir)) continue;
     const int wd = inotify_add_watch(fd_, dir.c_str(), mask);
@@ -42,7 +44,7 @@ int RulesReloader::poll(std::unique_ptr<lua::Sport>& sport, game::Match& match, 
     }
   }
   int reloaded = 0;
-  const std::string sport_dir = fs::path(folder_).lexically_normal().string();
+  const std::string& sport_dir = folder_;
   for (const auto& [dir, file] : changed) {
     if (fs::path(file).extension() != ".lua") continue;
     const std::string path = (fs::path(dir) / file).string();
@@ -50,8 +52,9 @@ int RulesReloader::poll(std::unique_ptr<lua::Sport>& sport, game::Match& match, 
       if (dir == sport_dir && file == "sport.lua") {
         auto fresh = std::make_unique<lua::Sport>(folder_);
         for (const auto& [kind, value] : factors_) fresh->set_factor(kind, value);
-        fresh->take_over(*sport, match);
+        // The new rules hear whatever on_reload sets off; the old ones are still there to read.
         match.set_rules(*fresh);
+        fresh->take_over(*sport, match);
         sport = std::move(fresh);
         ++reloaded;
       } else if (dir == sport_dir && file == "field.lua") {

@@ -27,7 +27,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 class LiveKinect {
  public:
   ~LiveKinect() {
-    if (frames_ > 0) freenect_sync_stop();
+    if (asked_) freenect_sync_stop();  // its thread may have started even if a grab failed
   }
   // False when no frame came (after the first one: the Kinect went away; it is asked again on the
   // next call). Throws when there was never a Kinect.
@@ -35,6 +35,7 @@ class LiveKinect {
     void *depth = nullptr, *video = nullptr;
     uint32_t depth_ts = 0, video_ts = 0;
     bool got = false;
+    asked_ = true;
     {
       // libfreenect prints its troubles to stdout, where the JSON lines go.
       const system::Quiet quiet({1, 2});
@@ -56,6 +57,7 @@ class LiveKinect {
 
  private:
   int frames_ = 0;
+  bool asked_ = false;
   Clock::time_point start_;
 };
 

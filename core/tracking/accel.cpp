@@ -43,8 +43,10 @@ AccelSource::AccelSource(const std::string& spec) {
     a.sin_family = AF_INET;
     a.sin_port = htons(uint16_t(port));
     a.sin_addr.s_addr = htonl(INADDR_ANY);
-    if (socket_ < 0 || ::bind(socket_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0)
+    if (socket_ < 0 || ::bind(socket_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+      if (socket_ >= 0) ::close(socket_);
       throw TrackingError("--accel " + spec + ": cannot listen on UDP port " + std::to_string(port));
+    }
     return;
   }
   std::ifstream in(spec);

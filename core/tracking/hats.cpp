@@ -16,6 +16,7 @@ HatTracker::HatTracker(TrackedField field, HatConfig config) : field_(std::move(
 
 cv::Point2f HatTracker::to_image(double x, double y) const {
   const cv::Vec3d c = pose_->r * cv::Vec3d(x, y, config_.hat_height) + pose_->t;
+  if (!(c[2] > 0)) return {NAN, NAN};  // behind the camera
   return {float(camera_.fx * c[0] / c[2] + camera_.cx), float(camera_.fy * c[1] / c[2] + camera_.cy)};
 }
 
@@ -67,7 +68,12 @@ std::vector<HatTracker::Blob> HatTracker::blobs(size_t colour) const {
 }
 
 void HatTracker::follow(cv::Size image, double dt) {
-  for (Hat& h : hats_) h.filter.predict(dt), h.coasting += dt;
+  // A hat lost (not crossing) for more than half a second stays where it was last thought to
+  // be: its old velocity would carry it off the field.
+  for (Hat& h : hats_) {
+    if (h.lost < 0.5) h.filter.predict(dt);
+    h.coasting += dt;
+  }
   // Two hats of one team about to meet, by their filters: their blobs are about to become one.
   // Both coast on the velocities they had while apart, which carry them past each other, so
   // each comes out of the crossing on its own side.
@@ -84,6 +90,8 @@ void HatTracker::follow(cv::Size image, double dt) {
     Hat& h = hats_[i];
     if (crossing[i]) continue;
     const cv::Point2f p = to_image(h.filter.x(), h.filter.y());
+    if (!(p.x > -h.side && p.y > -h.side && p.x < image.width + h.side && p.y < image.height + h.side))
+      continue;  // out of the picture (or behind the camera: NaN)
     cv::Rect window(int(p.x) - h.side / 2, int(p.y) - h.side / 2, h.side, h.side);
     window &= cv::Rect(0, 0, image.width, image.height);
     if (window.area() == 0) continue;
@@ -117,8 +125,11 @@ void HatTracker::follow(cv::Size image, double dt) {
       free.erase(nearest);
     }
   }
-  for (size_t i = 0; i < hats_.size(); ++i)
-    if (seen[i]) hats_[i].filter.correct(seen[i]->x, seen[i]->y), hats_[i].coasting = 0;
+  for (size_t i = 0; i < hats_.size(); ++i) {
+    Hat& h = hats_[i];
+    if (seen[i]) h.filter.correct(seen[i]->x, seen[i]->y), h.coasting = h.lost = 0;
+    else if (!crossing[i]) h.lost += dt;
+  }
 }
 
 TrackedFrame HatTracker::feed(const cv::Mat& bgr, int index, double t) {

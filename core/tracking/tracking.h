@@ -175,6 +175,7 @@ class HatTracker {
     PointFilter filter;
     int side;             // px: the CamShift window's side
     double coasting = 0;  // s since it was last seen
+    double lost = 0;      // of which not crossing another hat
   };
   struct Blob {
     Vec2 at;

@@ -112,11 +112,10 @@ double TuioSource::silent() const { return std::chrono::duration<double>(Clock::
 std::optional<TrackedFrame> TuioSource::next(double timeout) {
   State& s = *state_;
   const auto until = Clock::now() + std::chrono::duration<double>(timeout);
+  // Whatever is waiting is read even with no time to wait; then up to the timeout for more.
   while (!s.complete) {
-    const int left = int(std::chrono::duration<double, std::milli>(until - Clock::now()).count());
-    if (left <= 0 || lo_server_recv_noblock(s.server, left) == 0) {
-      if (Clock::now() >= until) return std::nullopt;
-    }
+    const int left = std::max(0, int(std::chrono::duration<double, std::milli>(until - Clock::now()).count()));
+    if (lo_server_recv_noblock(s.server, left) == 0 && left == 0) return std::nullopt;
   }
   s.complete = false;
   s.assign_cursors();

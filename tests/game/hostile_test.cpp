@@ -19,6 +19,9 @@ std::string hostile_sport(const std::string& name, const std::string& body) {
   const fs::path dir = fs::temp_directory_path() / ("quantum_hostile_" + name);
   fs::create_directories(dir);
   fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", dir / "field.lua", fs::copy_options::overwrite_existing);
+  fs::create_directories(dir / "powerups");  // the sport's own power-ups come first
+  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/powerups/attract.lua", dir / "powerups" / "attract.lua",
+                fs::copy_options::overwrite_existing);
   std::ifstream in(QUANTUM_SOURCE_DIR "/rules/airhockey/sport.lua");
   std::stringstream text;
   text << in.rdbuf();
@@ -49,6 +52,7 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
       {"dofile", "dofile('/etc/passwd')", "global 'dofile'"},
       {"gc", "collectgarbage('stop')", "global 'collectgarbage'"},
       {"endless", "while true do end", "script runs too long"},
+      {"endless_after_grant", "game.grant('Red\\'s mallet', 'attract') while true do end", "script runs too long"},
       {"recursion", "local function f() return 1 + f() end f()", "stack overflow"},
       {"string_bomb", "local s = string.rep('x', 2^30)", "not enough memory"},
       {"table_bomb", "local t = {} while true do t[#t + 1] = string.rep('y', 2^20) .. #t end", "not enough memory"},

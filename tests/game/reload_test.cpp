@@ -135,7 +135,8 @@ TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
             "sport.state = { reloads = 0 }\n"
             "sport.on_reload = function(game, old)\n"
             "  sport.state = { reloads = ((old and old.reloads) or 0) + 1 }\n"
-            "  game.say('reloaded ' .. sport.state.reloads .. ' times')\n"
+            "  sport.state.self = sport.state\n"
+            "  game.say('reloaded ' .. sport.state.reloads .. ' times' .. (old and old.self == old and ', cycle kept' or ''))\n"
             "end\n"
             "return sport");
   r.write(r.sport / "sport.lua", s);
@@ -147,7 +148,7 @@ TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
   for (const game::Said& x : m.match->take_said()) said.push_back(x.text);
   ASSERT_GE(said.size(), 2u);
   EXPECT_EQ(said[said.size() - 2], "reloaded 1 times");
-  EXPECT_EQ(said.back(), "reloaded 2 times");
+  EXPECT_EQ(said.back(), "reloaded 2 times, cycle kept");  // a table met again is the same table
   EXPECT_EQ(m.match->score().at("red"), 2);          // the score stays
   EXPECT_EQ(m.match->powerups().size(), 1u);         // and the power-up with it
   m.match->step(m.still);                            // the match goes on under the new rules
