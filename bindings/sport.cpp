@@ -553,6 +553,17 @@ void Sport::announce_powerup(const game::GameEvent& e, game::Match& match) {
     }
   }
   lua_settop(L, top);
+  // stop(holder, game): undoes what start did to the field (the wormhole closes).
+  if (e.type != "powerup_end" || e.actor_index < 0) return;
+  lua_rawgeti(L, LUA_REGISTRYINDEX, script->second);
+  lua_getfield(L, -1, "stop");
+  if (lua_isfunction(L, -1)) {
+    push_player(L, match, size_t(e.actor_index));
+    lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+    std::string error;
+    if (!sandbox_.call(2, 0, error)) match.report_error(error + " (stop of power-up " + e.powerup + " skipped)");
+  }
+  lua_settop(L, top);
 }
 
 }  // namespace quantum::lua

@@ -113,6 +113,21 @@ int grant(lua_State* L) {
   });
 }
 
+// game.wormhole(ax, ay, bx, by [, radius]): what enters the mouth at (ax, ay) leaves the one at
+// (bx, by), and back (radius 0.1 m by default); game.wormhole() closes it.
+int wormhole(lua_State* L) {
+  game::Match& m = acting(L, "wormhole");
+  std::vector<Wormhole> holes;
+  if (lua_gettop(L) > 0)
+    holes.push_back({{float(luaL_checknumber(L, 1)), float(luaL_checknumber(L, 2))},
+                     {float(luaL_checknumber(L, 3)), float(luaL_checknumber(L, 4))},
+                     float(luaL_optnumber(L, 5, 0.1))});
+  return guarded(L, [&] {
+    m.set_wormholes(std::move(holes));
+    return 0;
+  });
+}
+
 // game.powerups(): {name, player, remaining, <its numbers>} for each active power-up.
 int powerups(lua_State* L) {
   const game::Match& m = reading(L);
@@ -138,7 +153,7 @@ void push_game_api(lua_State* L, Sport* sport) {
   const luaL_Reg functions[] = {{"say", say},         {"award", award},       {"respawn", respawn},
                                 {"finish", finish},   {"grant", grant},       {"score", score},
                                 {"time", time},       {"teams", teams},       {"players", players},
-                                {"powerups", powerups}, {"last_touch", last_touch}};
+                                {"powerups", powerups}, {"last_touch", last_touch}, {"wormhole", wormhole}};
   lua_newtable(L);
   for (const luaL_Reg& f : functions) {
     lua_pushlightuserdata(L, sport);

@@ -89,6 +89,11 @@ void Match::grant(int player, const std::string& name, double seconds, std::map<
   tell_rules(e);
 }
 
+void Match::set_wormholes(std::vector<Wormhole> wormholes) {
+  world_.set_wormholes(std::move(wormholes));
+  if (world_.live()) retweak();  // the fates go through them from now on
+}
+
 void Match::expire_powerups() {
   for (size_t k = 0; k < powerups_.size();) {
     if (time() < powerups_[k].until - 1e-9) {

@@ -118,6 +118,10 @@ class Match {
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   void respawn(int spot, double delay);
   void finish(const std::string& winner);  // "" for a draw
+  // Opens these wormholes on the field, replacing any (an empty list closes them). Throws
+  // std::invalid_argument for mouths the core refuses.
+  void set_wormholes(std::vector<Wormhole> wormholes);
+
   // Gives `player` (a body index) a power-up for `seconds`; it ends with a powerup_end event. A
   // second one of the same name replaces the first. Throws std::invalid_argument for bad values.
   void grant(int player, const std::string& name, double seconds, std::map<std::string, double> params);

@@ -42,6 +42,8 @@ class Backend {
   // particle that touched a body, crossed a goal line, left the bounds or bounced audibly off a
   // wall (the first such thing), in any order. Particles hold their state after the bounce.
   virtual void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) = 0;
+  // Opens these wormholes (none closes them). Throws std::logic_error where there are none.
+  virtual void set_wormholes(const std::vector<Wormhole>& wormholes) = 0;
 };
 
 std::unique_ptr<Backend> make_fast_backend(const Field& field);

@@ -153,6 +153,12 @@ Geometry::Candidates Geometry::candidates(float x, float y, float travel2) const
           uint16_t(at[2] - at[1]), uint16_t(at[3] - at[2]), cell_near_bounds[row * cols + col] != 0};
 }
 
+void Geometry::set_wormholes(const std::vector<Wormhole>& wormholes) {
+  mx.clear(), my.clear(), mr.clear();
+  for (const Wormhole& w : wormholes)
+    for (Vec2 p : {w.a, w.b}) mx.push_back(p.x), my.push_back(p.y), mr.push_back(w.radius);
+}
+
 void MoverBatch::resize(size_t n) {
   for (auto* v : {&x, &y, &ux, &uy, &vx, &vy, &t, &when, &hnx, &hny}) v->resize(n);
   code.resize(n);
@@ -197,6 +203,10 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
   if (near.near_bounds) {
     const float dt = bounds_time(g.bounds, m.x, m.y, m.ux, m.uy, span);
     if (dt < best.dt) best = {dt, HitKind::Out, 0, 0, 0};
+  }
+  for (size_t k = 0; k < g.mx.size(); ++k) {
+    const float dt = mouth_time(m.x - g.mx[k], m.y - g.my[k], m.ux, m.uy, g.mr[k], span);
+    if (dt < best.dt) best = {dt, HitKind::Portal, int(k), 0, 0};
   }
   if (!with_bodies) return best;
   for (int k = 0; k < n_bodies; ++k) {
@@ -281,6 +291,18 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
       hnx[i] = better ? 0.0f : hnx[i], hny[i] = better ? 0.0f : hny[i];
     }
   }
+  for (size_t k = 0; k < g.mx.size(); ++k) {
+    const int32_t c = hit_code(HitKind::Portal, int(k));
+    const float px = g.mx[k], py = g.my[k], pr = g.mr[k];
+    // Each iteration reads and writes only particle i.
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float dt = mouth_time(x[i] - px, y[i] - py, ux[i], uy[i], pr, t1 - t[i]);
+      const bool better = dt < when[i];
+      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+      hnx[i] = better ? 0.0f : hnx[i], hny[i] = better ? 0.0f : hny[i];
+    }
+  }
   for (int k = 0; k < n_bodies; ++k) {
     const BodyPath body = bodies[k];
     const int32_t c = hit_code(HitKind::Body, k);
@@ -305,6 +327,12 @@ void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index,
     if (un < 0) m.ux -= (1 + g.e_wall) * un * nx, m.uy -= (1 + g.e_wall) * un * ny;
     if (vn < 0) m.vx -= (1 + g.e_wall) * vn * nx, m.vy -= (1 + g.e_wall) * vn * ny;
     m.x += kSkin * nx, m.y += kSkin * ny;
+  } else if (kind == HitKind::Portal) {
+    // Out of the other mouth at the same offset, a hair inside it so it is not entering it.
+    const int to = index ^ 1;
+    const float s = 1 - 1e-4f;
+    m.x = g.mx[size_t(to)] + (m.x - g.mx[size_t(index)]) * s;
+    m.y = g.my[size_t(to)] + (m.y - g.my[size_t(index)]) * s;
   } else if (kind == HitKind::Body) {
     // A mallet is far heavier than a puck: the ball takes the body's velocity along the normal.
     const BodyPath& b = bodies[index];

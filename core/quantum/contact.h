@@ -43,6 +43,9 @@ struct Geometry {
   // No wall, goal line or bound within reach of a ball centre inside this box: a particle that
   // starts and ends a step inside it needs no contact search.
   Box safe;
+  // Wormhole mouths: 2k and 2k + 1 are the two ends of wormhole k (set at run time).
+  std::vector<float> mx, my, mr;
+  void set_wormholes(const std::vector<Wormhole>& wormholes);
 
   // A uniform grid over the bounds. Each cell lists the segments, end points and goal lines
   // that a ball starting in the cell can reach within `grid_reach` of travel: a step's path is a
@@ -128,6 +131,16 @@ inline SegmentParams goal_line(const Geometry& g, size_t k) {
   return d0 <= kTolerance && approach > 0 && dt <= span && along >= 0 && along <= s.len ? dt : kInf;
 }
 
+// The ball's centre entering a wormhole mouth (centre at -q, radius rr) from outside: a ball
+// inside one, just arrived through it, is not entering it.
+[[gnu::always_inline]] inline float mouth_time(float qx, float qy, float wx, float wy, float rr, float span) {
+  const float c = qx * qx + qy * qy - rr * rr;
+  const float b = qx * wx + qy * wy, ww = wx * wx + wy * wy;
+  const float disc = b * b - ww * c;
+  const float dt = std::max(0.0f, (-b - std::sqrt(std::max(disc, 0.0f))) / ww);
+  return c > 0 && b < 0 && disc >= 0 && dt <= span ? dt : kInf;
+}
+
 // The ball's centre leaving the bounds.
 [[gnu::always_inline]] inline float bounds_time(const Box& bounds, float x, float y, float ux, float uy, float span) {
   const float tx = ux > 0 ? (bounds.x1 - x) / ux : ux < 0 ? (bounds.x0 - x) / ux : kInf;
@@ -153,12 +166,12 @@ inline SegmentParams goal_line(const Geometry& g, size_t k) {
 
 // --- Searches.
 
-enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed };
+enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed, Portal };
 
 struct Hit {
   float dt;  // from the search's start
   HitKind kind;
-  int index;  // wall id, body or goal
+  int index;  // wall id, body, goal or wormhole mouth
   float nx, ny;
 };
 

@@ -92,6 +92,17 @@ class FastBackend final : public Backend {
           flag[j] |= uint8_t(touches);
         }
       }
+      // Wormhole mouths may lie inside the safe box: a particle whose step can reach one is searched.
+      for (size_t k = 0; k < g.mx.size(); ++k) {
+        const float cx = g.mx[k], cy = g.my[k], reach = g.mr[k] + 1e-3f;
+#pragma GCC ivdep
+        for (int j = 0; j < m; ++j) {
+          const int i = base + j;
+          const float travel = std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]);
+          const float qx = ox[j] - cx, qy = oy[j] - cy, around = reach + travel;
+          flag[j] |= uint8_t(qx * qx + qy * qy < around * around);
+        }
+      }
       // Collect the flagged particles eight flags at a time: most words are all zero, and a branch
       // per particle would mispredict constantly.
       std::fill(flag + m, flag + ((m + 7) & ~7), uint8_t(0));
@@ -110,6 +121,8 @@ class FastBackend final : public Backend {
     }
     tracer_.finish_all(finish);
   }
+
+  void set_wormholes(const std::vector<Wormhole>& wormholes) override { geometry_.set_wormholes(wormholes); }
 
  private:
   struct Near {

@@ -83,7 +83,7 @@ Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int n
     t += hit.dt;
     visit(m.x, m.y);
     if (ends_at(f, hit.kind, hit.index, own_goal)) return f;
-    add_to_path(f, hit.index);
+    if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);  // a wormhole is no wall
     detail::resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
     ++contact;
   }
@@ -116,6 +116,10 @@ bool meets_nothing(const detail::Geometry& g, const detail::BodyPath* bodies, in
                    float dt) {
   if (!g.safe.contains(m.x, m.y) || !g.safe.contains(m.x + m.ux * dt, m.y + m.uy * dt)) return false;
   const float travel = (std::fabs(m.ux) + std::fabs(m.uy)) * dt;
+  for (size_t k = 0; k < g.mx.size(); ++k) {
+    const float qx = m.x - g.mx[k], qy = m.y - g.my[k], reach = g.mr[k] + travel + 1e-3f;
+    if (qx * qx + qy * qy < reach * reach) return false;
+  }
   for (int k = 0; k < nb; ++k) {
     const detail::BodyPath& b = bodies[k];
     const float sweep = (std::fabs(b.ux) + std::fabs(b.uy)) * std::min(dt, b.stop);
@@ -160,7 +164,7 @@ void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int 
           Fate& f = fates[flying.id[j]];
           const int index = detail::code_index(b.code[j]);
           if (ends_at(f, kind, index, own_goal)) continue;
-          add_to_path(f, index);
+          if (kind == detail::HitKind::Wall) add_to_path(f, index);  // a wormhole is no wall
           const uint8_t touched = uint8_t(flying.contacts[j] + 1);
           if (touched >= kMaxFateContacts) continue;
           const float dt = b.when[j], t = b.t[j] + dt;

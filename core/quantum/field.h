@@ -25,6 +25,13 @@ struct Goal {
   Vec2 a, b;
 };
 
+// Two round mouths on the field: a ball whose centre enters one leaves the other, at the same
+// offset from its centre and with the same velocity (the wormhole power-up).
+struct Wormhole {
+  Vec2 a, b;
+  float radius = 0.1f;
+};
+
 struct Spot {
   std::string name, team;
   Vec2 at;

@@ -144,6 +144,30 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   if (live_ && cloud_.size() < config_.particles) split_round(false);
 }
 
+void World::set_wormholes(std::vector<Wormhole> wormholes) {
+  const detail::Geometry& g = internals_->geometry;
+  for (size_t k = 0; k < wormholes.size(); ++k) {
+    const Wormhole& w = wormholes[k];
+    const std::string which = "wormhole " + std::to_string(k) + ": ";
+    if (!(std::isfinite(w.radius) && w.radius > 0)) throw std::invalid_argument(which + "radius must be > 0");
+    for (Vec2 p : {w.a, w.b}) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !g.bounds.contains(p.x, p.y))
+        throw std::invalid_argument(which + "a mouth lies outside the field");
+      // A ball coming out anywhere in the mouth must not overlap a wall.
+      for (size_t s = 0; s < g.ax.size(); ++s) {
+        const float px = p.x - g.ax[s], py = p.y - g.ay[s];
+        const float along = std::clamp(px * g.tx[s] + py * g.ty[s], 0.0f, g.len[s]);
+        if (std::hypot(px - along * g.tx[s], py - along * g.ty[s]) < w.radius + g.r)
+          throw std::invalid_argument(which + "a mouth is within a ball's radius of a wall");
+      }
+    }
+  }
+  backend_->set_wormholes(wormholes);
+  internals_->geometry.set_wormholes(wormholes);
+  wormholes_ = std::move(wormholes);
+  ++version_;
+}
+
 void World::place_bodies(std::span<const BodyInput> input) {
   check_bodies(input);
   for (size_t k = 0; k < input.size(); ++k) body_pos_[k] = input[k].position, body_vel_[k] = input[k].velocity;

@@ -70,6 +70,12 @@ class World {
   // for bad input, like step().
   void place_bodies(std::span<const BodyInput> input);
 
+  // Opens these wormholes, replacing any open ones (an empty list closes them all). Throws
+  // std::invalid_argument for a mouth that is not finite, not positive, outside the bounds or
+  // within a ball's radius of a wall, and std::logic_error from a backend without wormholes.
+  void set_wormholes(std::vector<Wormhole> wormholes);
+  const std::vector<Wormhole>& wormholes() const { return wormholes_; }
+
   // Says who touched the ball last (a body, or -1 for nobody), which decides own goals. For
   // setting up a scene, like set_cloud(). Throws std::invalid_argument for an unknown body.
   void set_last_touch(int body);
@@ -117,6 +123,7 @@ class World {
   std::unique_ptr<struct WorldInternals> internals_;
   Cloud cloud_, scratch_;
   std::vector<Cloud> purgatory_;          // body * purgatory_frames + slot
+  std::vector<Wormhole> wormholes_;
   std::vector<uint64_t> slot_step_;       // the step each slot was filled in
   std::vector<Vec2> body_pos_, body_vel_;
   std::vector<BodyMotion> motion_;

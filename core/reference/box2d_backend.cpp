@@ -148,6 +148,10 @@ class Box2DBackend final : public Backend {
     }
   }
 
+  void set_wormholes(const std::vector<Wormhole>& wormholes) override {
+    if (!wormholes.empty()) throw std::logic_error("the Box2D reference has no wormholes");
+  }
+
  private:
   void add_particle() {
     b2BodyDef bd;

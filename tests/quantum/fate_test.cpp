@@ -201,3 +201,58 @@ TEST(Fate, BadTweaksAreRefused) {
 
 }  // namespace
 }  // namespace quantum
+
+namespace quantum {
+namespace {
+
+// Wormholes: a ball whose centre enters one mouth leaves the other at the same offset and
+// velocity. A shot along the left side (y = 0.35, at Red's end wall, no goal) goes through a
+// mouth at (-0.2, 0.35) and comes out of one at (0.7, 0), straight at Red's goal: prediction
+// says goal, and stepping scores it. Without the wormhole the same shot bounces off the end wall.
+TEST(Wormhole, ABallGoesThroughAndPredictionKnows) {
+  Field f = test::quiet_airhockey();
+  f.bodies.clear();
+  World world(f, WorldConfig{.particles = 1});
+  world.set_cloud(test::single(-0.5f, 0.35f, 2.0f, 0));
+  EXPECT_EQ(world.predict().groups.at(0).fate.kind, FateKind::Field);  // off the end wall, and on
+  world.set_wormholes({{{-0.2f, 0.35f}, {0.7f, 0.0f}, 0.05f}});
+  const FateReport r = world.predict();
+  ASSERT_EQ(r.groups.size(), 1u);
+  EXPECT_EQ(r.groups[0].fate.kind, FateKind::Goal);
+  EXPECT_EQ(r.groups[0].fate.target, 1);
+  EXPECT_EQ(r.groups[0].fate.path_len, 0);  // a wormhole is no wall
+  std::vector<Event> events;
+  for (int s = 0; s < 60 && events.empty(); ++s) world.step(kDt, {}, events);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].type, EventType::Goal);
+  EXPECT_NEAR(events[0].at.y, 0.0f, 1e-3);  // it came out of the mouth at (0.7, 0)
+}
+
+TEST(Wormhole, ComingOutOfAMouthIsNotGoingBackIn) {
+  Field f = test::quiet_airhockey();
+  f.bodies.clear();
+  World world(f, WorldConfig{.particles = 1});
+  world.set_wormholes({{{-0.5f, 0.0f}, {0.3f, 0.2f}, 0.08f}});
+  world.set_cloud(test::single(-0.8f, 0.0f, 1.0f, 0));
+  std::vector<Event> events;
+  for (int s = 0; s < 30; ++s) world.step(kDt, {}, events);
+  // Entered at x = -0.58 after 0.22 s, out at x = 0.22 on y = 0.2, then straight on through the
+  // exit mouth and beyond it (0.28 s at 1 m/s).
+  const Cloud& c = world.cloud();
+  EXPECT_NEAR(c.y[0], 0.2f, 1e-4);
+  EXPECT_NEAR(c.x[0], 0.22f + 1.0f * (30 * kDt - 0.22f), 2e-3);
+  EXPECT_NEAR(c.vx[0], 1.0f, 1e-6);
+  EXPECT_TRUE(events.empty());
+}
+
+TEST(Wormhole, BadMouthsAreRefused) {
+  Field f = test::quiet_airhockey();
+  World world(f, WorldConfig{.particles = 1});
+  EXPECT_THROW(world.set_wormholes({{{0.0f, 0.48f}, {0.3f, 0.0f}, 0.05f}}), std::invalid_argument);  // at a wall
+  EXPECT_THROW(world.set_wormholes({{{0.0f, 3.0f}, {0.3f, 0.0f}, 0.05f}}), std::invalid_argument);   // off the field
+  EXPECT_THROW(world.set_wormholes({{{0.0f, 0.0f}, {0.3f, 0.0f}, 0.0f}}), std::invalid_argument);    // no radius
+  EXPECT_NO_THROW(world.set_wormholes({}));
+}
+
+}  // namespace
+}  // namespace quantum

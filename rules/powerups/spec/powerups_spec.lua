@@ -115,6 +115,48 @@ describe("Power-ups", function()
     assert.is_true(kept.intercept > 0.05 and math.abs(kept.intercept - free.intercept) < 1e-9, "keeping its motion, no penalty")
   end)
 
+  -- A shot along the left side of the table, Red's mallet out of the way.
+  local function along_the_side(before)
+    return function(s)
+      s:place("Red's mallet", 0.6, -0.4)
+      if before then before(s) end
+      -- Fanned wide, so some of it misses the mouth, and what comes out is not all on target.
+      s:ball { x = -0.6, y = 0.3, vx = 2.5, vy = 0.0, turn = 0.6, count = 400, by = "Blue's mallet" }
+    end
+  end
+  local side_shot = tweaked(along_the_side())
+
+  it("wormhole: a shot along the left side comes out in front of Red's goal, as often as computed", function()
+    -- Blue's wormhole: a mouth at (-0.3, 0.3) on the shot's line, the other at (0.6, 0). Without
+    -- it the shot meets Red's end wall first, and only its rebounds may find the goal.
+    -- Goal into Red's goal, or anything else (the rest is too thin to count apart).
+    local function goal_or_not(fate) return fate.kind == "goal" and "goal" or "other" end
+    local function classify(events)
+      local e = helpers.outcome(events)
+      return e and e.type == "goal" and "goal" or "other"
+    end
+    local with = helpers.outcomes_follow_the_tweaked_fates(SPORT, { particles = 400 },
+      along_the_side(function(s) s:grant("Blue's mallet", "wormhole") end), goal_or_not, classify)
+    assert.is_true(with.goal > (side_shot.goal or 0) + 0.05,
+      string.format("goal %.3f through the wormhole, %.3f without", with.goal, side_shot.goal or 0))
+  end)
+
+  it("wormhole: closes when it runs out", function()
+    local s = quantum.scenario(SPORT, { seed = 1, particles = 400 })
+    s:grant("Blue's mallet", "wormhole", { seconds = 0.5 })
+    s:run(1.0)
+    local said = table.concat(s:said(), " | ")
+    assert.is_truthy(said:find("The wormhole closes", 1, true), said)
+    along_the_side()(s)
+    local goal = 0
+    for _, f in ipairs(s:fates()) do
+      if f.kind == "goal" then goal = goal + f.tweaked end
+    end
+    -- (Not exactly equal: a second in, the Brownian noise the prediction replays is another.)
+    assert.is_true(math.abs(goal - (side_shot.goal or 0)) < 0.05,
+      string.format("closed: the shot goes as it would without (goal %.3f, %.3f)", goal, side_shot.goal or 0))
+  end)
+
   it("ends after its duration, with the script's phrases", function()
     local s = quantum.scenario(SPORT, { seed = 1 })
     s:grant("Red's mallet", "penalty", { seconds = 0.5 })
