@@ -128,6 +128,17 @@ int wormhole(lua_State* L) {
   });
 }
 
+// game.handicap(player, value): the player's own handicap from now on (> 0).
+int handicap(lua_State* L) {
+  game::Match& m = acting(L, "handicap");
+  const int player = player_index(L, m, 1);
+  const double value = luaL_checknumber(L, 2);
+  return guarded(L, [&] {
+    m.set_handicap(player, value);
+    return 0;
+  });
+}
+
 // game.powerups(): {name, player, remaining, <its numbers>} for each active power-up.
 int powerups(lua_State* L) {
   const game::Match& m = reading(L);
@@ -153,7 +164,8 @@ void push_game_api(lua_State* L, Sport* sport) {
   const luaL_Reg functions[] = {{"say", say},         {"award", award},       {"respawn", respawn},
                                 {"finish", finish},   {"grant", grant},       {"score", score},
                                 {"time", time},       {"teams", teams},       {"players", players},
-                                {"powerups", powerups}, {"last_touch", last_touch}, {"wormhole", wormhole}};
+                                {"powerups", powerups}, {"last_touch", last_touch}, {"wormhole", wormhole},
+                                {"handicap", handicap}};
   lua_newtable(L);
   for (const luaL_Reg& f : functions) {
     lua_pushlightuserdata(L, sport);

@@ -89,6 +89,12 @@ void Match::grant(int player, const std::string& name, double seconds, std::map<
   tell_rules(e);
 }
 
+void Match::set_handicap(int k, double handicap) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  if (!(std::isfinite(handicap) && handicap > 0)) throw std::invalid_argument("a handicap must be > 0");
+  players_[size_t(k)].handicap = handicap;
+}
+
 void Match::set_wormholes(std::vector<Wormhole> wormholes) {
   world_.set_wormholes(std::move(wormholes));
   if (world_.live()) retweak();  // the fates go through them from now on

@@ -118,6 +118,9 @@ class Match {
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   void respawn(int spot, double delay);
   void finish(const std::string& winner);  // "" for a draw
+  // Sets player k's own handicap (> 0) from now on: a sport's rules may change it during a match.
+  void set_handicap(int k, double handicap);
+
   // Opens these wormholes on the field, replacing any (an empty list closes them). Throws
   // std::invalid_argument for mouths the core refuses.
   void set_wormholes(std::vector<Wormhole> wormholes);

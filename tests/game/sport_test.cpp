@@ -37,6 +37,26 @@ TEST(Sport, SyntaxErrorNamesFileAndLine) {
   EXPECT_NE(e.find("sport.lua:3:"), std::string::npos) << e;
 }
 
+// A sport may change a handicap during the match: here the drop handler hands Red a handicap of
+// 3, and a bad value is refused as a rule error.
+TEST(Sport, RulesMayChangeAHandicap) {
+  lua::Sport sport(sport_with("handicap", "local s = { on = { drop = function(game, e)\n"
+                                          "  game.handicap(\"Red's mallet\", 3)\n"
+                                          "  game.handicap(\"Blue's mallet\", -1)\n"
+                                          "end } }\nreturn s"));
+  game::MatchConfig config;
+  config.particles = 100;
+  game::Match match(sport.field(), config, sport);
+  std::vector<BodyInput> still;
+  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
+  match.step(still);
+  EXPECT_DOUBLE_EQ(match.players()[1].handicap, 3.0);
+  EXPECT_DOUBLE_EQ(match.players()[0].handicap, 1.0);
+  const std::vector<std::string> errors = match.take_errors();
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("a handicap must be > 0"), std::string::npos) << errors[0];
+}
+
 TEST(Sport, BadHandlerIsNamed) {
   const std::string e = load_error("handler", "return { on = { gaol = function() end } }");
   EXPECT_NE(e.find("on.gaol: unknown event"), std::string::npos) << e;
