@@ -32,6 +32,21 @@ std::string hostile_sport(const std::string& name, const std::string& body) {
   return dir.string();
 }
 
+// A match of the sport at 200 particles, its players standing where they start.
+struct Played {
+  explicit Played(lua::Sport& sport) : match(sport.field(), config(), sport) {
+    for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
+  }
+  static game::MatchConfig config() {
+    game::MatchConfig c;
+    c.particles = 200;
+    return c;
+  }
+  void step() { match.step(still); }
+  game::Match match;
+  std::vector<BodyInput> still;
+};
+
 struct Case {
   const char* name;
   const char* body;
@@ -59,12 +74,9 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
   };
   for (const Case& c : cases) {
     lua::Sport sport(hostile_sport(c.name, c.body));
-    game::MatchConfig config;
-    config.particles = 200;
-    game::Match match(sport.field(), config, sport);
-    std::vector<BodyInput> still;
-    for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
-    for (int frame = 0; frame < 30; ++frame) match.step(still);
+    Played played(sport);
+    game::Match& match = played.match;
+    for (int frame = 0; frame < 30; ++frame) played.step();
     const std::vector<std::string> errors = match.take_errors();
     ASSERT_EQ(errors.size(), 1u) << c.name;
     EXPECT_NE(errors[0].find(c.error), std::string::npos) << c.name << ": " << errors[0];
@@ -76,13 +88,9 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
 
 TEST(Hostile, OsClockIsThere) {
   lua::Sport sport(hostile_sport("clock", "assert(type(os.clock()) == 'number')"));
-  game::MatchConfig config;
-  config.particles = 200;
-  game::Match match(sport.field(), config, sport);
-  std::vector<BodyInput> still;
-  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
-  match.step(still);
-  EXPECT_TRUE(match.take_errors().empty());
+  Played played(sport);
+  played.step();
+  EXPECT_TRUE(played.match.take_errors().empty());
 }
 
 // A power-up's factor that loops forever: its factor is skipped each frame, reported, and the
@@ -94,14 +102,11 @@ TEST(Hostile, AnEndlessPowerUpIsSkipped) {
   fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", root / "airhockey", fs::copy_options::recursive);
   std::ofstream(root / "powerups" / "spin.lua") << "return { duration = 5, factor = function() while true do end end }\n";
   lua::Sport sport((root / "airhockey").string());
-  game::MatchConfig config;
-  config.particles = 200;
-  game::Match match(sport.field(), config, sport);
-  std::vector<BodyInput> still;
-  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
-  match.step(still);
+  Played played(sport);
+  game::Match& match = played.match;
+  played.step();
   sport.grant(match, 0, "spin", {});
-  for (int frame = 0; frame < 3; ++frame) match.step(still);
+  for (int frame = 0; frame < 3; ++frame) played.step();
   const std::vector<std::string> errors = match.take_errors();
   ASSERT_FALSE(errors.empty());
   EXPECT_NE(errors[0].find("script runs too long"), std::string::npos) << errors[0];
