@@ -140,28 +140,28 @@ std::vector<double> parse_list(const std::string& text, const std::string& optio
 }
 
 PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
-  auto owned = std::make_unique<lua::Sport>(o.sport);
-  lua::Sport& sport = *owned;  // the first version, for the settings a reload does not change
-  for (const auto& [kind, value] : o.factors) sport.set_factor(kind, value);
-  const size_t n_players = sport.field().bodies.size();
+  // A reload replaces the sport between two frames: it is always reached through this pointer.
+  auto sport = std::make_unique<lua::Sport>(o.sport);
+  for (const auto& [kind, value] : o.factors) sport->set_factor(kind, value);
+  const size_t n_players = sport->field().bodies.size();
   std::vector<double> skills = o.skills.empty() ? std::vector<double>(n_players, 0.6) : o.skills;
   if (skills.size() != n_players)
-    throw std::invalid_argument("--skill: " + sport.name() + " has " + std::to_string(n_players) + " players, got " +
+    throw std::invalid_argument("--skill: " + sport->name() + " has " + std::to_string(n_players) + " players, got " +
                                 std::to_string(skills.size()) + " skills");
-  std::vector<double> handicaps = o.handicaps.empty() ? sport.handicaps() : o.handicaps;
+  std::vector<double> handicaps = o.handicaps.empty() ? sport->handicaps() : o.handicaps;
   if (handicaps.size() != n_players)
-    throw std::invalid_argument("--handicap: " + sport.name() + " has " + std::to_string(n_players) +
+    throw std::invalid_argument("--handicap: " + sport->name() + " has " + std::to_string(n_players) +
                                 " players, got " + std::to_string(handicaps.size()) + " handicaps");
   if (!(o.seconds >= 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
 
   game::MatchConfig config;
-  config.particles = o.particles ? o.particles : sport.particles();
+  config.particles = o.particles ? o.particles : sport->particles();
   config.seed = o.seed;
-  config.seconds = o.seconds > 0 ? o.seconds : sport.seconds();
-  config.first_spot = sport.first_spot();
-  config.balance_per_goal = o.auto_balance >= 0 ? o.auto_balance : sport.balance_per_goal();
-  config.balance_most = sport.balance_most();
-  game::Match match(sport.field(), config, sport, handicaps);
+  config.seconds = o.seconds > 0 ? o.seconds : sport->seconds();
+  config.first_spot = sport->first_spot();
+  config.balance_per_goal = o.auto_balance >= 0 ? o.auto_balance : sport->balance_per_goal();
+  config.balance_most = sport->balance_most();
+  game::Match match(sport->field(), config, *sport, handicaps);
   game::Bots bots(match.field(), skills, o.seed);
   std::optional<TrackedBodies> tracked;
   if (o.input != "bots") tracked.emplace(o.input, match.field());
@@ -171,18 +171,18 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
   std::ofstream file;
   std::ostream* log = open_event_log(o.events, file);
 
-  MatchAudio sound(o.audio, sport.audio(), errors);
+  MatchAudio sound(o.audio, sport->audio(), errors);
   auto wall_start = std::chrono::steady_clock::now();
   PlayResult result;
   const double dt = 1.0 / config.fps;
-  if (o.transcript) out << sport.name() << ": " << match.field().name << ", seed " << o.seed << '\n';
+  if (o.transcript) out << sport->name() << ": " << match.field().name << ", seed " << o.seed << '\n';
   // People are listening, or playing: on a sound card or with live players the match runs in
   // real time.
   const bool real_time = sound.on_device() || (tracked && tracked->live());
   bool paused = false;
   while (!match.finished()) {
     // Between two frames: the scripts that changed are loaded again.
-    if (reloader) reloader->poll(owned, match, errors);
+    if (reloader) reloader->poll(sport, match, errors);
     std::vector<game::GameEvent> host_events;  // the host's own: the input paused or resumed
     if (tracked) {
       const TrackingInput::Status status = tracked->advance(match.time() + dt, paused ? 0.1 : 0.0);
@@ -195,7 +195,7 @@ PlayResult play(const PlayOptions& o, std::ostream& out, std::ostream& errors) {
         // A camera that went away pauses the match, with an announcement, until it is back.
         paused = lost;
         const char* key = lost ? "paused" : "resumed";
-        const std::string text = owned->phrase(key, {});
+        const std::string text = sport->phrase(key, {});
         match.say(text != key ? text : lost ? "The players cannot be seen. The match is paused" : "Play on");
         game::GameEvent e;
         e.t = match.time();
