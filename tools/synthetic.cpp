@@ -19,6 +19,15 @@ namespace {
 using V3 = cv::Vec3d;
 constexpr double kMiss = 1e30;
 
+// Field to camera for a camera looking straight down, image right toward the red end (+x),
+// tilted by ta about its x axis and tb about its y axis.
+cv::Matx33d looking_down(double ta, double tb) {
+  const cv::Matx33d down(1, 0, 0, 0, -1, 0, 0, 0, -1);
+  const cv::Matx33d rx(1, 0, 0, 0, std::cos(ta), -std::sin(ta), 0, std::sin(ta), std::cos(ta));
+  const cv::Matx33d ry(std::cos(tb), 0, std::sin(tb), 0, 1, 0, -std::sin(tb), 0, std::cos(tb));
+  return down * rx * ry;
+}
+
 // Smallest t > 0 with o + t d on the sphere (c, r), or kMiss.
 double hit_sphere(const V3& o, const V3& d, const V3& c, double r) {
   const V3 q = o - c;
@@ -114,10 +123,7 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
   // right toward the red end, tilted a little.
   const V3 centre(o.offset * (2 * uni(rng) - 1), o.offset * (2 * uni(rng) - 1), o.height);
   const double ta = o.tilt * (2 * uni(rng) - 1), tb = o.tilt * (2 * uni(rng) - 1);
-  const cv::Matx33d down(1, 0, 0, 0, -1, 0, 0, 0, -1);
-  const cv::Matx33d rx(1, 0, 0, 0, std::cos(ta), -std::sin(ta), 0, std::sin(ta), std::cos(ta));
-  const cv::Matx33d ry(std::cos(tb), 0, std::sin(tb), 0, 1, 0, -std::sin(tb), 0, std::cos(tb));
-  const cv::Matx33d to_field = (down * rx * ry).t();  // camera directions to field directions
+  const cv::Matx33d to_field = looking_down(ta, tb).t();  // camera directions to field directions
 
   std::vector<Player> players;
   for (int end : {-1, 1}) {
@@ -278,10 +284,7 @@ HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
   const double fx = (o.image_width / 2.0) / std::tan(o.horizontal_fov * M_PI / 360);
   const double cx = (o.image_width - 1) / 2.0, cy = (o.image_height - 1) / 2.0;
   const double ta = 0.02 * (2 * uni(rng) - 1), tb = 0.02 * (2 * uni(rng) - 1);
-  const cv::Matx33d down(1, 0, 0, 0, -1, 0, 0, 0, -1);
-  const cv::Matx33d rx(1, 0, 0, 0, std::cos(ta), -std::sin(ta), 0, std::sin(ta), std::cos(ta));
-  const cv::Matx33d ry(std::cos(tb), 0, std::sin(tb), 0, 1, 0, -std::sin(tb), 0, std::cos(tb));
-  const cv::Matx33d r = down * rx * ry;  // field to camera
+  const cv::Matx33d r = looking_down(ta, tb);  // field to camera
   const cv::Vec3d centre(0.2 * (2 * uni(rng) - 1), 0.2 * (2 * uni(rng) - 1), o.height);
   const cv::Vec3d t = -(r * centre);
   auto project = [&](double x, double y, double z) {

@@ -79,9 +79,13 @@ void Match::grant(int player, const std::string& name, double seconds, std::map<
   if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("grant: seconds must be in (0, 3600]");
   std::erase_if(powerups_, [&](const ActivePowerup& p) { return p.player == player && p.name == name; });
   powerups_.push_back({name, player, time() + seconds, std::move(params)});
+  powerup_event("powerup", player, name);
+}
+
+void Match::powerup_event(const char* type, int player, const std::string& name) {
   GameEvent e;
   e.t = time();
-  e.type = "powerup";
+  e.type = type;
   e.actor = players_[size_t(player)].name, e.team = players_[size_t(player)].team, e.actor_index = player;
   e.powerup = name;
   e.at = players_[size_t(player)].position;
@@ -108,14 +112,7 @@ void Match::expire_powerups() {
     }
     const ActivePowerup p = powerups_[k];
     powerups_.erase(powerups_.begin() + long(k));
-    GameEvent e;
-    e.t = time();
-    e.type = "powerup_end";
-    e.actor = players_[size_t(p.player)].name, e.team = players_[size_t(p.player)].team, e.actor_index = p.player;
-    e.powerup = p.name;
-    e.at = players_[size_t(p.player)].position;
-    events_.push_back(e);
-    tell_rules(e);
+    powerup_event("powerup_end", p.player, p.name);
   }
 }
 

@@ -168,6 +168,7 @@ class Match {
  private:
   void handle(const Event& e);
   void expire_powerups();
+  void powerup_event(const char* type, int player, const std::string& name);  // powerup, powerup_end
   void tell_rules(const GameEvent& e);
   void retweak();
   FateView view(const FateGroup& g) const;
