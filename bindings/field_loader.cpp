@@ -1,5 +1,6 @@
 #include "field_loader.h"
 
+#include "lua_reader.h"
 #include "lua_sandbox.h"
 
 #include <filesystem>
@@ -13,113 +14,6 @@ namespace {
 constexpr int kInstructionBudget = 10'000'000;
 constexpr size_t kMemoryBudget = 64u << 20;
 
-// Walks the returned table, naming every place it looks at.
-class Reader {
- public:
-  Reader(lua_State* L) : L(L) {}
-
-  [[noreturn]] void fail(const std::string& place, const std::string& message) { throw FieldError(place, message); }
-
-  std::string type_at(int idx) { return luaL_typename(L, idx); }
-
-  // Reports keys of the table at idx that are not in `known` (a typo would otherwise be ignored).
-  void only_keys(int idx, const std::string& place, std::initializer_list<const char*> known) {
-    std::set<std::string> allowed(known.begin(), known.end());
-    lua_pushnil(L);
-    while (lua_next(L, idx)) {
-      lua_pop(L, 1);
-      if (lua_type(L, -1) != LUA_TSTRING) continue;  // array parts are checked by their readers
-      const std::string key = lua_tostring(L, -1);
-      if (!allowed.count(key)) {
-        std::string list;
-        for (const char* k : known) {
-          if (!list.empty()) list += ", ";
-          list += k;
-        }
-        lua_pop(L, 1);
-        fail(place, "unknown key '" + key + "' (known: " + list + ")");
-      }
-    }
-  }
-
-  // Pushes t[key]; returns false (and pushes nothing) when it is nil.
-  bool field(int idx, const char* key) {
-    lua_getfield(L, idx, key);
-    if (lua_isnil(L, -1)) {
-      lua_pop(L, 1);
-      return false;
-    }
-    return true;
-  }
-
-  float number(int idx, const char* key, const std::string& place, float fallback, bool required) {
-    if (!field(idx, key)) {
-      if (required) fail(place, std::string("missing '") + key + "'");
-      return fallback;
-    }
-    if (lua_type(L, -1) != LUA_TNUMBER) fail(place + "." + key, "expected a number, got " + type_at(-1));
-    const float v = float(lua_tonumber(L, -1));
-    lua_pop(L, 1);
-    return v;
-  }
-
-  std::string string(int idx, const char* key, const std::string& place, const std::string& fallback, bool required) {
-    if (!field(idx, key)) {
-      if (required) fail(place, std::string("missing '") + key + "'");
-      return fallback;
-    }
-    if (lua_type(L, -1) != LUA_TSTRING) fail(place + "." + key, "expected a string, got " + type_at(-1));
-    std::string v = lua_tostring(L, -1);
-    lua_pop(L, 1);
-    return v;
-  }
-
-  // A point is {x, y} (or {x = .., y = ..}) at the top of the stack; pops it.
-  Vec2 point(const std::string& place) {
-    if (!lua_istable(L, -1)) fail(place, "expected a point {x, y}, got " + type_at(-1));
-    const int t = lua_gettop(L);
-    Vec2 p;
-    const char* names[2] = {"x", "y"};
-    for (int k = 0; k < 2; ++k) {
-      lua_rawgeti(L, t, k + 1);
-      if (lua_isnil(L, -1)) {
-        lua_pop(L, 1);
-        lua_getfield(L, t, names[k]);
-      }
-      if (lua_type(L, -1) != LUA_TNUMBER)
-        fail(place, std::string("expected a number for ") + names[k] + ", got " + type_at(-1));
-      (k == 0 ? p.x : p.y) = float(lua_tonumber(L, -1));
-      lua_pop(L, 1);
-    }
-    lua_pop(L, 1);
-    return p;
-  }
-
-  Vec2 point_at(int idx, const char* key, const std::string& place) {
-    if (!field(idx, key)) fail(place, std::string("missing '") + key + "'");
-    return point(place + "." + key);
-  }
-
-  // Calls each(i, place) with entry i of the array t[key] on top of the stack; the entry must be a table.
-  template <class Each>
-  void array(int idx, const char* key, const std::string& place, Each each) {
-    if (!field(idx, key)) return;
-    if (!lua_istable(L, -1)) fail(place + key, "expected a list, got " + type_at(-1));
-    const int list = lua_gettop(L);
-    const size_t n = lua_objlen(L, list);
-    for (size_t i = 1; i <= n; ++i) {
-      lua_rawgeti(L, list, int(i));
-      const std::string here = place + key + "[" + std::to_string(i) + "]";
-      if (!lua_istable(L, -1)) fail(here, "expected a table, got " + type_at(-1));
-      each(lua_gettop(L), here);
-      lua_pop(L, 1);
-    }
-    lua_pop(L, 1);
-  }
-
-  lua_State* L;
-};
-
 Field read_field(Reader& r, int top) {
   lua_State* L = r.L;
   Field f;
@@ -128,7 +22,7 @@ Field read_field(Reader& r, int top) {
   f.brownian = r.number(top, "brownian", "field", f.brownian, false);
   f.max_body_speed = r.number(top, "max_body_speed", "field", f.max_body_speed, false);
   if (r.field(top, "ball")) {
-    if (!lua_istable(L, -1)) r.fail("ball", "expected a table, got " + r.type_at(-1));
+    r.expect(LUA_TTABLE, "ball");
     const int b = lua_gettop(L);
     r.only_keys(b, "ball", {"radius", "wall_restitution", "body_restitution", "audible_bounce"});
     f.ball_radius = r.number(b, "radius", "ball", f.ball_radius, false);
@@ -144,7 +38,7 @@ Field read_field(Reader& r, int top) {
     while (id < int(f.wall_names.size()) && f.wall_names[id] != name) ++id;
     if (id == int(f.wall_names.size())) f.wall_names.push_back(name);
     if (!r.field(w, "points")) r.fail(place, "missing 'points'");
-    if (!lua_istable(L, -1)) r.fail(place + ".points", "expected a list of points, got " + r.type_at(-1));
+    r.expect(LUA_TTABLE, place + ".points", "a list of points");
     const int pts = lua_gettop(L);
     const size_t n = lua_objlen(L, pts);
     if (n < 2) r.fail(place + ".points", "a wall needs at least 2 points, got " + std::to_string(n));
@@ -219,6 +113,8 @@ Field load_field(const std::string& path) {
     Field f = read_field(reader, lua_gettop(L));
     finish_field(f);
     return f;
+  } catch (const ReadError& e) {
+    throw FieldError(e.place.empty() ? file : file + ": " + e.place, e.message);
   } catch (const FieldError& e) {
     throw FieldError(e.place.empty() ? file : file + ": " + e.place, e.message);
   }

@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace quantum::lua {
 namespace {
 
-void set(lua_State* L, const char* key, const std::string& value) {
-  lua_pushstring(L, value.c_str());
+void set(lua_State* L, const char* key, std::string_view value) {
+  lua_pushlstring(L, value.data(), value.size());
   lua_setfield(L, -2, key);
 }
 
@@ -16,12 +17,36 @@ void set(lua_State* L, const char* key, double value) {
   lua_setfield(L, -2, key);
 }
 
+// Pushes t[key] of the table on top, a new empty table put there first when it has none.
+void subtable(lua_State* L, const char* key) {
+  lua_getfield(L, -1, key);
+  if (lua_istable(L, -1)) return;
+  lua_pop(L, 1);
+  lua_newtable(L);
+  lua_pushvalue(L, -1);
+  lua_setfield(L, -3, key);
+}
+
+// Makes the list on top hold exactly `n` entries, set by put(i) (which pushes entry i, 0-based).
+template <class Put>
+void refill_list(lua_State* L, size_t n, Put put) {
+  const size_t old = lua_objlen(L, -1);
+  for (size_t i = 0; i < n; ++i) {
+    put(i);
+    lua_rawseti(L, -2, int(i + 1));
+  }
+  for (size_t i = old; i > n; --i) {
+    lua_pushnil(L);
+    lua_rawseti(L, -2, int(i));
+  }
+}
+
 }  // namespace
 
-void push_strings(lua_State* L, const std::vector<std::string>& list) {
+void push_strings(lua_State* L, std::span<const std::string> list) {
   lua_createtable(L, int(list.size()), 0);
   for (size_t i = 0; i < list.size(); ++i) {
-    lua_pushstring(L, list[i].c_str());
+    lua_pushlstring(L, list[i].data(), list[i].size());
     lua_rawseti(L, -2, int(i + 1));
   }
 }
@@ -35,44 +60,110 @@ void push_score(lua_State* L, const std::map<std::string, int>& score) {
 }
 
 void push_event(lua_State* L, const game::GameEvent& e) {
-  lua_createtable(L, 0, 14);
-  set(L, "type", e.type), set(L, "actor", e.actor), set(L, "team", e.team);
+  lua_createtable(L, 0, 17);
+  set(L, "type", game::to_string(e.type)), set(L, "actor", e.actor), set(L, "team", e.team);
   set(L, "by", e.by), set(L, "by_team", e.by_team);
+  set(L, "previous", e.previous), set(L, "previous_team", e.previous_team);
   set(L, "t", e.t), set(L, "p", e.p), set(L, "p_newtonian", e.p_newtonian), set(L, "particles", double(e.particles));
   set(L, "x", e.at.x), set(L, "y", e.at.y), set(L, "vx", e.velocity.x), set(L, "vy", e.velocity.y);
   set(L, "speed", std::hypot(e.velocity.x, e.velocity.y));
   if (!e.powerup.empty()) set(L, "powerup", e.powerup);
 }
 
-void push_fate(lua_State* L, const game::FateView& f) {
-  lua_createtable(L, 0, 9);
-  set(L, "kind", f.kind), set(L, "actor", f.actor), set(L, "team", f.team), set(L, "favours", f.favours);
-  set(L, "via", f.via);
-  set(L, "mass", f.mass), set(L, "tweaked", f.tweaked), set(L, "count", double(f.count));
-  push_strings(L, f.path);
-  lua_setfield(L, -2, "path");
+void TablePool::push(lua_State* L, size_t k) {
+  if (ref_ == LUA_NOREF) {
+    lua_newtable(L);
+    ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  }
+  lua_rawgeti(L, LUA_REGISTRYINDEX, ref_);
+  lua_rawgeti(L, -1, int(k + 1));
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    lua_newtable(L);
+    lua_pushvalue(L, -1);
+    lua_rawseti(L, -3, int(k + 1));
+  }
+  lua_remove(L, -2);
 }
 
-void push_player(lua_State* L, const game::Match& match, size_t k) {
+void TablePool::release(lua_State* L) {
+  luaL_unref(L, LUA_REGISTRYINDEX, ref_);
+  ref_ = LUA_NOREF;
+}
+
+void fill_fate(lua_State* L, const game::FateView& f, const Field& field) {
+  set(L, "kind", f.kind()), set(L, "actor", f.actor), set(L, "team", f.team), set(L, "favours", f.favours);
+  // "via left wall, Red's end", built on the stack: Lua interns the text, and a text seen before
+  // costs nothing.
+  char via[256];
+  size_t n = 0;
+  for (int i = 0; i < f.fate.path_len || (f.fate.path_more && i == f.fate.path_len); ++i) {
+    const char* wall = i < f.fate.path_len ? field.wall_names[f.fate.path[i]].c_str() : "...";
+    const int wrote = std::snprintf(via + n, sizeof via - n, "%s%s", i == 0 ? "via " : ", ", wall);
+    n = std::min(sizeof via - 1, n + size_t(std::max(wrote, 0)));
+  }
+  set(L, "via", std::string_view(via, n));
+  set(L, "mass", f.mass), set(L, "tweaked", f.tweaked), set(L, "count", double(f.count));
+  subtable(L, "path");
+  refill_list(L, f.fate.path_len, [&](size_t i) {
+    const std::string& wall = field.wall_names[f.fate.path[i]];
+    lua_pushlstring(L, wall.data(), wall.size());
+  });
+  lua_pop(L, 1);
+}
+
+void fill_player(lua_State* L, const game::Match& match, size_t k) {
   const game::Player& p = match.players()[k];
-  lua_createtable(L, 0, 9);
   set(L, "name", p.name), set(L, "team", p.team);
   set(L, "x", p.position.x), set(L, "y", p.position.y), set(L, "vx", p.velocity.x), set(L, "vy", p.velocity.y);
   set(L, "speed", std::hypot(p.velocity.x, p.velocity.y));
   set(L, "handicap", match.handicap_now(int(k)));
-  std::vector<std::string> held;
-  for (const game::ActivePowerup& a : match.powerups())
-    if (a.player == int(k)) held.push_back(a.name);
-  push_strings(L, held);
-  lua_setfield(L, -2, "powerups");
+  lua_pushboolean(L, p.turn);
+  lua_setfield(L, -2, "turn");
+  subtable(L, "powerups");
+  size_t held = 0;
+  for (const game::ActivePowerup& a : match.powerups()) held += a.player == int(k);
+  size_t next = 0;
+  refill_list(L, held, [&](size_t) {
+    while (match.powerups()[next].player != int(k)) ++next;
+    const std::string& name = match.powerups()[next++].name;
+    lua_pushlstring(L, name.data(), name.size());
+  });
+  lua_pop(L, 1);
 }
 
-void push_powerup(lua_State* L, const game::Match& match, const game::ActivePowerup& p) {
-  lua_createtable(L, 0, int(p.params.size()) + 3);
+void push_players(lua_State* L, const game::Match& match) {
+  lua_createtable(L, int(match.players().size()), 0);
+  for (size_t i = 0; i < match.players().size(); ++i) {
+    lua_newtable(L);
+    fill_player(L, match, i);
+    lua_rawseti(L, -2, int(i + 1));
+  }
+}
+
+void fill_powerup(lua_State* L, const game::Match& match, const game::ActivePowerup& p) {
   for (const auto& [key, value] : p.params) set(L, key.c_str(), value);
   set(L, "name", p.name);
   set(L, "player", match.players()[size_t(p.player)].name);
   set(L, "remaining", std::max(0.0, p.until - match.time()));
+}
+
+std::optional<PhraseValue> phrase_value(lua_State* L, int vars, std::string_view name) {
+  if (!lua_istable(L, vars)) return std::nullopt;
+  lua_pushlstring(L, name.data(), name.size());
+  lua_rawget(L, vars);
+  std::optional<PhraseValue> v;
+  if (lua_type(L, -1) == LUA_TNUMBER) {
+    v = PhraseValue{{}, lua_tonumber(L, -1)};
+  } else if (lua_type(L, -1) == LUA_TSTRING) {
+    size_t n = 0;
+    const char* s = lua_tolstring(L, -1, &n);
+    v = PhraseValue{std::string_view(s, n), std::nullopt};
+  } else if (lua_type(L, -1) == LUA_TBOOLEAN) {
+    v = PhraseValue{lua_toboolean(L, -1) ? "true" : "false", std::nullopt};
+  }
+  lua_pop(L, 1);
+  return v;
 }
 
 std::map<std::string, double> numbers_of(lua_State* L, int index) {

@@ -1,41 +1,53 @@
 // The game's values as Lua tables, one shape everywhere scripts see them (sport rules,
-// modifiers, the rule-spec scenario API), and C++ errors as Lua errors.
+// modifiers, power-ups, the rule-spec scenario API).
+//
+// Fates, and the players and power-ups handed to power-up factors, are seen many times a frame;
+// their tables come from a TablePool and are refilled in place, so a frame makes no Lua garbage.
+// A script that wants to keep one past its call copies what it needs.
 #pragma once
 
 #include <lua.hpp>
 
 #include <map>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "game/game.h"
+#include "phrases.h"
 
 namespace quantum::lua {
 
-void push_strings(lua_State* L, const std::vector<std::string>& list);  // {"a", "b", ...}
+void push_strings(lua_State* L, std::span<const std::string> list);  // {"a", "b", ...}
 void push_score(lua_State* L, const std::map<std::string, int>& score);  // {blue = 2, red = 1}
-// {type, actor, team, by, by_team, t, p, p_newtonian, particles, x, y, vx, vy, speed, powerup}
+// {type, actor, team, by, by_team, previous, previous_team, t, p, p_newtonian, particles, x, y,
+//  vx, vy, speed, powerup}: a fresh table (handlers may keep events)
 void push_event(lua_State* L, const game::GameEvent& e);
-// {name, team, x, y, vx, vy, speed, handicap, powerups = {names}} of player k of the match
-void push_player(lua_State* L, const game::Match& match, size_t k);
-// {name, player, remaining, <params>} of an active power-up
-void push_powerup(lua_State* L, const game::Match& match, const game::ActivePowerup& p);
+// A phrase placeholder's value from the Lua table at `vars` (a string, a number or a boolean), or
+// none. Strings stay valid while the table is on the stack.
+std::optional<PhraseValue> phrase_value(lua_State* L, int vars, std::string_view name);
 // A table of numbers {key = value} from the table at `index`; non-numbers are skipped.
 std::map<std::string, double> numbers_of(lua_State* L, int index);
-// {kind, actor, team, favours, via, path = {...}, mass, tweaked, count}
-void push_fate(lua_State* L, const game::FateView& f);
 
-// Runs f (returning the number of results); an exception from the C++ side becomes a Lua error
-// at the script's line. The message is copied out first: luaL_error does not return.
-template <class F>
-int guarded(lua_State* L, F&& f) {
-  std::string error;
-  try {
-    return f();
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
-  return luaL_error(L, "%s", error.c_str());
-}
+// Tables kept in the registry and handed out again: push(L, k) pushes the k-th, made on first use.
+class TablePool {
+ public:
+  void push(lua_State* L, size_t k);
+  void release(lua_State* L);  // before the state closes, or to start afresh
+
+ private:
+  int ref_ = LUA_NOREF;
+};
+
+// Fill the table at the top of the stack (fields it had before are overwritten).
+// {kind, actor, team, favours, via, path = {walls...}, mass, tweaked, count}
+void fill_fate(lua_State* L, const game::FateView& f, const Field& field);
+// {name, team, x, y, vx, vy, speed, handicap, turn, powerups = {names}} of player k of the match
+void fill_player(lua_State* L, const game::Match& match, size_t k);
+// A fresh list of every player's table, in the field's order (game.players()).
+void push_players(lua_State* L, const game::Match& match);
+// {name, player, remaining, <params>} of an active power-up
+void fill_powerup(lua_State* L, const game::Match& match, const game::ActivePowerup& p);
 
 }  // namespace quantum::lua

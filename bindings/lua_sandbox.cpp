@@ -2,11 +2,22 @@
 
 #include <luajit.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <vector>
 
+#include "lua_wrap.h"
+
 namespace quantum::lua {
+namespace {
+
+int require_module(lua_State* L) {
+  upvalue_self<Sandbox>(L).require_module(check_string(L, 1));
+  return 1;
+}
+
+}  // namespace
 
 void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
   auto* budget = static_cast<Budget*>(ud);
@@ -17,6 +28,7 @@ void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
   }
   if (ptr == nullptr) old_size = 0;
   if (new_size > old_size && budget->used + (new_size - old_size) > budget->limit) return nullptr;
+  ++budget->calls;
   void* p = std::realloc(ptr, new_size);
   if (p) budget->used = budget->used + new_size - old_size;
   return p;
@@ -24,7 +36,9 @@ void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
 
 void Sandbox::on_budget_spent(lua_State* L, lua_Debug*) { luaL_error(L, "script runs too long (endless loop?)"); }
 
-Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules) : instructions_(instruction_budget) {
+Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules,
+                 std::vector<std::filesystem::path> module_folders)
+    : instructions_(instruction_budget), module_folders_(std::move(module_folders)) {
   budget_.limit = memory_budget;
   L_ = lua_newstate(alloc, &budget_);
   if (!L_) L_ = luaL_newstate();  // builds whose allocator cannot be replaced: no memory cap
@@ -56,9 +70,55 @@ Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules) : ins
   lua_setfield(L_, -3, "clock");
   lua_pop(L_, 1);
   lua_setfield(L_, env, "os");
+  if (rules) {
+    push_module(L_, "", {{"require", guard<lua::require_module>}}, this);
+    lua_getfield(L_, -1, "require");
+    lua_setfield(L_, env, "require");
+    lua_pop(L_, 1);
+    lua_newtable(L_);
+    modules_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+  }
   lua_pushvalue(L_, env);
   lua_setfield(L_, env, "_G");
   env_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+}
+
+void Sandbox::require_module(const std::string& name) {
+  namespace fs = std::filesystem;
+  bool valid = !name.empty() && name.front() != '.' && name.back() != '.' && name.find("..") == std::string::npos;
+  for (char c : name) valid &= (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '.';
+  if (!valid)
+    throw ScriptError("'" + name + "' is not a module name: lower-case words joined by dots, e.g. 'util' or 'lib.util'");
+  lua_rawgeti(L_, LUA_REGISTRYINDEX, modules_);
+  lua_getfield(L_, -1, name.c_str());
+  if (!lua_isnil(L_, -1)) {
+    lua_remove(L_, -2);
+    return;
+  }
+  lua_pop(L_, 2);
+  std::string relative = name;
+  std::replace(relative.begin(), relative.end(), '.', '/');
+  relative += ".lua";
+  std::string looked;
+  for (const fs::path& folder : module_folders_) {
+    const fs::path file = folder / relative;
+    looked += (looked.empty() ? "" : ", ") + file.string();
+    if (!fs::is_regular_file(file)) continue;
+    run_file(file.string());
+    if (lua_isnil(L_, -1)) {  // a module that returns nothing is loaded all the same
+      lua_pop(L_, 1);
+      lua_pushboolean(L_, 1);
+    }
+    lua_rawgeti(L_, LUA_REGISTRYINDEX, modules_);
+    lua_pushvalue(L_, -2);
+    lua_setfield(L_, -2, name.c_str());
+    lua_pop(L_, 1);
+    return;
+  }
+  throw ScriptError("no module '" + name + "': the sandbox loads only the sport's own Lua modules (" +
+                    (looked.empty() ? std::string("no folders") : looked) +
+                    "); Lua's own libraries beyond math, string, table and os.clock, and native modules, are "
+                    "not available to rules");
 }
 
 Sandbox::~Sandbox() { lua_close(L_); }

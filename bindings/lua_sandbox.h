@@ -5,8 +5,10 @@
 #include <lua.hpp>
 
 #include <cstddef>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace quantum::lua {
 
@@ -19,8 +21,10 @@ class Sandbox {
   // `libraries`: which of Lua's own go into the scripts' environment besides the base
   // functions: "math" always; "string" and "table" when `rules` is true (sports need them,
   // field files are data), and os.clock. No io, the rest of os, debug, package, ffi, jit,
-  // require, load, loadstring, dofile or collectgarbage.
-  Sandbox(size_t memory_budget, int instruction_budget, bool rules);
+  // load, loadstring, dofile or collectgarbage. With `rules`, `require` loads the script's own
+  // Lua modules, as text, from `module_folders` only (see require_module).
+  Sandbox(size_t memory_budget, int instruction_budget, bool rules,
+          std::vector<std::filesystem::path> module_folders = {});
   ~Sandbox();
   Sandbox(const Sandbox&) = delete;
   Sandbox& operator=(const Sandbox&) = delete;
@@ -34,9 +38,19 @@ class Sandbox {
   // lua_pcall with the instruction budget armed; on failure returns the message and pops it.
   bool call(int nargs, int nresults, std::string& error);
 
+  // require(name) for scripts: "util" or "lib.util" is util.lua or lib/util.lua in the first
+  // module folder that has it, loaded once (as text, in the sandbox) and its result kept.
+  // Pushes the result. Throws ScriptError for a bad name, a module that is not there (saying
+  // that the sandbox looks only in its folders) or one that fails.
+  void require_module(const std::string& name);
+
+  // Every Lua allocation, freeing and resizing so far: the tests' measure of the garbage a frame
+  // makes.
+  size_t allocations() const { return budget_.calls; }
+
  private:
   struct Budget {
-    size_t used = 0, limit = 0;
+    size_t used = 0, limit = 0, calls = 0;
   };
   static void* alloc(void* ud, void* ptr, size_t old_size, size_t new_size);
   static void on_budget_spent(lua_State* L, lua_Debug*);
@@ -46,6 +60,8 @@ class Sandbox {
   int env_ = LUA_NOREF;
   int instructions_;
   int depth_ = 0;  // calls in progress (a handler's game.grant calls into the script again)
+  std::vector<std::filesystem::path> module_folders_;
+  int modules_ = LUA_NOREF;  // name -> result of every module loaded
 };
 
 }  // namespace quantum::lua

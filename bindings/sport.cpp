@@ -2,151 +2,255 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
+#include <cstdlib>
 
 #include "field_loader.h"
-#include "lua_push.h"
+#include "lua_reader.h"
 
 namespace quantum::lua {
+namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kMemoryBudget = 64u << 20;
 constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops forever is skipped
 
-const char* const kHandlers[] = {"drop",     "shot", "intercept", "retouch", "bounce",    "goal",
-                                 "own_goal", "out",  "time_up",   "match_end", "powerup", "powerup_end"};
+const std::vector<std::string> kFateKinds = {"goal", "own_goal", "body", "out", "field"};
+const std::vector<std::string> kSportKeys = {"name",  "field",  "particles", "match",     "factors",
+                                             "handicaps", "balance", "teams", "phrases", "audio",
+                                             "modifiers", "on", "state", "on_reload"};
+const std::vector<std::string> kPowerupKeys = {"name", "duration", "defaults", "phrases", "factor", "start", "stop"};
+// The placeholders the engine fills in a power-up's phrases.
+const std::vector<std::string> kPowerupVars = {"player", "team"};
+
+// "rules/practice/" and "rules/practice" are one folder.
+fs::path normal_folder(const std::string& folder) {
+  fs::path p = fs::path(folder).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();
+  return p;
+}
+
+std::vector<fs::path> powerup_folders_of(const fs::path& sport) {
+  std::vector<fs::path> out;
+  for (const fs::path& f : {sport / "powerups", sport.parent_path() / "powerups", engine_rules_folder() / "powerups"}) {
+    const fs::path normal = f.lexically_normal();
+    if (std::find(out.begin(), out.end(), normal) == out.end()) out.push_back(normal);
+  }
+  return out;
+}
+
+// The event names a sport may handle: the runtime announces a pause itself.
+std::vector<std::string> handler_names() {
+  std::vector<std::string> out;
+  for (const std::string& name : game::event_names())
+    if (name != "paused" && name != "resumed") out.push_back(name);
+  return out;
+}
+
+// Checks that every placeholder of `text` is one of `allowed` (what the engine fills in).
+void check_placeholders(const std::string& place, const std::string& text, std::span<const std::string> allowed) {
+  for (const std::string& name : PhraseTemplate(text).placeholders())
+    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+      throw ReadError(place, unknown_key(name, allowed, "placeholder"));
+}
+
+// Pushes t[key] of the table at `index` without running metamethods.
+void raw_field(lua_State* L, int index, const char* key) {
+  if (index < 0 && index > LUA_REGISTRYINDEX) index = lua_gettop(L) + index + 1;
+  lua_pushstring(L, key);
+  lua_rawget(L, index);
+}
 
 }  // namespace
 
+fs::path engine_rules_folder() {
+  if (const char* env = std::getenv("QUANTUM_RULES"); env && *env) return env;
+  return QUANTUM_RULES_DIR;
+}
+
+// While a handler, a timer or a power-up's start or stop runs, the rules may act on the match;
+// while factors are computed they may only read it. Nested calls restore what was before.
+class Sport::Acting {
+ public:
+  Acting(Sport& sport, game::Match& match, bool may_act)
+      : sport_(sport), outer_(sport.match_), outer_reading_(sport.reading_) {
+    sport.match_ = may_act ? &match : nullptr;
+    sport.reading_ = &match;
+  }
+  ~Acting() { sport_.match_ = outer_, sport_.reading_ = outer_reading_; }
+  Acting(const Acting&) = delete;
+  Acting& operator=(const Acting&) = delete;
+
+ private:
+  Sport& sport_;
+  game::Match* outer_;
+  const game::Match* outer_reading_;
+};
+
 Sport::Sport(const std::string& folder)
-    : folder_(folder),
-      file_((std::filesystem::path(folder) / "sport.lua").string()),
-      sandbox_(kMemoryBudget, kInstructionBudget, true) {
-  if (!std::filesystem::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
+    : folder_(normal_folder(folder).string()),
+      file_((fs::path(folder_) / "sport.lua").string()),
+      powerup_folders_(powerup_folders_of(folder_)),
+      module_folders_({fs::path(folder_), engine_rules_folder() / "lib"}),
+      sandbox_(kMemoryBudget, kInstructionBudget, true, module_folders_) {
+  if (!fs::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
   lua_State* L = sandbox_.L();
   sandbox_.run_file(file_);
-  auto fail = [&](const std::string& place, const std::string& message) -> ScriptError {
-    return ScriptError(file_ + ": " + place + ": " + message);
-  };
   if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
-  const int t = lua_gettop(L);
-  auto typed = [&](int table, const char* key, int type, const std::string& place) {
-    lua_getfield(L, table, key);
-    if (lua_isnil(L, -1)) return false;
-    if (lua_type(L, -1) != type)
-      throw fail(place.empty() ? key : place + "." + key,
-                 std::string("expected a ") + lua_typename(L, type) + ", got " + luaL_typename(L, -1));
-    return true;
-  };
-  name_ = folder;
-  if (typed(t, "name", LUA_TSTRING, "")) name_ = lua_tostring(L, -1);
-  lua_pop(L, 1);
-  std::string field_name = "field.lua";
-  if (typed(t, "field", LUA_TSTRING, "")) field_name = lua_tostring(L, -1);
-  lua_pop(L, 1);
-  field_ = load_field((std::filesystem::path(folder) / field_name).string());
-  if (typed(t, "particles", LUA_TNUMBER, "")) {
-    const double n = lua_tonumber(L, -1);
-    if (!(n >= 1 && n <= 10'000'000)) throw fail("particles", "must be between 1 and 10,000,000");
-    particles_ = uint32_t(n);
+  try {
+    read_sport(lua_gettop(L));
+  } catch (const ReadError& e) {
+    throw ScriptError(file_ + ": " + e.what());
   }
-  lua_pop(L, 1);
-  if (typed(t, "match", LUA_TTABLE, "")) {
-    const int m = lua_gettop(L);
-    if (typed(m, "seconds", LUA_TNUMBER, "match")) {
-      seconds_ = lua_tonumber(L, -1);
-      if (!(seconds_ > 0 && seconds_ <= 24 * 3600)) throw fail("match.seconds", "must be in (0, 86400]");
-    }
-    lua_pop(L, 1);
-    if (typed(m, "start", LUA_TSTRING, "match")) {
-      const std::string where = lua_tostring(L, -1);
-      first_spot_ = -1;
-      for (size_t s = 0; s < field_.spots.size() && first_spot_ < 0; ++s)
-        if (field_.spots[s].name == where) first_spot_ = int(s);
-      if (first_spot_ < 0) first_spot_ = field_.spot_of_team(where);
-      if (first_spot_ < 0) throw fail("match.start", "no spot or team '" + where + "' in the field");
-    }
-    lua_pop(L, 1);
-  }
-  lua_pop(L, 1);
-  handicaps_.assign(field_.bodies.size(), 1.0);
-  if (typed(t, "handicaps", LUA_TTABLE, "")) {
-    for (size_t k = 0; k < field_.bodies.size(); ++k) {
-      if (typed(lua_gettop(L), field_.bodies[k].name.c_str(), LUA_TNUMBER, "handicaps")) {
-        handicaps_[k] = lua_tonumber(L, -1);
-        if (!(handicaps_[k] > 0 && std::isfinite(handicaps_[k]))) throw fail("handicaps." + field_.bodies[k].name, "must be > 0");
-      }
-      lua_pop(L, 1);
-    }
-  }
-  lua_pop(L, 1);
-  if (typed(t, "balance", LUA_TTABLE, "")) {
-    const int b = lua_gettop(L);
-    if (typed(b, "per_goal", LUA_TNUMBER, "balance")) {
-      balance_per_goal_ = lua_tonumber(L, -1);
-      if (!(balance_per_goal_ >= 0 && balance_per_goal_ <= 10)) throw fail("balance.per_goal", "must be in [0, 10]");
-    }
-    lua_pop(L, 1);
-    if (typed(b, "most", LUA_TNUMBER, "balance")) {
-      balance_most_ = lua_tonumber(L, -1);
-      if (!(balance_most_ >= 1 && std::isfinite(balance_most_))) throw fail("balance.most", "must be >= 1");
-    }
-    lua_pop(L, 1);
-  }
-  lua_pop(L, 1);
-  if (typed(t, "factors", LUA_TTABLE, "")) {
-    for (const char* kind : {"goal", "own_goal", "body", "out", "field"}) {
-      if (typed(lua_gettop(L), kind, LUA_TNUMBER, "factors") && !(lua_tonumber(L, -1) >= 0))
-        throw fail(std::string("factors.") + kind, "must be >= 0");
-      lua_pop(L, 1);
-    }
-  }
-  lua_pop(L, 1);
-  if (typed(t, "phrases", LUA_TTABLE, "")) {
-    lua_pushnil(L);
-    while (lua_next(L, -2)) {
-      if (lua_type(L, -2) != LUA_TSTRING || lua_type(L, -1) != LUA_TSTRING)
-        throw fail("phrases", "expected text for every key, e.g. shot = \"{team} shoots\"");
-      phrases_[lua_tostring(L, -2)] = lua_tostring(L, -1);
-      lua_pop(L, 1);
-    }
-  }
-  lua_pop(L, 1);
-  if (typed(t, "on", LUA_TTABLE, "")) {
-    lua_pushnil(L);
-    while (lua_next(L, -2)) {
-      const std::string key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?";
-      if (std::find(std::begin(kHandlers), std::end(kHandlers), key) == std::end(kHandlers))
-        throw fail("on." + key, "unknown event (known: drop, shot, intercept, retouch, bounce, goal, own_goal, out, "
-                                "time_up, match_end, powerup, powerup_end)");
-      if (!lua_isfunction(L, -1)) throw fail("on." + key, std::string("expected a function, got ") + luaL_typename(L, -1));
-      lua_pop(L, 1);
-    }
-  }
-  lua_pop(L, 1);
-  if (typed(t, "modifiers", LUA_TTABLE, "")) {
-    for (size_t i = 1; i <= lua_objlen(L, -1); ++i) {
-      lua_rawgeti(L, -1, int(i));
-      if (!lua_isfunction(L, -1))
-        throw fail("modifiers[" + std::to_string(i) + "]", std::string("expected a function, got ") + luaL_typename(L, -1));
-      lua_pop(L, 1);
-    }
-  }
-  lua_pop(L, 1);
-  read_audio(t);
   sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   push_game_api(L, this);
   game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  timers_.reserve(16);
 }
 
 Sport::~Sport() = default;
 
-void Sport::read_audio(int t) {
-  namespace fs = std::filesystem;
+void Sport::read_sport(int t) {
   lua_State* L = sandbox_.L();
-  auto fail = [&](const std::string& place, const std::string& message) {
-    return ScriptError(file_ + ": audio." + place + ": " + message);
-  };
+  const Reader r(L);
+  r.only_keys(t, "", kSportKeys);
+  name_ = r.string(t, "name", "", folder_, false);
+  field_ = load_field((fs::path(folder_) / r.string(t, "field", "", "field.lua", false)).string());
+  const double particles = r.number(t, "particles", "", double(particles_), false);
+  if (!(particles >= 1 && particles <= 10'000'000)) r.fail("particles", "must be between 1 and 10,000,000");
+  particles_ = uint32_t(particles);
+  read_match(r, t);
+  handicaps_.assign(field_.bodies.size(), 1.0);
+  if (r.field(t, "handicaps")) {
+    r.expect(LUA_TTABLE, "handicaps");
+    std::vector<std::string> bodies;
+    for (const BodySpec& b : field_.bodies) bodies.push_back(b.name);
+    const int h = lua_gettop(L);
+    r.only_keys(h, "handicaps", bodies);
+    for (size_t k = 0; k < bodies.size(); ++k) {
+      handicaps_[k] = r.number(h, bodies[k].c_str(), "handicaps", 1.0, false);
+      if (!(handicaps_[k] > 0 && std::isfinite(handicaps_[k]))) r.fail("handicaps." + bodies[k], "must be > 0");
+    }
+    lua_pop(L, 1);
+  }
+  if (r.field(t, "balance")) {
+    r.expect(LUA_TTABLE, "balance");
+    const int b = lua_gettop(L);
+    r.only_keys(b, "balance", {"per_goal", "most"});
+    balance_per_goal_ = r.number(b, "per_goal", "balance", balance_per_goal_, false);
+    if (!(balance_per_goal_ >= 0 && balance_per_goal_ <= 10)) r.fail("balance.per_goal", "must be in [0, 10]");
+    balance_most_ = r.number(b, "most", "balance", balance_most_, false);
+    if (!(balance_most_ >= 1 && std::isfinite(balance_most_))) r.fail("balance.most", "must be >= 1");
+    lua_pop(L, 1);
+  }
+  if (r.field(t, "factors")) {
+    r.expect(LUA_TTABLE, "factors");
+    const int f = lua_gettop(L);
+    r.only_keys(f, "factors", kFateKinds);
+    for (const std::string& kind : kFateKinds) {
+      const double v = r.number(f, kind.c_str(), "factors", 1, false);
+      if (!(v >= 0 && std::isfinite(v))) r.fail("factors." + kind, "must be a number >= 0");
+    }
+    lua_pop(L, 1);
+  }
+  if (r.field(t, "teams")) {
+    r.expect(LUA_TTABLE, "teams");
+    std::vector<std::string> teams;
+    for (const BodySpec& b : field_.bodies)
+      if (std::find(teams.begin(), teams.end(), b.team) == teams.end()) teams.push_back(b.team);
+    for (const Goal& g : field_.goals)
+      if (std::find(teams.begin(), teams.end(), g.team) == teams.end()) teams.push_back(g.team);
+    r.only_keys(-1, "teams", teams);
+    r.map(-1, "teams", [&](const std::string& team, const std::string& place) {
+      r.expect(LUA_TSTRING, place, "the team's name as the announcer says it");
+      team_names_[team] = lua_tostring(L, -1);
+    });
+    lua_pop(L, 1);
+  }
+  if (r.field(t, "phrases")) {
+    r.expect(LUA_TTABLE, "phrases");
+    r.map(-1, "phrases", [&](const std::string& key, const std::string& place) {
+      r.expect(LUA_TSTRING, place, "text, e.g. shot = \"{team} shoots\"");
+      try {
+        phrases_.add(key, lua_tostring(L, -1));
+      } catch (const std::invalid_argument& e) {
+        r.fail(place, e.what());
+      }
+    });
+    lua_pop(L, 1);
+  }
+  check_phrases();
+  read_audio(r, t);
+  if (r.field(t, "on")) {
+    r.expect(LUA_TTABLE, "on");
+    r.only_keys(-1, "on", handler_names(), "event");
+    r.map(-1, "on", [&](const std::string&, const std::string& place) { r.expect(LUA_TFUNCTION, place); });
+    lua_pop(L, 1);
+  }
+  if (r.field(t, "modifiers")) {
+    r.expect(LUA_TTABLE, "modifiers", "a list of functions");
+    for (size_t i = 1; i <= lua_objlen(L, -1); ++i) {
+      lua_rawgeti(L, -1, int(i));
+      r.expect(LUA_TFUNCTION, "modifiers[" + std::to_string(i) + "]");
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  if (r.field(t, "on_reload")) {
+    r.expect(LUA_TFUNCTION, "on_reload");
+    lua_pop(L, 1);
+  }
+}
+
+// match = {seconds, start}, and whatever else the sport keeps there (first_to, ...): a key one
+// slip away from the engine's own is taken for a typo.
+void Sport::read_match(const Reader& r, int t) {
+  lua_State* L = sandbox_.L();
+  if (!r.field(t, "match")) return;
+  r.expect(LUA_TTABLE, "match");
+  const int m = lua_gettop(L);
+  const std::vector<std::string> known = {"seconds", "start"};
+  r.map(m, "match", [&](const std::string& key, const std::string&) {
+    if (std::find(known.begin(), known.end(), key) == known.end() && !nearest(key, known).empty())
+      r.fail("match", unknown_key(key, known) + "; the sport's own settings are welcome here, but this one looks "
+                                                "like a typo");
+  });
+  seconds_ = r.number(m, "seconds", "match", seconds_, false);
+  if (!(seconds_ > 0 && seconds_ <= 24 * 3600)) r.fail("match.seconds", "must be in (0, 86400]");
+  if (r.field(m, "start")) {
+    r.expect(LUA_TSTRING, "match.start");
+    const std::string where = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    first_spot_ = -1;
+    for (size_t s = 0; s < field_.spots.size() && first_spot_ < 0; ++s)
+      if (field_.spots[s].name == where) first_spot_ = int(s);
+    if (first_spot_ < 0) first_spot_ = field_.spot_of_team(where);
+    if (first_spot_ < 0) r.fail("match.start", "no spot or team '" + where + "' in the field");
+  }
+  lua_pop(L, 1);
+}
+
+// The engine says some phrases itself: a paused and resumed match, and power-ups starting and
+// running out (a sport's `<power-up>_start` and `_over` take the script's place). Their
+// placeholders must be ones the engine fills.
+void Sport::check_phrases() const {
+  for (const std::string& key : phrases_.keys()) {
+    std::vector<std::string> allowed;
+    bool engine_said = key == "paused" || key == "resumed";
+    for (const char* suffix : {"_start", "_over"}) {
+      if (!key.ends_with(suffix)) continue;
+      const std::string name = key.substr(0, key.size() - std::string(suffix).size());
+      for (const fs::path& f : powerup_folders_) engine_said |= fs::exists(f / (name + ".lua"));
+      if (engine_said) allowed = kPowerupVars;
+    }
+    if (!engine_said) continue;
+    for (const std::string& name : phrases_.find(key)->placeholders())
+      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+        throw ReadError("phrases." + key, unknown_key(name, allowed, "placeholder") + ": the engine says this phrase");
+  }
+}
+
+void Sport::read_audio(const Reader& r, int t) {
+  lua_State* L = sandbox_.L();
   // A sound file: in the sport's folder, else among the engine's own (sounds/).
   const fs::path shared = QUANTUM_SOUNDS_DIR;
   auto resolve = [&](const std::string& name) {
@@ -157,118 +261,128 @@ void Sport::read_audio(int t) {
   for (const char* e : {"goal", "own_goal"}) audio_.sounds[e] = resolve("goal.wav");
   audio_.sounds["drop"] = resolve("whistle.wav");
   audio_.sounds["bounce"] = resolve("wall.wav");
-  audio_.priorities = {{"goal", 3}, {"own_goal", 3}, {"match_end", 3}, {"time_up", 3}, {"drop", 2},
-                       {"out", 2},  {"shot", 1},     {"intercept", 1}, {"retouch", 0}, {"bounce", 0}};
-  lua_getfield(L, t, "audio");
-  if (lua_isnil(L, -1)) {
-    lua_pop(L, 1);
-    return;
-  }
-  if (!lua_istable(L, -1)) throw ScriptError(file_ + ": audio: expected a table");
+  audio_.priorities = {{"goal", 3}, {"own_goal", 3}, {"match_end", 3}, {"time_up", 3}, {"drop", 2}, {"out", 2},
+                       {"dead", 2}, {"shot", 1},     {"intercept", 1}, {"timer", 1},   {"retouch", 0}, {"bounce", 0}};
+  if (!r.field(t, "audio")) return;
+  r.expect(LUA_TTABLE, "audio");
   const int a = lua_gettop(L);
-  lua_getfield(L, a, "voice");
-  if (lua_isstring(L, -1)) audio_.voice = lua_tostring(L, -1);
-  lua_pop(L, 1);
-  for (auto [key, out] : {std::pair{"rate", &audio_.rate}, {"volume", &audio_.volume}}) {
-    lua_getfield(L, a, key);
-    if (lua_isnumber(L, -1)) *out = int(lua_tonumber(L, -1));
-    else if (!lua_isnil(L, -1)) throw fail(key, "expected a number");
+  r.only_keys(a, "audio", {"voice", "rate", "volume", "listener", "facing", "sounds", "recorded", "priorities"});
+  audio_.voice = r.string(a, "voice", "audio", audio_.voice, false);
+  audio_.rate = int(r.number(a, "rate", "audio", audio_.rate, false));
+  audio_.volume = int(r.number(a, "volume", "audio", audio_.volume, false));
+  if (r.field(a, "listener")) audio_.listener = r.point("audio.listener");
+  if (r.field(a, "facing")) audio_.facing = r.point("audio.facing");
+  std::vector<std::string> events = game::event_names();
+  if (r.field(a, "sounds")) {
+    r.expect(LUA_TTABLE, "audio.sounds");
+    r.only_keys(-1, "audio.sounds", events);
+    r.map(-1, "audio.sounds", [&](const std::string& event, const std::string& place) {
+      r.expect(LUA_TSTRING, place, "a sound file's name");
+      audio_.sounds[event] = resolve(lua_tostring(L, -1));
+    });
     lua_pop(L, 1);
   }
-  for (auto [key, out] : {std::pair{"listener", &audio_.listener}, {"facing", &audio_.facing}}) {
-    lua_getfield(L, a, key);
-    if (lua_istable(L, -1)) {
-      lua_rawgeti(L, -1, 1);
-      lua_rawgeti(L, -2, 2);
-      if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) throw fail(key, "expected a point {x, y}");
-      *out = {float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
-      lua_pop(L, 2);
-    } else if (!lua_isnil(L, -1)) {
-      throw fail(key, "expected a point {x, y}");
-    }
+  if (r.field(a, "recorded")) {
+    r.expect(LUA_TTABLE, "audio.recorded");
+    r.only_keys(-1, "audio.recorded", phrases_.keys());
+    r.map(-1, "audio.recorded", [&](const std::string& key, const std::string& place) {
+      r.expect(LUA_TSTRING, place, "a sound file's name");
+      audio_.recorded[key] = resolve(lua_tostring(L, -1));
+    });
     lua_pop(L, 1);
   }
-  // sounds = {event = "file"}, recorded = {phrase key = "file"}, priorities = {event = n}
-  for (const char* key : {"sounds", "recorded", "priorities"}) {
-    lua_getfield(L, a, key);
-    if (lua_istable(L, -1)) {
-      lua_pushnil(L);
-      while (lua_next(L, -2)) {
-        const std::string k = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?";
-        if (std::string(key) == "priorities") {
-          if (!lua_isnumber(L, -1)) throw fail(std::string(key) + "." + k, "expected a number");
-          audio_.priorities[k] = int(lua_tonumber(L, -1));
-        } else {
-          if (lua_type(L, -1) != LUA_TSTRING) throw fail(std::string(key) + "." + k, "expected a file name");
-          (std::string(key) == "sounds" ? audio_.sounds : audio_.recorded)[k] = resolve(lua_tostring(L, -1));
-        }
-        lua_pop(L, 1);
-      }
-    } else if (!lua_isnil(L, -1)) {
-      throw fail(key, "expected a table");
-    }
+  if (r.field(a, "priorities")) {
+    r.expect(LUA_TTABLE, "audio.priorities");
+    events.push_back("timer");
+    r.only_keys(-1, "audio.priorities", events);
+    r.map(-1, "audio.priorities", [&](const std::string& event, const std::string& place) {
+      r.expect(LUA_TNUMBER, place);
+      audio_.priorities[event] = int(lua_tonumber(L, -1));
+    });
     lua_pop(L, 1);
   }
   lua_pop(L, 1);
 }
 
-std::string Sport::phrase(const std::string& key, const std::map<std::string, std::string>& vars) const {
-  const auto it = phrases_.find(key);
-  const std::string& text = it == phrases_.end() ? key : it->second;
-  std::string out;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const size_t close = text[i] == '{' ? text.find('}', i) : std::string::npos;
-    const auto var = close == std::string::npos ? vars.end() : vars.find(text.substr(i + 1, close - i - 1));
-    if (var == vars.end()) {
-      out += text[i];
-      continue;
-    }
-    out += var->second;
-    i = close;
-  }
-  return out;
+const std::string& Sport::team_name(const std::string& team) const {
+  const auto it = team_names_.find(team);
+  return it == team_names_.end() ? team : it->second;
+}
+
+void Sport::unknown_phrase(std::string_view key) const {
+  throw std::invalid_argument("no phrase '" + std::string(key) + "' in " + file_ + ": " +
+                              unknown_key(key, phrases_.keys(), "phrase key") +
+                              " (text to speak as it is starts with a capital or has a space)");
+}
+
+void Sport::say_host(game::Match& match, const std::string& key, const std::string& fallback) {
+  auto none = [](std::string_view) { return std::optional<PhraseValue>(); };
+  say(match, phrases_.find(key) ? key : fallback, none);
 }
 
 void Sport::set_factor(const std::string& kind, double value) {
-  const char* kinds[] = {"goal", "own_goal", "body", "out", "field"};
-  if (std::find(std::begin(kinds), std::end(kinds), kind) == std::end(kinds))
+  if (std::find(kFateKinds.begin(), kFateKinds.end(), kind) == kFateKinds.end())
     throw std::invalid_argument("no fate kind '" + kind + "' (known: goal, own_goal, body, out, field)");
   if (!(std::isfinite(value) && value >= 0)) throw std::invalid_argument("factor for " + kind + " must be a number >= 0");
   lua_State* L = sandbox_.L();
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
-  lua_getfield(L, -1, "factors");
+  raw_field(L, -1, "factors");
   if (!lua_istable(L, -1)) {
     lua_pop(L, 1);
     lua_newtable(L);
-    lua_pushvalue(L, -1);
-    lua_setfield(L, -3, "factors");
+    lua_pushstring(L, "factors");
+    lua_pushvalue(L, -2);
+    lua_rawset(L, -4);
   }
+  lua_pushstring(L, kind.c_str());
   lua_pushnumber(L, value);
-  lua_setfield(L, -2, kind.c_str());
+  lua_rawset(L, -3);
   lua_pop(L, 2);
 }
 
-std::vector<double> Sport::factors(std::span<const game::FateView> fates, game::Match& match) {
+void Sport::factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) {
   lua_State* L = sandbox_.L();
-  reading_ = &match;
-  std::vector<double> out;
+  const Acting reading(*this, match, false);
+  const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int sport = lua_gettop(L);
-  lua_getfield(L, sport, "factors");
-  const int kinds = lua_gettop(L);
-  lua_getfield(L, sport, "modifiers");
+  double by_kind[5] = {1, 1, 1, 1, 1};  // in FateKind's order
+  raw_field(L, sport, "factors");
+  if (lua_istable(L, -1)) {
+    const FateKind kinds[] = {FateKind::Goal, FateKind::OwnGoal, FateKind::Body, FateKind::Out, FateKind::Field};
+    for (FateKind k : kinds) {
+      raw_field(L, -1, to_string(k));
+      if (lua_isnumber(L, -1)) by_kind[int(k)] = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+    }
+  }
+  raw_field(L, sport, "modifiers");
   const int modifiers = lua_gettop(L);
   const size_t n_modifiers = lua_istable(L, modifiers) ? lua_objlen(L, modifiers) : 0;
-  for (const game::FateView& f : fates) {
-    double factor = 1;
-    if (lua_istable(L, kinds)) {
-      lua_getfield(L, kinds, f.kind.c_str());
-      if (lua_isnumber(L, -1)) factor = lua_tonumber(L, -1);
+  // The players and power-ups a power-up's factor sees, filled once for all fates.
+  for (size_t k = 0; k < match.players().size() && !match.powerups().empty(); ++k) {
+    player_tables_.push(L, k);
+    fill_player(L, match, k);
+    lua_pop(L, 1);
+  }
+  for (size_t j = 0; j < match.powerups().size(); ++j) {
+    powerup_tables_.push(L, j);
+    fill_powerup(L, match, match.powerups()[j]);
+    lua_pop(L, 1);
+  }
+  zeroed_by_.assign(fates.size(), kNotZeroed);
+  for (size_t k = 0; k < fates.size(); ++k) {
+    const game::FateView& f = fates[k];
+    double factor = by_kind[int(f.fate.kind)];
+    if (factor == 0) zeroed_by_[k] = kKindFactor;
+    if (n_modifiers > 0 || !match.powerups().empty()) {
+      fate_tables_.push(L, k);
+      fill_fate(L, f, match.field());
       lua_pop(L, 1);
     }
     for (size_t i = 1; i <= n_modifiers; ++i) {
       lua_rawgeti(L, modifiers, int(i));
-      push_fate(L, f);
+      fate_tables_.push(L, k);
       lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
       std::string error;
       if (!sandbox_.call(2, 1, error)) {
@@ -276,69 +390,163 @@ std::vector<double> Sport::factors(std::span<const game::FateView> fates, game::
         continue;
       }
       const double m = lua_tonumber(L, -1);
-      if (lua_isnumber(L, -1) && std::isfinite(m) && m >= 0) factor *= m;
-      else if (!lua_isnil(L, -1))
-        match.report_error(file_ + ": modifiers[" + std::to_string(i) +
-                                                     "] returned " + luaL_typename(L, -1) + ", not a number >= 0 (skipped)");
+      if (lua_isnumber(L, -1) && std::isfinite(m) && m >= 0) {
+        factor *= m;
+        if (m == 0 && zeroed_by_[k] == kNotZeroed) zeroed_by_[k] = modifier_code(i);
+      } else if (!lua_isnil(L, -1)) {
+        match.report_error(file_ + ": modifiers[" + std::to_string(i) + "] returned " + luaL_typename(L, -1) +
+                           ", not a number >= 0 (skipped)");
+      }
       lua_pop(L, 1);
     }
-    out.push_back(factor * powerup_factors(f, match));
+    out[k] = factor * powerup_factors(k, match, zeroed_by_[k]);
   }
-  lua_settop(L, sport - 1);
-  reading_ = nullptr;
-  return out;
+  lua_settop(L, top);
+  double kept = 0, mass = 0;
+  for (size_t k = 0; k < fates.size(); ++k) kept += fates[k].mass * out[k], mass += fates[k].mass;
+  if (mass > 0 && kept == 0) report_zeroing(fates, match), std::fill(out.begin(), out.end(), 1.0);
+}
+
+// Every fate zeroed: the draw would have nothing left to choose from. The match goes on with
+// this frame's factors skipped, and the error names what zeroed them.
+void Sport::report_zeroing(std::span<const game::FateView> fates, game::Match& match) {
+  std::vector<int> culprits;
+  for (size_t k = 0; k < fates.size(); ++k)
+    if (fates[k].mass > 0 && std::find(culprits.begin(), culprits.end(), zeroed_by_[k]) == culprits.end())
+      culprits.push_back(zeroed_by_[k]);
+  std::sort(culprits.begin(), culprits.end(), std::greater<>());
+  std::string who;
+  for (int c : culprits) {
+    std::string name;
+    if (c == kKindFactor) {
+      name = file_ + ": factors";
+      std::string kinds;
+      for (const game::FateView& f : fates)
+        if (f.mass > 0 && kinds.find(f.kind()) == std::string::npos) kinds += std::string(kinds.empty() ? "" : "/") + f.kind();
+      name += " (" + kinds + ")";
+    } else if (c > 0) {
+      name = file_ + ": modifiers[" + std::to_string(c) + "]";
+    } else {
+      const std::string& p = match.powerups()[size_t(-2 - c)].name;
+      name = "power-up " + p + " (" + powerup_files_[p] + ")";
+    }
+    who += (who.empty() ? "" : ", ") + name;
+  }
+  match.report_error(who + (culprits.size() > 1 ? " together give" : " gives") +
+                     " every fate a factor of 0, which would leave the ball nowhere to be; this frame's factors are "
+                     "skipped");
 }
 
 void Sport::on_event(const game::GameEvent& e, game::Match& match) {
   lua_State* L = sandbox_.L();
-  game::Match* outer = match_;
-  const game::Match* outer_reading = reading_;
-  match_ = &match, reading_ = &match;
-  if (e.type == "powerup" || e.type == "powerup_end") announce_powerup(e, match);
+  const Acting acting(*this, match, true);
+  if (e.type == game::EventKind::Powerup || e.type == game::EventKind::PowerupEnd) announce_powerup(e, match);
   const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
-  lua_getfield(L, -1, "on");
+  raw_field(L, -1, "on");
   if (lua_istable(L, -1)) {
-    lua_getfield(L, -1, e.type.c_str());
+    raw_field(L, -1, game::to_string(e.type));
     if (lua_isfunction(L, -1)) {
       lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
       push_event(L, e);
       std::string error;
-      if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on." + e.type + " skipped)");
+      if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on." + game::to_string(e.type) + " skipped)");
     }
   }
   lua_settop(L, top);
-  match_ = outer, reading_ = outer_reading;
+}
+
+int Sport::add_timer(game::Match& match, double seconds) {
+  lua_State* L = sandbox_.L();
+  if (!(std::isfinite(seconds) && seconds > 0 && seconds <= 3600))
+    throw std::invalid_argument("seconds must be in (0, 3600], got " + std::to_string(seconds));
+  if (timers_.size() >= 1000) throw std::invalid_argument("1000 timers are pending already");
+  const int function = luaL_ref(L, LUA_REGISTRYINDEX);
+  timers_.push_back({match.time() + seconds, next_timer_, function});
+  return next_timer_++;
+}
+
+void Sport::cancel_timer(int id) {
+  const auto it = std::find_if(timers_.begin(), timers_.end(), [&](const Timer& t) { return t.id == id; });
+  if (it == timers_.end()) return;
+  luaL_unref(sandbox_.L(), LUA_REGISTRYINDEX, it->function);
+  timers_.erase(it);
+}
+
+void Sport::tick(game::Match& match) {
+  lua_State* L = sandbox_.L();
+  // Timers set while these run wait for the next frame, however short their delay.
+  const int before = next_timer_;
+  for (;;) {
+    auto next = timers_.end();
+    for (auto it = timers_.begin(); it != timers_.end(); ++it)
+      if (it->id < before && it->due <= match.time() + 1e-9 &&
+          (next == timers_.end() || it->due < next->due || (it->due == next->due && it->id < next->id)))
+        next = it;
+    if (next == timers_.end()) return;
+    const Timer timer = *next;
+    timers_.erase(next);
+    const Acting acting(*this, match, true);
+    match.set_cause("timer");
+    lua_rawgeti(L, LUA_REGISTRYINDEX, timer.function);
+    luaL_unref(L, LUA_REGISTRYINDEX, timer.function);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+    std::string error;
+    if (!sandbox_.call(1, 0, error)) match.report_error(error + " (timer skipped)");
+  }
 }
 
 int Sport::powerup(const std::string& name) {
   if (const auto it = powerups_.find(name); it != powerups_.end()) return it->second;
-  namespace fs = std::filesystem;
   if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
     throw std::invalid_argument("power-up '" + name + "': names are lower-case letters, digits and _");
-  fs::path sport = fs::path(folder_).lexically_normal();
-  if (sport.filename().empty()) sport = sport.parent_path();  // "rules/practice/"
-  const fs::path own = sport / "powerups" / (name + ".lua");
-  const fs::path shared = sport.parent_path() / "powerups" / (name + ".lua");
-  const fs::path file = fs::exists(own) ? own : shared;
-  if (!fs::exists(file))
-    throw ScriptError("no power-up '" + name + "' (looked for " + own.string() + " and " + shared.string() + ")");
+  fs::path file;
+  std::string looked;
+  for (const fs::path& folder : powerup_folders_) {
+    looked += (looked.empty() ? "" : ", ") + (folder / (name + ".lua")).string();
+    if (file.empty() && fs::exists(folder / (name + ".lua"))) file = folder / (name + ".lua");
+  }
+  if (file.empty()) throw ScriptError("no power-up '" + name + "' (looked for " + looked + ")");
   lua_State* L = sandbox_.L();
   sandbox_.run_file(file.string());
   const std::string where = file.string() + ": ";
-  if (!lua_istable(L, -1)) {
+  const Reader r(L);
+  try {
+    r.expect(LUA_TTABLE, "", "a table");
+    const int t = lua_gettop(L);
+    r.only_keys(t, "", kPowerupKeys);
+    if (!r.field(t, "factor")) r.fail("", "needs factor = function(fate, holder, game, p)");
+    r.expect(LUA_TFUNCTION, "factor");
     lua_pop(L, 1);
-    throw ScriptError(where + "must return a table");
-  }
-  lua_getfield(L, -1, "factor");
-  const bool has_factor = lua_isfunction(L, -1);
-  lua_getfield(L, -2, "duration");
-  const bool has_duration = lua_isnumber(L, -1) && lua_tonumber(L, -1) > 0;
-  lua_pop(L, 2);
-  if (!has_factor || !has_duration) {
+    if (!(r.number(t, "duration", "", 0, true) > 0)) r.fail("duration", "must be seconds > 0");
+    for (const char* optional : {"start", "stop"}) {
+      if (!r.field(t, optional)) continue;
+      r.expect(LUA_TFUNCTION, optional);
+      lua_pop(L, 1);
+    }
+    if (r.field(t, "defaults")) {
+      r.expect(LUA_TTABLE, "defaults");
+      r.map(-1, "defaults", [&](const std::string&, const std::string& place) { r.expect(LUA_TNUMBER, place); });
+      lua_pop(L, 1);
+    }
+    if (r.field(t, "phrases")) {
+      r.expect(LUA_TTABLE, "phrases");
+      r.only_keys(-1, "phrases", {"start", "over"});
+      r.map(-1, "phrases", [&](const std::string&, const std::string& place) {
+        r.expect(LUA_TSTRING, place);
+        try {
+          check_placeholders(place, lua_tostring(L, -1), kPowerupVars);
+        } catch (const std::invalid_argument& e) {
+          r.fail(place, e.what());
+        }
+      });
+      lua_pop(L, 1);
+    }
+  } catch (const ReadError& e) {
     lua_pop(L, 1);
-    throw ScriptError(where + "needs factor = function(fate, holder, game, p) and duration = seconds > 0");
+    throw ScriptError(where + e.what());
   }
+  powerup_files_[name] = file.string();
   return powerups_[name] = luaL_ref(L, LUA_REGISTRYINDEX);
 }
 
@@ -349,21 +557,20 @@ void Sport::grant(game::Match& match, int player, const std::string& name, std::
   lua_rawgeti(L, LUA_REGISTRYINDEX, script);
   const int t = lua_gettop(L);
   // The script's defaults, then the grant's own numbers.
-  lua_getfield(L, t, "defaults");
+  raw_field(L, t, "defaults");
   std::map<std::string, double> params = numbers_of(L, lua_gettop(L));
   lua_pop(L, 1);
   for (const auto& [key, value] : opts) params[key] = value;
-  lua_getfield(L, t, "duration");
+  raw_field(L, t, "duration");
   double seconds = lua_tonumber(L, -1);
   lua_pop(L, 1);
   if (const auto it = params.find("seconds"); it != params.end()) seconds = it->second, params.erase(it);
   // start(holder, game, p) may note what the power-up needs later (black ice: the velocity to keep).
-  lua_getfield(L, t, "start");
+  raw_field(L, t, "start");
   if (lua_isfunction(L, -1)) {
-    game::Match* outer = match_;
-    const game::Match* outer_reading = reading_;
-    match_ = &match, reading_ = &match;
-    push_player(L, match, size_t(player));
+    const Acting acting(*this, match, true);
+    lua_newtable(L);
+    fill_player(L, match, size_t(player));
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     lua_createtable(L, 0, int(params.size()));
     for (const auto& [key, value] : params) {
@@ -373,9 +580,7 @@ void Sport::grant(game::Match& match, int player, const std::string& name, std::
     lua_pushvalue(L, -1);
     lua_insert(L, -5);  // a reference to the params table below the function, for after the call
     std::string error;
-    const bool ok = sandbox_.call(3, 0, error);
-    match_ = outer, reading_ = outer_reading;
-    if (!ok) {
+    if (!sandbox_.call(3, 0, error)) {
       lua_settop(L, top);
       throw ScriptError(error + " (start of power-up " + name + ")");
     }
@@ -385,10 +590,11 @@ void Sport::grant(game::Match& match, int player, const std::string& name, std::
   match.grant(player, name, seconds, std::move(params));
 }
 
-double Sport::powerup_factors(const game::FateView& fate, game::Match& match) {
+double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
   lua_State* L = sandbox_.L();
   double factor = 1;
-  for (const game::ActivePowerup& a : match.powerups()) {
+  for (size_t j = 0; j < match.powerups().size(); ++j) {
+    const game::ActivePowerup& a = match.powerups()[j];
     int script = LUA_NOREF;
     try {
       script = powerup(a.name);  // granted before this sport was reloaded: its script loads here
@@ -398,16 +604,17 @@ double Sport::powerup_factors(const game::FateView& fate, game::Match& match) {
     }
     const int top = lua_gettop(L);
     lua_rawgeti(L, LUA_REGISTRYINDEX, script);
-    lua_getfield(L, -1, "factor");
-    push_fate(L, fate);
-    push_player(L, match, size_t(a.player));
+    raw_field(L, -1, "factor");
+    fate_tables_.push(L, fate);
+    player_tables_.push(L, size_t(a.player));
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
-    push_powerup(L, match, a);
+    powerup_tables_.push(L, j);
     std::string error;
     if (!sandbox_.call(4, 1, error)) {
       match.report_error(error + " (power-up " + a.name + " skipped)");
     } else if (lua_isnumber(L, -1) && std::isfinite(lua_tonumber(L, -1)) && lua_tonumber(L, -1) >= 0) {
       factor *= lua_tonumber(L, -1);
+      if (lua_tonumber(L, -1) == 0 && zeroed_by == kNotZeroed) zeroed_by = powerup_code(j);
     } else if (!lua_isnil(L, -1)) {
       match.report_error("power-up " + a.name + ": factor returned " + luaL_typename(L, -1) +
                          ", not a number >= 0 (skipped)");
@@ -421,11 +628,13 @@ void Sport::reload_powerup(const std::string& name) {
   const auto it = powerups_.find(name);
   if (it == powerups_.end()) return;  // never used: it loads fresh when granted
   const int old = it->second;
+  const std::string old_file = powerup_files_[name];
   powerups_.erase(it);
   try {
     powerup(name);
   } catch (...) {
     powerups_[name] = old;
+    powerup_files_[name] = old_file;
     throw;
   }
   luaL_unref(sandbox_.L(), LUA_REGISTRYINDEX, old);
@@ -433,9 +642,6 @@ void Sport::reload_powerup(const std::string& name) {
 
 namespace {
 
-// Copies the plain data at `index` of `from` onto the top of `to`: what survives a reload. A
-// table met again (shared, or a cycle) is the same table in the copy, and at most kMaxNodes
-// values are copied: a designer's state must not hang a reload.
 struct PlainCopy {
   static constexpr int kMaxNodes = 100000;
   lua_State* from;
@@ -502,7 +708,7 @@ void Sport::take_over(Sport& old, game::Match& match) {
   lua_State* L = sandbox_.L();
   const int old_top = lua_gettop(from), top = lua_gettop(L);
   lua_rawgeti(from, LUA_REGISTRYINDEX, old.sport_ref_);
-  lua_getfield(from, -1, "state");
+  raw_field(from, lua_gettop(from), "state");
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int t = lua_gettop(L);
   PlainCopy copy{from, L, 0};
@@ -517,20 +723,19 @@ void Sport::take_over(Sport& old, game::Match& match) {
     lua_setfield(L, LUA_REGISTRYINDEX, "quantum.reload_state");
   }
   lua_settop(from, old_top);
-  lua_getfield(L, t, "on_reload");
+  raw_field(L, t, "on_reload");
   if (lua_isfunction(L, -1)) {
     lua_insert(L, -2);  // on_reload, state
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     lua_insert(L, -2);  // on_reload, game, state
-    game::Match* outer = match_;
-    const game::Match* outer_reading = reading_;
-    match_ = &match, reading_ = &match;
+    const Acting acting(*this, match, true);
     std::string error;
     if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
-    match_ = outer, reading_ = outer_reading;
   } else {
     lua_pop(L, 1);
-    lua_setfield(L, t, "state");
+    lua_pushstring(L, "state");
+    lua_insert(L, -2);
+    lua_rawset(L, t);
   }
   lua_settop(L, top);
 }
@@ -540,25 +745,35 @@ void Sport::announce_powerup(const game::GameEvent& e, game::Match& match) {
   if (script == powerups_.end()) return;
   lua_State* L = sandbox_.L();
   const int top = lua_gettop(L);
+  const bool starting = e.type == game::EventKind::Powerup;
+  const std::string team = team_name(std::string(e.team));
+  auto vars = [&](std::string_view name) -> std::optional<PhraseValue> {
+    if (name == "player") return PhraseValue{e.actor, std::nullopt};
+    if (name == "team") return PhraseValue{team, std::nullopt};
+    return std::nullopt;
+  };
+  // The sport's own phrase `<name>_start` (or `_over`) takes the script's place.
+  const std::string own = e.powerup + (starting ? "_start" : "_over");
   lua_rawgeti(L, LUA_REGISTRYINDEX, script->second);
-  lua_getfield(L, -1, "phrases");
-  if (lua_istable(L, -1)) {
-    lua_getfield(L, -1, e.type == "powerup" ? "start" : "over");
+  raw_field(L, -1, "phrases");
+  if (phrases_.find(own)) {
+    say(match, own, vars);
+  } else if (lua_istable(L, -1)) {
+    raw_field(L, -1, starting ? "start" : "over");
     if (lua_isstring(L, -1)) {
-      // The script's phrase, with the sport's own phrase of the same key in its place if it has one.
-      const std::string key = e.powerup + (e.type == "powerup" ? "_start" : "_over");
-      const std::map<std::string, std::string> vars{{"player", e.actor}, {"team", e.team}};
-      const std::string own = phrase(key, vars);
-      match.say(own != key ? own : phrase(lua_tostring(L, -1), vars));
+      said_.clear();
+      PhraseTemplate(lua_tostring(L, -1)).fill(said_, vars);
+      match.say(said_);
     }
   }
   lua_settop(L, top);
   // stop(holder, game): undoes what start did to the field (the wormhole closes).
-  if (e.type != "powerup_end" || e.actor_index < 0) return;
+  if (starting || e.actor_index < 0) return;
   lua_rawgeti(L, LUA_REGISTRYINDEX, script->second);
-  lua_getfield(L, -1, "stop");
+  raw_field(L, -1, "stop");
   if (lua_isfunction(L, -1)) {
-    push_player(L, match, size_t(e.actor_index));
+    lua_newtable(L);
+    fill_player(L, match, size_t(e.actor_index));
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     std::string error;
     if (!sandbox_.call(2, 0, error)) match.report_error(error + " (stop of power-up " + e.powerup + " skipped)");

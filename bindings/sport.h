@@ -1,15 +1,19 @@
 // A sport written in Lua (rules/<sport>/sport.lua): its field, match settings, fate factors,
-// handicaps, modifier hooks, event handlers and announcer phrases, behind the game engine's
-// Rules interface. The Lua API it sees is documented in docs/lua-api.md.
+// handicaps, modifier hooks, event handlers, timers and announcer phrases, behind the game
+// engine's Rules interface. The Lua API it sees is documented in docs/lua-api.md.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "game/game.h"
+#include "lua_push.h"
 #include "lua_sandbox.h"
+#include "phrases.h"
 
 namespace quantum::lua {
 
@@ -18,15 +22,19 @@ struct SportAudio {
   std::string voice = "en";
   int rate = 175, volume = 100;
   Vec2 listener{0, 0}, facing{1, 0};
-  std::map<std::string, std::string> sounds;      // event type -> sound file
-  std::map<std::string, std::string> recorded;    // phrase key -> sound file spoken instead
-  std::map<std::string, int> priorities;          // event type -> announcer priority
+  std::map<std::string, std::string, std::less<>> sounds;    // event type -> sound file
+  std::map<std::string, std::string, std::less<>> recorded;  // phrase key -> sound file spoken instead
+  std::map<std::string, int, std::less<>> priorities;        // event type (or "timer") -> announcer priority
 };
+
+// Where the engine keeps its own rules: power-ups (rules/powerups) and Lua helpers for sports
+// (rules/lib). The QUANTUM_RULES environment variable overrides the built-in place.
+std::filesystem::path engine_rules_folder();
 
 class Sport final : public game::Rules {
  public:
-  // `folder` holds sport.lua. Throws ScriptError naming the file (and line) for a script that
-  // does not load, and FieldError for a bad field.
+  // `folder` holds sport.lua. Throws ScriptError naming the file (and line, or the place in
+  // the returned table) for a script that does not load, and FieldError for a bad field.
   explicit Sport(const std::string& folder);
   ~Sport() override;
 
@@ -42,25 +50,47 @@ class Sport final : public game::Rules {
   double balance_per_goal() const { return balance_per_goal_; }
   double balance_most() const { return balance_most_; }
   const SportAudio& audio() const { return audio_; }
+  // Where power-up scripts are looked for, in order: the sport's own powerups/, the one beside
+  // the sport's folder, the engine's.
+  const std::vector<std::filesystem::path>& powerup_folders() const { return powerup_folders_; }
+  // Where require() looks for the sport's Lua modules: the sport's folder, the engine's helpers.
+  const std::vector<std::filesystem::path>& module_folders() const { return module_folders_; }
 
   // Replaces the sport's factor for a fate kind (goal, own_goal, body, out, field), e.g. to
   // compare a sport's factors with none. Throws std::invalid_argument for an unknown kind or a
   // value that is not a number >= 0.
   void set_factor(const std::string& kind, double value);
 
-  std::vector<double> factors(std::span<const game::FateView> fates, game::Match& match) override;
+  void factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) override;
   void on_event(const game::GameEvent& event, game::Match& match) override;
+  void tick(game::Match& match) override;
 
-  void read_audio(int table);
+  // Says phrase `key` (or literal text) on the match; lookup(name) gives placeholder values.
+  // Throws std::invalid_argument for a key the sport has no phrase for, or a placeholder
+  // without a value.
+  template <class Lookup>
+  void say(game::Match& match, std::string_view key_or_text, Lookup&& lookup) {
+    const PhraseTemplate* phrase = phrases_.find(key_or_text);
+    if (!phrase && Phrases::looks_like_key(key_or_text)) unknown_phrase(key_or_text);
+    const auto recorded = audio_.recorded.find(key_or_text);
+    said_.clear();
+    try {
+      if (phrase) phrase->fill(said_, lookup);
+      else PhraseTemplate(key_or_text).fill(said_, lookup);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument((phrase ? "phrase '" + std::string(key_or_text) + "': " : std::string()) + e.what());
+    }
+    match.say(said_, recorded == audio_.recorded.end() ? std::string_view() : std::string_view(recorded->second));
+  }
+  // The host's own announcements (the match paused or resumed): the sport's phrase `key` when it
+  // has one, else `fallback`.
+  void say_host(game::Match& match, const std::string& key, const std::string& fallback);
 
-  // "{team} shoots" with {team = "Blue"}: a phrase of the sport by key, or the text itself.
-  std::string phrase(const std::string& key_or_text, const std::map<std::string, std::string>& vars) const;
-
-  // Gives player `player` (a body index) the power-up `name`: its script (powerups/<name>.lua in
-  // the sport's folder, else in the folder beside it, rules/powerups/) is loaded once, its start
-  // runs, and the match holds it for opts.seconds (default the script's duration). `opts` are its
-  // numbers (strength, ...), over the script's defaults. Throws ScriptError for a script that
-  // does not load, std::invalid_argument for a bad name or value.
+  // Gives player `player` (a body index) the power-up `name`: its script (name.lua in the first
+  // of powerup_folders() that has it) is loaded once, its start runs, and the match holds it
+  // for opts.seconds (default the script's duration). `opts` are its numbers (strength, ...),
+  // over the script's defaults. Throws ScriptError for a script that does not load,
+  // std::invalid_argument for a bad name or value.
   void grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);
 
   // Loads power-up `name` again from its file (it changed). Throws ScriptError, naming the file
@@ -70,16 +100,50 @@ class Sport final : public game::Rules {
 
   // After a reload: this (new) sport takes over from `old`. Its `on_reload(game, state)` gets a
   // copy of the old sport table's `state` (plain data: numbers, strings, booleans, tables);
-  // without one, the copy becomes its `state`.
+  // without one, the copy becomes its `state`. The old version's timers are not carried.
   void take_over(Sport& old, game::Match& match);
 
-  // For wrap_game.cpp: the match the current call acts on.
+  // game.after(seconds, fn): fn (on top of the stack, popped) runs once, `seconds` from now, as
+  // a handler does. Returns its id for cancel_timer.
+  int add_timer(game::Match& match, double seconds);
+  void cancel_timer(int id);
+
+  // For wrap_game.cpp: the match the current call acts on (handlers and timers), or reads
+  // (modifiers and power-up factors too).
   game::Match* match() const { return match_; }
   const game::Match* reading() const { return reading_; }
   lua_State* L() const { return sandbox_.L(); }
+  const Sandbox& sandbox() const { return sandbox_; }
+  // A team's display name (sport.lua's `teams`), else the team's own name.
+  const std::string& team_name(const std::string& team) const;
 
  private:
+  struct Script;
+  struct Timer {
+    double due;
+    int id;
+    int function;  // registry reference
+  };
+  // While a handler, timer or power-up callback runs, the match it may act on.
+  class Acting;
+
+  void read_sport(int table);
+  void read_match(const class Reader& r, int table);
+  void read_audio(const class Reader& r, int table);
+  void check_phrases() const;
+  [[noreturn]] void unknown_phrase(std::string_view key) const;
+  int powerup(const std::string& name);  // loads it on first use; its table's registry reference
+  // Which factor made a fate 0: none, the sport's factors by kind, modifiers[i], or the j-th
+  // active power-up.
+  static constexpr int kNotZeroed = -1, kKindFactor = 0;
+  static int modifier_code(size_t i) { return int(i); }           // 1-based, as Lua counts
+  static int powerup_code(size_t j) { return -2 - int(j); }
+  double powerup_factors(size_t fate, game::Match& match, int& zeroed_by);
+  void announce_powerup(const game::GameEvent& e, game::Match& match);
+  void report_zeroing(std::span<const game::FateView> fates, game::Match& match);
+
   std::string folder_, file_, name_;
+  std::vector<std::filesystem::path> powerup_folders_, module_folders_;
   Sandbox sandbox_;
   int sport_ref_ = LUA_NOREF, game_ref_ = LUA_NOREF;
   Field field_;
@@ -88,12 +152,16 @@ class Sport final : public game::Rules {
   int first_spot_ = 0;
   std::vector<double> handicaps_;
   double balance_per_goal_ = 0, balance_most_ = 2;
-  std::map<std::string, std::string> phrases_;
-  std::map<std::string, int> powerups_;  // loaded power-up scripts: name -> their table in the registry
-  int powerup(const std::string& name);  // loads it on first use
-  double powerup_factors(const game::FateView& fate, game::Match& match);
-  void announce_powerup(const game::GameEvent& e, game::Match& match);
+  Phrases phrases_;
+  std::map<std::string, std::string> team_names_;
+  std::map<std::string, int> powerups_;       // loaded power-up scripts: name -> their table in the registry
+  std::map<std::string, std::string> powerup_files_;
   SportAudio audio_;
+  std::vector<Timer> timers_;
+  int next_timer_ = 1;
+  TablePool fate_tables_, player_tables_, powerup_tables_;
+  std::vector<int> zeroed_by_;           // per fate: which factor made it 0 (codes above)
+  std::string said_;                     // the phrase being filled (its room is kept)
   game::Match* match_ = nullptr;
   const game::Match* reading_ = nullptr;
 };

@@ -1,69 +1,172 @@
-// The `game` table a sport's handlers and modifiers receive: the match's actions and what the
-// rules may read. Fates, players and the score; never particle positions. See docs/lua-api.md.
+// The `game` module a sport's handlers, timers, modifiers and power-ups receive: the match's
+// actions and what the rules may read. Fates, players and the score; never particle positions.
+// Called with a dot (game.say(...)); see lua_wrap.h and docs/lua-api.md.
 #include <cmath>
 
 #include "lua_push.h"
+#include "lua_reader.h"
+#include "lua_wrap.h"
 #include "sport.h"
 
 namespace quantum::lua {
 namespace {
 
-Sport* sport_of(lua_State* L) { return static_cast<Sport*>(lua_touserdata(L, lua_upvalueindex(1))); }
+Sport& sport_of(lua_State* L) { return upvalue_self<Sport>(L); }
 
-// Actions change the match: only event handlers may take them, not fate modifiers.
-game::Match& acting(lua_State* L, const char* what) {
-  game::Match* m = sport_of(L)->match();
-  if (!m) luaL_error(L, "game.%s: only event handlers (on.*) may act on the match", what);
+// Actions change the match: only event handlers and timers may take them, never the factors.
+game::Match& acting(lua_State* L) {
+  game::Match* m = sport_of(L).match();
+  if (!m) throw std::logic_error("only event handlers (on.*), timers and a power-up's start and stop may act on the "
+                                 "match; modifiers and power-up factors only compute a number");
   return *m;
 }
 
 const game::Match& reading(lua_State* L) {
-  const game::Match* m = sport_of(L)->reading();
-  if (!m) luaL_error(L, "game: no match is running");
+  const game::Match* m = sport_of(L).reading();
+  if (!m) throw std::logic_error("no match is running");
   return *m;
 }
 
-// game.say(key_or_text [, vars]): a phrase of the sport (or literal text) with {placeholders}.
+int player_index(const game::Match& m, const std::string& name) {
+  for (size_t k = 0; k < m.players().size(); ++k)
+    if (m.players()[k].name == name) return int(k);
+  std::vector<std::string> names;
+  for (const game::Player& p : m.players()) names.push_back(p.name);
+  throw ArgError(unknown_key(name, names, "player"));
+}
+
+// game.say(key_or_text [, vars]): a phrase of the sport (or text to speak) with {placeholders}.
 int say(lua_State* L) {
-  game::Match& m = acting(L, "say");
-  const std::string key = luaL_checkstring(L, 1);
-  std::map<std::string, std::string> vars;
-  if (lua_istable(L, 2)) {
-    lua_pushnil(L);
-    while (lua_next(L, 2)) {
-      if (lua_type(L, -2) == LUA_TSTRING && (lua_isstring(L, -1)))
-        vars[lua_tostring(L, -2)] = lua_tostring(L, -1);
-      lua_pop(L, 1);
-    }
-  }
-  const auto& recorded = sport_of(L)->audio().recorded;
-  const auto file = recorded.find(key);
-  m.say(sport_of(L)->phrase(key, vars), file == recorded.end() ? std::string() : file->second);
+  game::Match& m = acting(L);
+  const std::string_view key = check_view(L, 1);
+  if (!lua_isnoneornil(L, 2)) check_table(L, 2);
+  sport_of(L).say(m, key, [&](std::string_view name) { return phrase_value(L, 2, name); });
   return 0;
 }
 
 // game.award(team [, goals])
 int award(lua_State* L) {
-  game::Match& m = acting(L, "award");
-  const std::string team = luaL_checkstring(L, 1);
-  const int goals = int(luaL_optinteger(L, 2, 1));
-  return guarded(L, [&] { m.award(team, goals); return 0; });
+  acting(L).award(check_string(L, 1), int(opt_number(L, 2, 1)));
+  return 0;
 }
 
-// game.respawn(spot_name_or_team [, delay_seconds]): the next drop.
+// game.respawn(spot_name_or_team [, delay_seconds]): the next drop; a ball still in play is dead.
 int respawn(lua_State* L) {
-  game::Match& m = acting(L, "respawn");
-  const std::string where = luaL_checkstring(L, 1);
-  const double delay = luaL_optnumber(L, 2, 1.0);
+  game::Match& m = acting(L);
+  const std::string where = check_string(L, 1);
   const int spot = m.spot_of(where);
-  if (spot < 0) return luaL_error(L, "game.respawn: no spot or team '%s' in this field", where.c_str());
-  return guarded(L, [&] { m.respawn(spot, delay); return 0; });
+  if (spot < 0) throw ArgError("no spot or team '" + where + "' in this field");
+  m.respawn(spot, opt_number(L, 2, 1.0));
+  return 0;
+}
+
+// game.dead_ball(): the rally ends now, the ball still moving; `dead` is told.
+int dead_ball(lua_State* L) {
+  acting(L).dead_ball();
+  return 0;
 }
 
 // game.finish([winner]): ends the match; nil or "" for a draw.
 int finish(lua_State* L) {
-  game::Match& m = acting(L, "finish");
-  m.finish(luaL_optstring(L, 1, ""));
+  acting(L).finish(opt_string(L, 1).value_or(""));
+  return 0;
+}
+
+// game.grant(player, powerup [, {seconds =, strength =, ...}]): see docs/writing-a-powerup.md.
+int grant(lua_State* L) {
+  game::Match& m = acting(L);
+  const int player = player_index(m, check_string(L, 1));
+  const std::string name = check_string(L, 2);
+  if (!lua_isnoneornil(L, 3)) check_table(L, 3);
+  sport_of(L).grant(m, player, name, numbers_of(L, 3));
+  return 0;
+}
+
+// game.wormhole(ax, ay, bx, by [, radius]): what enters the mouth at (ax, ay) leaves the one at
+// (bx, by), and back (radius 0.1 m by default); game.wormhole() closes it.
+int wormhole(lua_State* L) {
+  game::Match& m = acting(L);
+  std::vector<Wormhole> holes;
+  if (lua_gettop(L) > 0)
+    holes.push_back({{float(check_number(L, 1)), float(check_number(L, 2))},
+                     {float(check_number(L, 3)), float(check_number(L, 4))}, float(opt_number(L, 5, 0.1))});
+  m.set_wormholes(std::move(holes));
+  return 0;
+}
+
+// game.handicap(player, value): the player's own handicap from now on (> 0).
+int handicap(lua_State* L) {
+  game::Match& m = acting(L);
+  m.set_handicap(player_index(m, check_string(L, 1)), check_number(L, 2));
+  return 0;
+}
+
+// game.after(seconds, fn): fn(game) runs once, that much later, as a handler does; returns an id
+// for game.cancel.
+int after(lua_State* L) {
+  game::Match& m = acting(L);
+  const double seconds = check_number(L, 1);
+  if (!lua_isfunction(L, 2)) throw ArgError("argument 2: expected a function, got " + std::string(luaL_typename(L, 2)));
+  lua_settop(L, 2);
+  lua_pushinteger(L, sport_of(L).add_timer(m, seconds));
+  return 1;
+}
+
+// game.cancel(id): a timer that has not run yet never will.
+int cancel(lua_State* L) {
+  acting(L);
+  sport_of(L).cancel_timer(int(check_number(L, 1)));
+  return 0;
+}
+
+// game.turn(who): whose turn it is to play the ball (a player or a team; nil: everyone's), for
+// the simulated players. Others keep clear; the one with the turn plays the ball anywhere.
+int turn(lua_State* L) {
+  game::Match& m = acting(L);
+  const std::optional<std::string> who = opt_string(L, 1);
+  bool any = !who;
+  for (size_t k = 0; k < m.players().size(); ++k) {
+    const bool mine = !who || m.players()[k].name == *who || m.players()[k].team == *who;
+    m.set_turn(int(k), mine);
+    any |= mine;
+  }
+  if (!any) player_index(m, *who);  // names the nearest player
+  return 0;
+}
+
+// game.aim(who, where): where a player (or a team's players) sends the ball: a goal, a wall or a
+// spot by name, or a point {x, y}; nil: the opponents' goal again.
+int aim(lua_State* L) {
+  game::Match& m = acting(L);
+  const std::string who = check_string(L, 1);
+  const Field& f = m.field();
+  game::Aim aim;
+  if (lua_istable(L, 2)) {
+    lua_rawgeti(L, 2, 1);
+    lua_rawgeti(L, 2, 2);
+    if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) throw ArgError("argument 2: expected a point {x, y}");
+    aim = {game::Aim::Kind::Point, -1, {float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))}};
+  } else if (!lua_isnoneornil(L, 2)) {
+    const std::string where = check_string(L, 2);
+    std::vector<std::string> names;
+    for (size_t g = 0; g < f.goals.size(); ++g) {
+      if (f.goals[g].name == where) aim = {game::Aim::Kind::Goal, int(g), {}};
+      names.push_back(f.goals[g].name);
+    }
+    for (size_t w = 0; w < f.wall_names.size() && aim.kind == game::Aim::Kind::Default; ++w) {
+      if (f.wall_names[w] == where) aim = {game::Aim::Kind::Wall, int(w), {}};
+      names.push_back(f.wall_names[w]);
+    }
+    for (const Spot& s : f.spots) {
+      if (s.name == where && aim.kind == game::Aim::Kind::Default) aim = {game::Aim::Kind::Point, -1, s.at};
+      names.push_back(s.name);
+    }
+    if (aim.kind == game::Aim::Kind::Default) throw ArgError(unknown_key(where, names, "goal, wall or spot"));
+  }
+  bool any = false;
+  for (size_t k = 0; k < m.players().size(); ++k)
+    if (m.players()[k].name == who || m.players()[k].team == who) m.set_aim(int(k), aim), any = true;
+  if (!any) player_index(m, who);
   return 0;
 }
 
@@ -82,61 +185,18 @@ int teams(lua_State* L) {
   return 1;
 }
 
-// game.players(): {name, team, x, y, vx, vy, speed, handicap, powerups} for each player, in the
-// field's order.
-int players(lua_State* L) {
-  const game::Match& m = reading(L);
-  lua_createtable(L, int(m.players().size()), 0);
-  for (size_t i = 0; i < m.players().size(); ++i) {
-    push_player(L, m, i);
-    lua_rawseti(L, -2, int(i + 1));
-  }
+// game.team_name(team): the team's name as the announcer says it (sport.lua's `teams`).
+int team_name(lua_State* L) {
+  const std::string& name = sport_of(L).team_name(check_string(L, 1));
+  lua_pushlstring(L, name.data(), name.size());
   return 1;
 }
 
-int player_index(lua_State* L, const game::Match& m, int arg) {
-  const std::string name = luaL_checkstring(L, arg);
-  for (size_t k = 0; k < m.players().size(); ++k)
-    if (m.players()[k].name == name) return int(k);
-  return luaL_error(L, "no player '%s' in this field", name.c_str());
-}
-
-// game.grant(player, powerup [, {seconds =, strength =, ...}]): see docs/writing-a-powerup.md.
-int grant(lua_State* L) {
-  game::Match& m = acting(L, "grant");
-  const int player = player_index(L, m, 1);
-  const std::string name = luaL_checkstring(L, 2);
-  std::map<std::string, double> opts = numbers_of(L, 3);
-  return guarded(L, [&] {
-    sport_of(L)->grant(m, player, name, std::move(opts));
-    return 0;
-  });
-}
-
-// game.wormhole(ax, ay, bx, by [, radius]): what enters the mouth at (ax, ay) leaves the one at
-// (bx, by), and back (radius 0.1 m by default); game.wormhole() closes it.
-int wormhole(lua_State* L) {
-  game::Match& m = acting(L, "wormhole");
-  std::vector<Wormhole> holes;
-  if (lua_gettop(L) > 0)
-    holes.push_back({{float(luaL_checknumber(L, 1)), float(luaL_checknumber(L, 2))},
-                     {float(luaL_checknumber(L, 3)), float(luaL_checknumber(L, 4))},
-                     float(luaL_optnumber(L, 5, 0.1))});
-  return guarded(L, [&] {
-    m.set_wormholes(std::move(holes));
-    return 0;
-  });
-}
-
-// game.handicap(player, value): the player's own handicap from now on (> 0).
-int handicap(lua_State* L) {
-  game::Match& m = acting(L, "handicap");
-  const int player = player_index(L, m, 1);
-  const double value = luaL_checknumber(L, 2);
-  return guarded(L, [&] {
-    m.set_handicap(player, value);
-    return 0;
-  });
+// game.players(): {name, team, x, y, vx, vy, speed, handicap, turn, powerups} for each player,
+// in the field's order.
+int players(lua_State* L) {
+  push_players(L, reading(L));
+  return 1;
 }
 
 // game.powerups(): {name, player, remaining, <its numbers>} for each active power-up.
@@ -144,7 +204,8 @@ int powerups(lua_State* L) {
   const game::Match& m = reading(L);
   lua_createtable(L, int(m.powerups().size()), 0);
   for (size_t i = 0; i < m.powerups().size(); ++i) {
-    push_powerup(L, m, m.powerups()[i]);
+    lua_newtable(L);
+    fill_powerup(L, m, m.powerups()[i]);
     lua_rawseti(L, -2, int(i + 1));
   }
   return 1;
@@ -161,17 +222,15 @@ int last_touch(lua_State* L) {
 }  // namespace
 
 void push_game_api(lua_State* L, Sport* sport) {
-  const luaL_Reg functions[] = {{"say", say},         {"award", award},       {"respawn", respawn},
-                                {"finish", finish},   {"grant", grant},       {"score", score},
-                                {"time", time},       {"teams", teams},       {"players", players},
-                                {"powerups", powerups}, {"last_touch", last_touch}, {"wormhole", wormhole},
-                                {"handicap", handicap}};
-  lua_newtable(L);
-  for (const luaL_Reg& f : functions) {
-    lua_pushlightuserdata(L, sport);
-    lua_pushcclosure(L, f.func, 1);
-    lua_setfield(L, -2, f.name);
-  }
+  push_module(L, "game",
+              {{"say", guard<say>},           {"award", guard<award>},       {"respawn", guard<respawn>},
+               {"dead_ball", guard<dead_ball>}, {"finish", guard<finish>},   {"grant", guard<grant>},
+               {"handicap", guard<handicap>}, {"wormhole", guard<wormhole>}, {"after", guard<after>},
+               {"cancel", guard<cancel>},     {"turn", guard<turn>},         {"aim", guard<aim>},
+               {"score", guard<score>},       {"time", guard<time>},         {"teams", guard<teams>},
+               {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
+               {"last_touch", guard<last_touch>}},
+              sport);
 }
 
 }  // namespace quantum::lua

@@ -1,5 +1,7 @@
-// `quantum.scenario`: a sport's match driven by a rule spec instead of players: place and move
-// bodies over time, put the ball somewhere, step, and read the events, phrases and fates.
+// The `quantum` module of the rule-spec runner: quantum.scenario(...) makes a scenario, a match
+// of a sport driven by a spec instead of players (place and move bodies over time, put the ball
+// somewhere, run, and read the events, phrases and fates), and quantum.chi_square_p(...) tests
+// frequencies. A scenario runs its match through a runtime::Session, like `quantum play`.
 // Runs inside `quantum test` (the trusted spec runner), so it may use the full Lua library.
 #include "wrap_scenario.h"
 
@@ -7,254 +9,340 @@
 
 #include <cmath>
 #include <memory>
+#include <sstream>
+#include <utility>
 
 #include "lua_push.h"
-#include "sport.h"
+#include "lua_reader.h"
+#include "lua_wrap.h"
+#include "session.h"
 
 namespace quantum::lua {
 namespace {
 
-constexpr const char* kMeta = "quantum.scenario";
-constexpr double kFps = 60;
+constexpr const char* kType = "scenario";
 
-struct Motion {
-  Vec2 position, velocity, target;
-  double until = 0;  // moving toward target until this time
+// Bodies moved by the spec: each holds still, or moves in a straight line at constant speed
+// toward a target until a given time.
+class ScriptedPlayers final : public runtime::PlayerSource {
+ public:
+  struct Motion {
+    Vec2 position, velocity, target;
+    double until = 0;  // moving toward target until this time
+  };
+  // Every body at rest where the field starts it.
+  void start(const Field& field) {
+    for (const BodySpec& b : field.bodies) motions.push_back({b.start, {0, 0}, b.start, 0});
+    bodies_.resize(motions.size());
+  }
+  Status advance(double t, const game::Match& match, bool) override {
+    const double dt = 1.0 / match.fps();
+    for (size_t k = 0; k < motions.size(); ++k) {
+      Motion& m = motions[k];
+      if (m.until > 0 && t >= m.until) m.position = m.target, m.velocity = {0, 0}, m.until = 0;
+      else if (m.until > 0) m.position = {m.position.x + float(m.velocity.x * dt), m.position.y + float(m.velocity.y * dt)};
+      bodies_[k] = {m.position, m.velocity};
+    }
+    return Status::Ready;
+  }
+  std::span<const BodyInput> bodies() const override { return bodies_; }
+  // The bodies as `motions` has them now.
+  const std::vector<BodyInput>& now() {
+    for (size_t k = 0; k < motions.size(); ++k) bodies_[k] = {motions[k].position, motions[k].velocity};
+    return bodies_;
+  }
+
+  std::vector<Motion> motions;
+
+ private:
+  std::vector<BodyInput> bodies_;
+};
+
+struct Told {
+  game::GameEvent event;
+  std::vector<std::string> said;  // what its own handlers said
 };
 
 struct Scenario {
-  std::unique_ptr<Sport> sport;
-  std::unique_ptr<game::Match> match;
-  std::vector<Motion> bodies;
-  std::vector<game::GameEvent> events;
-  std::vector<game::Said> said;
-  std::vector<std::string> errors;
+  std::ostringstream warnings;
+  std::unique_ptr<runtime::Session> session;
+  ScriptedPlayers* bodies = nullptr;  // owned by the session
+  std::vector<Told> events;
+  std::vector<std::string> said, errors;
+  size_t run_from = 0;            // the first event no run has returned yet
+  std::optional<game::EventKind> stop;
+  bool stopped = false;
+
+  game::Match& match() { return session->match(); }
+
+  void hear(const runtime::News& news) {
+    for (size_t k = 0; k < news.events.size(); ++k) {
+      Told t{news.events[k], {}};
+      for (const game::Said& s : news.said)
+        if (s.event == int(k)) t.said.push_back(s.text);
+      stopped |= stop && news.events[k].type == *stop;
+      events.push_back(std::move(t));
+    }
+    for (const game::Said& s : news.said) said.push_back(s.text);
+    errors.insert(errors.end(), news.errors.begin(), news.errors.end());
+  }
 };
 
-Scenario& check(lua_State* L) { return **static_cast<Scenario**>(luaL_checkudata(L, 1, kMeta)); }
+Scenario& self(lua_State* L) {
+  Scenario* s = object<Scenario>(L);
+  if (!s) throw std::logic_error("this scenario is gone");
+  return *s;
+}
 
-double field_number(lua_State* L, int t, const char* key, double fallback) {
-  lua_getfield(L, t, key);
-  const double v = lua_isnumber(L, -1) ? lua_tonumber(L, -1) : fallback;
+int body_index(Scenario& s, const std::string& name) {
+  const Field& f = s.match().field();
+  std::vector<std::string> names;
+  for (size_t k = 0; k < f.bodies.size(); ++k) {
+    if (f.bodies[k].name == name) return int(k);
+    names.push_back(f.bodies[k].name);
+  }
+  throw ArgError(unknown_key(name, names, "player") + " in " + s.session->sport().name());
+}
+
+// Reads the options table at `index` strictly: only `known` keys, each a number (or for
+// handicaps, a table).
+void check_options(lua_State* L, int index, std::initializer_list<const char*> known, const char* what) {
+  if (lua_isnoneornil(L, index)) return;
+  check_table(L, index);
+  try {
+    Reader(L).only_keys(index, what, known);
+  } catch (const ReadError& e) {
+    throw ArgError(e.what());
+  }
+}
+
+double option(lua_State* L, int index, const char* key, double fallback) {
+  if (!lua_istable(L, index)) return fallback;
+  lua_getfield(L, index, key);
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    return fallback;
+  }
+  if (!lua_isnumber(L, -1)) throw ArgError(std::string(key) + ": expected a number, got " + luaL_typename(L, -1));
+  const double v = lua_tonumber(L, -1);
   lua_pop(L, 1);
   return v;
 }
 
-int body_index(lua_State* L, Scenario& s, int arg) {
-  const std::string name = luaL_checkstring(L, arg);
-  const Field& f = s.match->field();
-  for (size_t k = 0; k < f.bodies.size(); ++k)
-    if (f.bodies[k].name == name) return int(k);
-  return luaL_error(L, "no player '%s' in %s", name.c_str(), s.sport->name().c_str());
+void push_told(lua_State* L, const Told& t) {
+  push_event(L, t.event);
+  push_strings(L, t.said);
+  lua_setfield(L, -2, "said");
 }
 
 // quantum.scenario(sport_folder [, {seed =, particles =, seconds = (time limit), handicaps = {...}}])
 int scenario(lua_State* L) {
-  const std::string folder = luaL_checkstring(L, 1);
-  return guarded(L, [&] {
-    auto s = std::make_unique<Scenario>();
-    s->sport = std::make_unique<Sport>(folder);
-    game::MatchConfig config;
-    config.particles = s->sport->particles();
-    config.seconds = s->sport->seconds();
-    config.first_spot = s->sport->first_spot();
-    config.balance_per_goal = s->sport->balance_per_goal();
-    config.balance_most = s->sport->balance_most();
-    std::vector<double> handicaps = s->sport->handicaps();
-    if (lua_istable(L, 2)) {
-      config.seed = uint64_t(field_number(L, 2, "seed", 1));
-      config.particles = uint32_t(field_number(L, 2, "particles", config.particles));
-      config.seconds = field_number(L, 2, "seconds", config.seconds);
-      lua_getfield(L, 2, "handicaps");
-      if (lua_istable(L, -1))
-        for (size_t k = 0; k < handicaps.size(); ++k)
-          handicaps[k] = field_number(L, lua_gettop(L), s->sport->field().bodies[k].name.c_str(), handicaps[k]);
-      lua_pop(L, 1);
+  const std::string folder = check_string(L, 1);
+  check_options(L, 2, {"seed", "particles", "seconds", "handicaps"}, "quantum.scenario's options");
+  auto s = std::make_unique<Scenario>();
+  runtime::SessionOptions o;
+  o.sport = folder;
+  o.seed = uint64_t(option(L, 2, "seed", 1));
+  o.particles = uint32_t(option(L, 2, "particles", 0));
+  o.seconds = option(L, 2, "seconds", 0);
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  auto bodies = std::make_unique<ScriptedPlayers>();
+  s->bodies = bodies.get();
+  s->session = std::make_unique<runtime::Session>(o, nullptr, s->warnings, std::move(bodies));
+  s->bodies->start(s->match().field());
+  // Handicaps by player name, over the sport's.
+  if (lua_istable(L, 2)) {
+    lua_getfield(L, 2, "handicaps");
+    if (!lua_isnil(L, -1)) {
+      if (!lua_istable(L, -1)) throw ArgError("handicaps: expected a table {[player] = handicap}");
+      lua_pushnil(L);
+      while (lua_next(L, -2)) {
+        if (lua_type(L, -2) != LUA_TSTRING) throw ArgError("handicaps: expected player names as keys");
+        const int k = body_index(*s, lua_tostring(L, -2));
+        if (!lua_isnumber(L, -1)) throw ArgError("handicaps: expected a number for each player");
+        s->match().set_handicap(k, lua_tonumber(L, -1));
+        lua_pop(L, 1);
+      }
     }
-    s->match = std::make_unique<game::Match>(s->sport->field(), config, *s->sport, handicaps);
-    for (const BodySpec& b : s->match->field().bodies) s->bodies.push_back({b.start, {0, 0}, b.start, 0});
-    auto** box = static_cast<Scenario**>(lua_newuserdata(L, sizeof(Scenario*)));
-    *box = s.release();
-    luaL_getmetatable(L, kMeta);
-    lua_setmetatable(L, -2);
-    return 1;
-  });
+    lua_pop(L, 1);
+  }
+  Scenario* raw = s.get();
+  s->session->watch([raw](const runtime::News& news) { raw->hear(news); });
+  auto** box = static_cast<Scenario**>(lua_newuserdata(L, sizeof(Scenario*)));
+  *box = s.release();
+  luaL_getmetatable(L, kType);
+  lua_setmetatable(L, -2);
+  return 1;
 }
 
 int gc(lua_State* L) {
-  auto** box = static_cast<Scenario**>(luaL_checkudata(L, 1, kMeta));
+  auto** box = static_cast<Scenario**>(luaL_checkudata(L, 1, kType));
   delete *box;
   *box = nullptr;
   return 0;
 }
 
-// The match sees the bodies as the scenario has them now (power-ups read their motion).
-int show(lua_State* L, Scenario& s) {
-  std::vector<BodyInput> input;
-  for (const Motion& m : s.bodies) input.push_back({m.position, m.velocity});
-  return guarded(L, [&] {
-    s.match->place_players(input);
-    return 0;
-  });
+// The match sees the bodies as the scenario has them now (power-ups read their motion). Throws,
+// and changes nothing, for bodies the match refuses.
+void show(Scenario& s, const std::vector<ScriptedPlayers::Motion>& motions) {
+  const std::vector<ScriptedPlayers::Motion> before = s.bodies->motions;
+  s.bodies->motions = motions;
+  try {
+    s.match().place_players(s.bodies->now());
+  } catch (...) {
+    s.bodies->motions = before;
+    s.bodies->now();
+    throw;
+  }
 }
 
 // s:place(player, x, y): the body is there, at rest.
 int place(lua_State* L) {
-  Scenario& s = check(L);
-  Motion& m = s.bodies[body_index(L, s, 2)];
-  m.position = m.target = {float(luaL_checknumber(L, 3)), float(luaL_checknumber(L, 4))};
+  Scenario& s = self(L);
+  std::vector<ScriptedPlayers::Motion> motions = s.bodies->motions;
+  ScriptedPlayers::Motion& m = motions[size_t(body_index(s, check_string(L, 2)))];
+  m.position = m.target = {float(check_number(L, 3)), float(check_number(L, 4))};
   m.velocity = {0, 0}, m.until = 0;
-  return show(L, s);
-}
-
-// s:grant(player, powerup [, {seconds =, strength =, ...}]): as game.grant, from the spec.
-int grant(lua_State* L) {
-  Scenario& s = check(L);
-  const int player = body_index(L, s, 2);
-  const std::string name = luaL_checkstring(L, 3);
-  std::map<std::string, double> opts = numbers_of(L, 4);
-  return guarded(L, [&] {
-    s.sport->grant(*s.match, player, name, std::move(opts));
-    return 0;
-  });
+  show(s, motions);
+  return 0;
 }
 
 // s:move(player, x, y, seconds): moves there in a straight line at constant speed.
 int move(lua_State* L) {
-  Scenario& s = check(L);
-  Motion& m = s.bodies[body_index(L, s, 2)];
-  const double seconds = luaL_checknumber(L, 5);
-  if (!(seconds > 0)) return luaL_error(L, "move: seconds must be > 0");
-  m.target = {float(luaL_checknumber(L, 3)), float(luaL_checknumber(L, 4))};
+  Scenario& s = self(L);
+  std::vector<ScriptedPlayers::Motion> motions = s.bodies->motions;
+  ScriptedPlayers::Motion& m = motions[size_t(body_index(s, check_string(L, 2)))];
+  const double seconds = check_number(L, 5);
+  if (!(seconds > 0 && std::isfinite(seconds))) throw ArgError("seconds must be > 0");
+  m.target = {float(check_number(L, 3)), float(check_number(L, 4))};
   m.velocity = {float((m.target.x - m.position.x) / seconds), float((m.target.y - m.position.y) / seconds)};
-  m.until = s.match->time() + seconds;
-  return show(L, s);
+  m.until = s.match().time() + seconds;
+  show(s, motions);
+  return 0;
+}
+
+// s:grant(player, powerup [, {seconds =, strength =, ...}]): as game.grant, from the spec.
+int grant(lua_State* L) {
+  Scenario& s = self(L);
+  const int player = body_index(s, check_string(L, 2));
+  const std::string name = check_string(L, 3);
+  if (!lua_isnoneornil(L, 4)) check_table(L, 4);
+  s.session->sport().grant(s.match(), player, name, numbers_of(L, 4));
+  s.session->tell();
+  return 0;
 }
 
 // s:ball{x =, y =, vx =, vy =, spread = 0.01 (m), turn = 0.05 (rad), count = 400, by = player}:
 // the ball is a bundle of that many particles around (x, y), heading (vx, vy) give or take
 // `turn`, last touched by `by` (nobody when absent).
 int ball(lua_State* L) {
-  Scenario& s = check(L);
-  luaL_checktype(L, 2, LUA_TTABLE);
-  const double x = field_number(L, 2, "x", 0), y = field_number(L, 2, "y", 0);
-  const double vx = field_number(L, 2, "vx", 0), vy = field_number(L, 2, "vy", 0);
-  const double spread = field_number(L, 2, "spread", 0.01), turn = field_number(L, 2, "turn", 0.05);
-  const int count = int(field_number(L, 2, "count", 400));
-  if (count < 1 || count > 10'000'000) return luaL_error(L, "ball: count must be in [1, 10000000]");
+  Scenario& s = self(L);
+  check_options(L, 2, {"x", "y", "vx", "vy", "spread", "turn", "count", "by"}, "the ball");
+  check_table(L, 2);
+  const double x = option(L, 2, "x", 0), y = option(L, 2, "y", 0);
+  const double vx = option(L, 2, "vx", 0), vy = option(L, 2, "vy", 0);
+  const double spread = option(L, 2, "spread", 0.01), turn = option(L, 2, "turn", 0.05);
+  const double count = option(L, 2, "count", 400);
+  if (!(count >= 1 && count <= 10'000'000)) throw ArgError("count must be in [1, 10000000]");
+  const int n = int(count);
   Cloud c;
   const double speed = std::hypot(vx, vy), heading = std::atan2(vy, vx);
   // A deterministic lattice: spread and turn cover their ranges evenly, so specs need no seed.
-  for (int i = 0; i < count; ++i) {
-    const double u = count > 1 ? double(i) / (count - 1) - 0.5 : 0;
+  for (int i = 0; i < n; ++i) {
+    const double u = n > 1 ? double(i) / (n - 1) - 0.5 : 0;
     const double a = heading + 2 * turn * u;
     const double side = spread * std::sin(2 * M_PI * 7.3 * u);
     c.push(float(x - side * std::sin(heading)), float(y + side * std::cos(heading)), float(speed * std::cos(a)),
-           float(speed * std::sin(a)), 1.0 / count, 1.0 / count);
+           float(speed * std::sin(a)), 1.0 / n, 1.0 / n);
   }
   int by = -1;
   lua_getfield(L, 2, "by");
-  if (!lua_isnil(L, -1)) by = body_index(L, s, lua_gettop(L));
+  if (!lua_isnil(L, -1)) by = body_index(s, check_string(L, lua_gettop(L)));
   lua_pop(L, 1);
-  std::vector<BodyInput> input;
-  for (const Motion& m : s.bodies) input.push_back({m.position, m.velocity});
-  return guarded(L, [&] {
-    s.match->set_scene(input, std::move(c), by);
-    return 0;
-  });
+  s.match().set_scene(s.bodies->now(), std::move(c), by);
+  s.session->tell();
+  return 0;
 }
 
-// s:run(seconds [, stop_at_type]): steps the match; returns the events of this run.
+// s:run(seconds [, stop_type]): runs the match; returns the events of this run (each with the
+// phrases its handlers said, `said`), stopping after the first of `stop_type`.
 int run(lua_State* L) {
-  Scenario& s = check(L);
-  const double seconds = luaL_checknumber(L, 2);
-  const std::string stop = luaL_optstring(L, 3, "");
-  if (!(seconds > 0 && seconds <= 3600)) return luaL_error(L, "run: seconds must be in (0, 3600]");
-  std::vector<game::GameEvent> fresh;
-  const double dt = 1 / kFps;
-  const double end = s.match->time() + seconds - 1e-9;
-  bool stopped = false;
-  std::string error;
-  try {
-    while (s.match->time() < end && !s.match->finished() && !stopped) {
-      std::vector<BodyInput> input;
-      const double t = s.match->time() + dt;
-      for (Motion& m : s.bodies) {
-        if (m.until > 0 && t >= m.until) m.position = m.target, m.velocity = {0, 0}, m.until = 0;
-        else if (m.until > 0) m.position = {m.position.x + float(m.velocity.x * dt), m.position.y + float(m.velocity.y * dt)};
-        input.push_back({m.position, m.velocity});
-      }
-      s.match->step(input);
-      for (const game::GameEvent& e : s.match->take_events()) {
-        fresh.push_back(e);
-        stopped |= e.type == stop;
-      }
-      for (game::Said& said : s.match->take_said()) s.said.push_back(std::move(said));
-      for (std::string& e : s.match->take_errors()) s.errors.push_back(std::move(e));
-    }
-  } catch (const std::exception& e) {
-    error = e.what();
+  Scenario& s = self(L);
+  const double seconds = check_number(L, 2);
+  if (!(seconds > 0 && seconds <= 3600)) throw ArgError("seconds must be in (0, 3600]");
+  s.stop.reset();
+  if (const std::optional<std::string> stop = opt_string(L, 3)) {
+    s.stop = game::event_kind(*stop);
+    if (!s.stop) throw ArgError(unknown_key(*stop, game::event_names(), "event type"));
   }
-  if (!error.empty()) return luaL_error(L, "%s", error.c_str());
-  s.events.insert(s.events.end(), fresh.begin(), fresh.end());
-  lua_createtable(L, int(fresh.size()), 0);
-  for (size_t i = 0; i < fresh.size(); ++i) {
-    push_event(L, fresh[i]);
-    lua_rawseti(L, -2, int(i + 1));
+  s.stopped = false;
+  // What was told since the last run (a grant, say) belongs to this one.
+  const size_t first = std::exchange(s.run_from, s.events.size());
+  const double end = s.match().time() + seconds - 1e-9;
+  while (s.match().time() < end && !s.stopped && s.session->frame()) {
+  }
+  s.run_from = s.events.size();
+  lua_createtable(L, int(s.events.size() - first), 0);
+  for (size_t i = first; i < s.events.size(); ++i) {
+    push_told(L, s.events[i]);
+    lua_rawseti(L, -2, int(i - first + 1));
   }
   return 1;
 }
 
 int events(lua_State* L) {
-  Scenario& s = check(L);
+  Scenario& s = self(L);
   lua_createtable(L, int(s.events.size()), 0);
   for (size_t i = 0; i < s.events.size(); ++i) {
-    push_event(L, s.events[i]);
+    push_told(L, s.events[i]);
     lua_rawseti(L, -2, int(i + 1));
   }
   return 1;
 }
 
 int said(lua_State* L) {
-  std::vector<std::string> texts;
-  for (const game::Said& s : check(L).said) texts.push_back(s.text);
-  push_strings(L, texts);
+  push_strings(L, self(L).said);
   return 1;
 }
 
 int errors(lua_State* L) {
-  push_strings(L, check(L).errors);
+  push_strings(L, self(L).errors);
   return 1;
 }
 
-// s:fates(): the current fates, as rules see them (see lua_push.h).
+// s:fates(): the current fates, as modifiers see them (see lua_push.h).
 int fates(lua_State* L) {
-  Scenario& s = check(L);
-  return guarded(L, [&] {
-    const std::vector<game::FateView> list = s.match->fates();
-    lua_createtable(L, int(list.size()), 0);
-    for (size_t i = 0; i < list.size(); ++i) {
-      push_fate(L, list[i]);
-      lua_rawseti(L, -2, int(i + 1));
-    }
-    return 1;
-  });
+  Scenario& s = self(L);
+  const std::vector<game::FateView> list = s.match().fates();
+  lua_createtable(L, int(list.size()), 0);
+  for (size_t i = 0; i < list.size(); ++i) {
+    lua_newtable(L);
+    fill_fate(L, list[i], s.match().field());
+    lua_rawseti(L, -2, int(i + 1));
+  }
+  return 1;
+}
+
+// s:players(): the players as game.players() gives them (with the sport's hints: `turn`).
+int players(lua_State* L) {
+  push_players(L, self(L).match());
+  return 1;
 }
 
 int score(lua_State* L) {
-  push_score(L, check(L).match->score());
+  push_score(L, self(L).match().score());
   return 1;
 }
 
 int time(lua_State* L) {
-  lua_pushnumber(L, check(L).match->time());
+  lua_pushnumber(L, self(L).match().time());
   return 1;
 }
 
 // quantum.chi_square_p(chi2, degrees_of_freedom): the upper tail probability.
 int chi_square_p(lua_State* L) {
-  const double chi2 = luaL_checknumber(L, 1), df = luaL_checknumber(L, 2);
-  if (!(chi2 >= 0 && df >= 1)) return luaL_error(L, "chi_square_p: needs chi2 >= 0 and df >= 1");
+  const double chi2 = check_number(L, 1), df = check_number(L, 2);
+  if (!(chi2 >= 0 && df >= 1)) throw ArgError("needs chi2 >= 0 and df >= 1");
   lua_pushnumber(L, boost::math::cdf(boost::math::complement(boost::math::chi_squared(df), chi2)));
   return 1;
 }
@@ -262,24 +350,13 @@ int chi_square_p(lua_State* L) {
 }  // namespace
 
 void open_scenario(lua_State* L) {
-  const luaL_Reg methods[] = {{"place", place}, {"move", move},     {"ball", ball},   {"run", run}, {"grant", grant},
-                              {"events", events}, {"said", said},   {"errors", errors}, {"fates", fates},
-                              {"score", score},   {"time", time}};
-  luaL_newmetatable(L, kMeta);
-  lua_pushcfunction(L, gc);
-  lua_setfield(L, -2, "__gc");
-  lua_newtable(L);
-  for (const luaL_Reg& m : methods) {
-    lua_pushcfunction(L, m.func);
-    lua_setfield(L, -2, m.name);
-  }
-  lua_setfield(L, -2, "__index");
-  lua_pop(L, 1);
-  lua_newtable(L);
-  lua_pushcfunction(L, scenario);
-  lua_setfield(L, -2, "scenario");
-  lua_pushcfunction(L, chi_square_p);
-  lua_setfield(L, -2, "chi_square_p");
+  register_type(L, kType,
+                {{"place", guard<place>},   {"move", guard<move>},     {"ball", guard<ball>},
+                 {"run", guard<run>},       {"grant", guard<grant>},   {"events", guard<events>},
+                 {"said", guard<said>},     {"errors", guard<errors>}, {"fates", guard<fates>},
+                 {"players", guard<players>}, {"score", guard<score>}, {"time", guard<time>}},
+                gc);
+  push_module(L, "quantum", {{"scenario", guard<scenario>}, {"chi_square_p", guard<chi_square_p>}}, nullptr);
   lua_setglobal(L, "quantum");
 }
 

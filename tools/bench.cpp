@@ -4,11 +4,12 @@
 
 #include <chrono>
 #include <filesystem>
+#include <sstream>
 
 #include "audio/audio.h"
 #include "box2d_backend.h"
 #include "field_loader.h"
-#include "game/bots.h"
+#include "session.h"
 #include "sport.h"
 #include "quantum/world.h"
 #include "scenes.h"
@@ -78,55 +79,49 @@ void BM_FateReport(benchmark::State& state) {
   state.counters["particles"] = double(world.cloud().size());
 }
 
-// One second of Quantum air hockey between two simulated players: 60 frames of stepping, a fate
-// prediction and tweak every frame, the Lua rules and the bots. Each iteration is 1 s of play,
-// so its time is the share of real time a live match needs.
+// One second of Quantum air hockey between two simulated players, through the session every
+// front end uses: 60 frames of stepping, a fate prediction and tweak every frame, the Lua rules
+// and the bots (no sound, no log). Each iteration is 1 s of play, so its time is the share of
+// real time a live match needs.
 void BM_MatchSecond(benchmark::State& state) {
-  lua::Sport sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
-  game::MatchConfig config;
-  config.particles = uint32_t(state.range(0));
-  config.seconds = 1e6;
-  config.first_spot = sport.first_spot();
-  game::Match match(sport.field(), config, sport, sport.handicaps());
-  game::Bots bots(match.field(), {0.6, 0.6}, 1);
-  const double dt = 1.0 / config.fps;
-  for (auto _ : state) {
-    for (int frame = 0; frame < 60; ++frame) {
-      match.step(bots.move(match.time() + dt, dt));
-      for (const game::GameEvent& e : match.take_events()) bots.hear(e);
-      match.take_said();
-    }
-  }
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.particles = uint32_t(state.range(0));
+  o.seconds = 1e6;
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors);
+  for (auto _ : state)
+    for (int frame = 0; frame < 60; ++frame) session.frame();
+  if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
-// One frame of a match at the sport's 1000 particles during which the sport reloads: sport.lua
-// loaded again into a fresh sandbox (with its field), its state carried over, the match handed
-// to it, and a power-up script loaded again; then the frame itself. Longest iteration reported
-// as well: a reload must fit in one 60 Hz frame (16.7 ms) with the frame.
+// One frame of a match at the sport's 1000 particles during which the sport reloads, as in
+// `quantum play`: between two frames the reloader loads sport.lua again into a fresh sandbox
+// (with its field), hands the match to it, carries the state over, and loads the power-up in use
+// again; then the frame itself. Longest iteration reported as well: a reload must fit in one
+// 60 Hz frame (16.7 ms) with the frame.
 void BM_FrameWithReload(benchmark::State& state) {
-  auto sport = std::make_unique<lua::Sport>(QUANTUM_SOURCE_DIR "/rules/airhockey");
-  game::MatchConfig config;
-  config.seconds = 1e6;
-  config.first_spot = sport->first_spot();
-  game::Match match(sport->field(), config, *sport, sport->handicaps());
-  game::Bots bots(match.field(), {0.6, 0.6}, 1);
-  const double dt = 1.0 / config.fps;
-  for (int frame = 0; frame < 60; ++frame) match.step(bots.move(match.time() + dt, dt));
-  sport->grant(match, 1, "penalty", {});
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.seconds = 1e6;
+  o.watch = true;
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors);
+  for (int frame = 0; frame < 60; ++frame) session.frame();
+  session.sport().grant(session.match(), 1, "penalty", {});
+  const std::string powerup = session.sport().powerup_folders().back() / "penalty.lua";
   double longest = 0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
-    auto fresh = std::make_unique<lua::Sport>(QUANTUM_SOURCE_DIR "/rules/airhockey");
-    fresh->take_over(*sport, match);
-    match.set_rules(*fresh);
-    sport = std::move(fresh);
-    sport->grant(match, 1, "penalty", {});  // its script loads into the new sandbox
-    match.step(bots.move(match.time() + dt, dt));
-    for (const game::GameEvent& e : match.take_events()) bots.hear(e);
-    match.take_said();
+    session.reload(o.sport + "/sport.lua");
+    session.reload(powerup);
+    session.frame();
     longest = std::max(longest, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
   state.counters["longest_ms"] = longest;
+  if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
 // From an event's phrase to its first samples in the output buffer, for a phrase said before

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
   simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
       ->capture_default_str()->check(CLI::Range(1u, 600u));
 
-  quantum::tools::PlayOptions game;
+  quantum::runtime::SessionOptions game;
+  bool quiet = false;
   std::string skills, handicaps;
   CLI::App* play = app.add_subcommand("play", "play a match of a sport between simulated players");
   play->add_option("SPORT", game.sport, "sport folder")->capture_default_str();
@@ -45,9 +46,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 10.0));
   game.audio = "";  // the command plays sound by default
   play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)");
-  play->add_flag("--quiet", [&](int64_t) { game.transcript = false; }, "no transcript");
+  play->add_flag("--quiet", quiet, "no transcript");
 
-  quantum::tools::PlayOptions study;
+  quantum::runtime::SessionOptions study;
   std::string study_skills, study_handicaps, study_factors = "sport";
   int matches = 200;
   CLI::App* balance = app.add_subcommand("balance", "play many seeded matches between simulated players and report "
@@ -108,7 +109,8 @@ int main(int argc, char** argv) {
     if (play->parsed()) {
       if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");
       if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");
-      quantum::tools::play(game, game.events == "-" ? std::cerr : std::cout, std::cerr);
+      game.watch = true;  // a designer's saved script takes effect between two frames
+      quantum::tools::play(game, game.events == "-" ? std::cerr : std::cout, std::cerr, !quiet);
     }
     if (simulate->parsed()) {
       // With events on stdout the summary moves to stderr, keeping stdout pure JSON lines.

@@ -5,7 +5,7 @@
 #include <map>
 
 #include "box2d_backend.h"
-#include "event_log.h"
+#include "json_lines.h"
 #include "field_loader.h"
 #include "quantum/world.h"
 #include "scenes.h"
@@ -13,6 +13,22 @@
 
 namespace quantum::tools {
 namespace {
+
+struct Actor {
+  std::string_view name, team;
+};
+
+Actor actor_of(const Event& e, const Field& f) {
+  switch (e.type) {
+    case EventType::Drop: return {f.spots[e.actor].name, f.spots[e.actor].team};
+    case EventType::Hit: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
+    case EventType::Bounce: return {f.wall_names[e.actor], ""};
+    case EventType::Goal:
+    case EventType::OwnGoal: return {f.goals[e.actor].name, f.goals[e.actor].team};
+    case EventType::Out: return {"out", ""};
+  }
+  return {};
+}
 
 constexpr double kRespawnDelay = 1.0;     // s between a goal and the next drop
 constexpr double kRepredictEvery = 0.5;   // s: fates drift as the cloud spreads and mallets move
@@ -41,6 +57,18 @@ int respawn_spot(const Field& f, const Event& e) {
 
 }  // namespace
 
+void write_event(std::ostream& out, const Event& e, const Field& f) {
+  const Actor a = actor_of(e, f);
+  runtime::JsonLine line(out);
+  line.field("t", e.t).field("type", to_string(e.type)).field("actor", a.name);
+  if (!a.team.empty()) line.field("team", a.team);
+  line.field("p", e.p).field("p_newtonian", e.p_newtonian).field("particles", uint64_t(e.particles));
+  line.field("x", double(e.at.x)).field("y", double(e.at.y));
+  if (e.type == EventType::Hit || e.type == EventType::Bounce)
+    line.field("vx", double(e.velocity.x)).field("vy", double(e.velocity.y));
+  line.end();
+}
+
 void simulate(const SimulateOptions& o, std::ostream& summary) {
   if (!(o.seconds > 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
   if (!(o.fps >= 10 && o.fps <= 1000)) throw std::invalid_argument("--fps must be in [10, 1000]");
@@ -54,8 +82,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   config.purgatory_frames = o.purgatory;
   World world(field, config, o.backend == "box2d" ? make_box2d_backend(field) : nullptr);
 
-  std::ofstream file;
-  std::ostream* log = open_event_log(o.events, file);
+  runtime::LineFile log(o.events);
 
   std::vector<Event> events;
   std::map<std::string, int> counts, conceded;
@@ -65,7 +92,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   bool have_snapshot_moment = false;
   auto flush = [&]() {
     for (const Event& e : events) {
-      if (log) *log << event_json(e, world.field()) << '\n';
+      if (log.stream()) write_event(*log.stream(), e, world.field());
       ++counts[to_string(e.type)];
       if (e.type == EventType::Goal || e.type == EventType::OwnGoal) ++conceded[world.field().goals[e.actor].name];
       if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out) {
@@ -104,7 +131,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       }
     }
   }
-  if (log) log->flush();
+  log.close();
 
   summary << "simulated " << o.seconds << " s of " << world.field().name << " (" << o.backend << " backend, "
           << o.particles << " particles, seed " << o.seed << ")\n";

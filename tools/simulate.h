@@ -7,6 +7,7 @@
 #include <string>
 
 #include "quantum/fate.h"
+#include "quantum/world.h"
 
 namespace quantum::tools {
 
@@ -25,5 +26,11 @@ struct SimulateOptions {
 
 // Runs the simulation; the summary goes to `summary`. Throws on bad options or a bad field.
 void simulate(const SimulateOptions& options, std::ostream& summary);
+
+// One core event as a JSON line: {"t", "type", "actor", "team", "p", "p_newtonian", "particles",
+// "x", "y"}, plus "vx", "vy" (the ball's mean velocity after it) for a hit or a bounce. actor
+// and team name the spot (drop), the body (hit), the wall (bounce) or the goal (goal, own_goal:
+// the team defending it); out has actor "out" and no team.
+void write_event(std::ostream& out, const Event& e, const Field& field);
 
 }  // namespace quantum::tools

@@ -1,30 +1,31 @@
 #include "track.h"
 
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <iostream>
 #include <thread>
 
-#include "event_log.h"
+#include "json_lines.h"
 #include "field_loader.h"
 #include "play.h"
-#include "tracked_input.h"
+#include "tracking/input.h"
 
 namespace quantum::tools {
 namespace {
 
-std::string frame_json(const tracking::TrackedFrame& f) {
-  nlohmann::ordered_json j;
-  j["frame"] = f.frame;
-  j["t"] = rounded(f.t);
-  j["players"] = nlohmann::json::array();
+void write_frame(std::ostream& out, const tracking::TrackedFrame& f) {
+  runtime::JsonLine line(out);
+  line.field("frame", uint64_t(f.frame)).field("t", f.t).array("players");
   for (const tracking::TrackedPlayer& p : f.players)
-    j["players"].push_back({{"id", p.id}, {"team", p.team}, {"x", rounded(p.x)}, {"y", rounded(p.y)},
-                            {"vx", rounded(p.vx)}, {"vy", rounded(p.vy)}});
-  for (const tracking::TrackedAction& a : f.actions)
-    j["actions"].push_back({{"type", a.type}, {"player", a.player}, {"dx", rounded(a.dx)}, {"dy", rounded(a.dy)}});
-  return j.dump();
+    line.object().field("id", p.id).field("team", p.team).field("x", p.x).field("y", p.y).field("vx", p.vx)
+        .field("vy", p.vy).close();
+  line.close();
+  if (!f.actions.empty()) {
+    line.array("actions");
+    for (const tracking::TrackedAction& a : f.actions)
+      line.object().field("type", a.type).field("player", a.player).field("dx", a.dx).field("dy", a.dy).close();
+    line.close();
+  }
+  line.end();
 }
 
 }  // namespace
@@ -38,21 +39,22 @@ void track(const TrackOptions& o, std::ostream& out) {
     size = Vec2{float(lw[0]), float(lw[1])};
   }
   const tracking::TrackedField tracked = tracking::tracked_field(field, size);
-  TrackingInput input(o.source, tracked, {o.accel, o.fov});
+  tracking::TrackingInput input(o.source, tracked, {o.accel, o.fov});
   bool lost = false;
   tracking::TrackedFrame frame;
   for (int n = 0; o.frames == 0 || n < o.frames;) {
-    const TrackingInput::Status status = input.next(frame, 0.1);
-    if (status == TrackingInput::Status::Ended) break;
-    if (status == TrackingInput::Status::Lost) {
+    const tracking::TrackingInput::Status status = input.next(frame, 0.1);
+    if (status == tracking::TrackingInput::Status::Ended) break;
+    if (status == tracking::TrackingInput::Status::Lost) {
       if (!lost) std::cerr << "quantum: " << o.source << " is gone; waiting for it to come back\n";
       lost = true;
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
       continue;
     }
-    if (status == TrackingInput::Status::Waiting) continue;
+    if (status == tracking::TrackingInput::Status::Waiting) continue;
     lost = false;
-    out << frame_json(frame) << '\n' << std::flush;  // other tools read it as it comes
+    write_frame(out, frame);
+    out << std::flush;  // other tools read it as it comes
     ++n;
   }
 }

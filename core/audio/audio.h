@@ -8,7 +8,9 @@
 #include <map>
 #include <memory>
 #include <stdexcept>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "quantum/field.h"
@@ -19,16 +21,37 @@ struct AudioError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Mono 16-bit samples.
+// Mono 16-bit samples. A clip with an id (from load_clip or Speech) never changes, so a mixer
+// uploads it once and plays it again from its own copy; one without (0) is uploaded per play.
 struct Clip {
   std::vector<int16_t> samples;
   int rate = 0;
+  uint64_t id = 0;
   double seconds() const { return rate > 0 ? double(samples.size()) / rate : 0; }
 };
+// A fresh id for a clip that will not change.
+uint64_t new_clip_id();
 
 // Decodes a sound file (WAV, OGG, FLAC, ...); several channels are mixed down to one, since
 // only mono sources can be placed. Throws AudioError naming the file.
 Clip load_clip(const std::string& path);
+
+// A 16-bit stereo WAV file written as the samples come (a match's sound, frame by frame): the
+// file is created at once, so a bad path is known before anything plays. Throws AudioError
+// naming the file when it cannot be created or written.
+class WavWriter {
+ public:
+  WavWriter(const std::string& path, int rate);
+  ~WavWriter();
+  WavWriter(const WavWriter&) = delete;
+  WavWriter& operator=(const WavWriter&) = delete;
+  void write(std::span<const int16_t> stereo);  // interleaved left, right
+  void close();                                 // completes the header
+
+ private:
+  std::string path_;
+  void* file_ = nullptr;  // SNDFILE*
+};
 
 // Writes interleaved 16-bit stereo samples as a WAV file. Throws AudioError naming the file.
 void write_wav(const std::string& path, const std::vector<int16_t>& stereo, int rate);
@@ -49,11 +72,15 @@ class Speech {
   Speech(const Speech&) = delete;
   Speech& operator=(const Speech&) = delete;
 
-  // Throws AudioError for an unknown voice or a rate or volume out of range.
-  const Clip& say(const std::string& text, const Voice& voice);
+  // Throws AudioError for an unknown voice or a rate or volume out of range. A phrase said
+  // before costs a look-up and nothing else.
+  const Clip& say(std::string_view text, const Voice& voice);
 
  private:
-  std::map<std::string, Clip> cache_;
+  using Phrases = std::map<std::string, Clip, std::less<>>;
+  std::map<std::string, Phrases> cache_;  // voice -> text -> clip
+  Voice last_voice_;
+  Phrases* last_phrases_ = nullptr;
   int rate_ = 0;
 };
 
@@ -75,7 +102,9 @@ class Mixer {
   Mixer& operator=(const Mixer&) = delete;
 
   void set_listener(const Listener& listener);
-  // Starts a clip at a place on the field (positional) or at the listener's ears; returns a handle.
+  // Starts a clip at a place on the field (positional) or at the listener's ears; returns a
+  // handle. At most kVoices sounds play at once: beyond that the oldest is cut off.
+  static constexpr int kVoices = 32;
   int play(const Clip& clip, Vec2 at, float gain = 1);
   int play_at_listener(const Clip& clip, float gain = 1);
   void stop(int handle);
@@ -89,17 +118,24 @@ class Mixer {
   Mixer() = default;
   int start(const Clip& clip, float gain, bool relative, Vec2 at);
   void reclaim();
+  void make_channels();
 
   void* device_ = nullptr;   // ALCdevice*
   void* context_ = nullptr;  // ALCcontext*
   bool loopback_ = false;
   int rate_ = 0;
   Listener listener_;
-  struct Playing {
-    unsigned source, buffer;
+  // Sources made once, handed out in turn; buffers of clips with an id made once per clip.
+  struct Channel {
+    unsigned source = 0;
+    unsigned own_buffer = 0;  // a buffer made for one play (a clip without an id), 0 for none
+    int handle = 0;           // 0: free
   };
-  std::map<int, Playing> playing_;
+  Channel channels_[kVoices];
+  std::map<uint64_t, unsigned> buffers_;
   int next_handle_ = 1;
+  Channel* find(int handle);
+  const Channel* find(int handle) const;
 };
 
 // The announcer: one phrase at a time, most urgent first. A phrase of higher priority cuts off
@@ -107,25 +143,32 @@ class Mixer {
 // `stale_after` seconds is dropped instead of piling up.
 class Announcer {
  public:
-  Announcer(Mixer& mixer, double stale_after = 1.5) : mixer_(mixer), stale_after_(stale_after) {}
+  Announcer(Mixer& mixer, double stale_after = 1.5);
 
-  void say(const Clip& clip, int priority, double now, std::string text = {});
+  // `clip` must outlive its turn in the queue (clips from Speech or load_clip are kept for good).
+  void say(const Clip& clip, int priority, double now, std::string_view text = {});
   // Starts the next phrase when the current one has ended or is outranked; call every frame.
   void update(double now);
 
   const std::string& speaking() const { return current_text_; }
-  std::vector<std::string> dropped;  // stale phrases, for the log
+  // Stale phrases dropped since the last clear_dropped(), for the log.
+  std::span<const std::string> dropped() const { return {dropped_.data(), n_dropped_}; }
+  void clear_dropped() { n_dropped_ = 0; }
 
  private:
   struct Waiting {
-    Clip clip;
+    const Clip* clip;
     int priority;
     double at;
     std::string text;
   };
   Mixer& mixer_;
   double stale_after_;
+  // The first n_waiting_ are queued; the others keep their text's room for the next phrases.
   std::vector<Waiting> queue_;
+  size_t n_waiting_ = 0;
+  std::vector<std::string> dropped_;
+  size_t n_dropped_ = 0;
   int current_ = 0, current_priority_ = 0;
   std::string current_text_;
 };

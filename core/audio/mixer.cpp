@@ -30,6 +30,7 @@ std::unique_ptr<Mixer> Mixer::open_device() {
   }
   std::unique_ptr<Mixer> m(new Mixer);
   m->device_ = d, m->context_ = c;
+  m->make_channels();
   ALCint rate = 0;
   alcGetIntegerv(d, ALC_FREQUENCY, 1, &rate);
   m->rate_ = rate;
@@ -54,19 +55,27 @@ std::unique_ptr<Mixer> Mixer::open_loopback(int rate) {
   }
   std::unique_ptr<Mixer> m(new Mixer);
   m->device_ = d, m->context_ = c, m->loopback_ = true, m->rate_ = rate;
+  m->make_channels();
   m->set_listener({});
   return m;
 }
 
 Mixer::~Mixer() {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
-  for (auto& [handle, p] : playing_) {
-    alDeleteSources(1, &p.source);
-    alDeleteBuffers(1, &p.buffer);
+  for (Channel& c : channels_) {
+    alDeleteSources(1, &c.source);
+    if (c.own_buffer) alDeleteBuffers(1, &c.own_buffer);
   }
+  for (auto& [id, buffer] : buffers_) alDeleteBuffers(1, &buffer);
   alcMakeContextCurrent(nullptr);
   alcDestroyContext(static_cast<ALCcontext*>(context_));
   alcCloseDevice(dev(device_));
+}
+
+void Mixer::make_channels() {
+  alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
+  for (Channel& c : channels_) alGenSources(1, &c.source);
+  if (alGetError() != AL_NO_ERROR) throw AudioError("OpenAL could not make " + std::to_string(kVoices) + " sources");
 }
 
 // Field (x, y) is OpenAL (x, 0, -y): the field lies flat, up is up, and a listener facing +x
@@ -85,50 +94,71 @@ int Mixer::start(const Clip& clip, float gain, bool relative, Vec2 at) {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
   reclaim();
   if (clip.samples.empty() || clip.rate <= 0) return 0;
-  Playing p{};
-  alGenBuffers(1, &p.buffer);
-  alBufferData(p.buffer, AL_FORMAT_MONO16, clip.samples.data(), ALsizei(clip.samples.size() * sizeof(int16_t)), clip.rate);
-  alGenSources(1, &p.source);
-  alSourcei(p.source, AL_BUFFER, ALint(p.buffer));
-  alSourcef(p.source, AL_GAIN, gain);
-  alSourcei(p.source, AL_SOURCE_RELATIVE, relative ? AL_TRUE : AL_FALSE);
-  if (relative) alSource3f(p.source, AL_POSITION, 0, 0, 0);
-  else alSource3f(p.source, AL_POSITION, at.x, 0, -at.y);
-  alSourcePlay(p.source);
+  // A free channel, else the one that started longest ago.
+  Channel* c = &channels_[0];
+  for (Channel& candidate : channels_)
+    if (candidate.handle == 0 || (c->handle != 0 && candidate.handle < c->handle)) c = &candidate;
+  alSourceStop(c->source);
+  alSourcei(c->source, AL_BUFFER, 0);  // a buffer still attached could not be deleted
+  if (c->own_buffer) alDeleteBuffers(1, &c->own_buffer), c->own_buffer = 0;
+  unsigned buffer = 0;
+  if (clip.id != 0) {
+    auto [it, fresh] = buffers_.try_emplace(clip.id, 0u);
+    if (fresh) {
+      alGenBuffers(1, &it->second);
+      alBufferData(it->second, AL_FORMAT_MONO16, clip.samples.data(), ALsizei(clip.samples.size() * sizeof(int16_t)),
+                   clip.rate);
+    }
+    buffer = it->second;
+  } else {
+    alGenBuffers(1, &c->own_buffer);
+    alBufferData(c->own_buffer, AL_FORMAT_MONO16, clip.samples.data(), ALsizei(clip.samples.size() * sizeof(int16_t)),
+                 clip.rate);
+    buffer = c->own_buffer;
+  }
+  alSourcei(c->source, AL_BUFFER, ALint(buffer));
+  alSourcef(c->source, AL_GAIN, gain);
+  alSourcei(c->source, AL_SOURCE_RELATIVE, relative ? AL_TRUE : AL_FALSE);
+  if (relative) alSource3f(c->source, AL_POSITION, 0, 0, 0);
+  else alSource3f(c->source, AL_POSITION, at.x, 0, -at.y);
+  alSourcePlay(c->source);
   if (alGetError() != AL_NO_ERROR) throw AudioError("OpenAL refused to play a sound");
-  playing_[next_handle_] = p;
-  return next_handle_++;
+  c->handle = next_handle_++;
+  return c->handle;
 }
 
 int Mixer::play(const Clip& clip, Vec2 at, float gain) { return start(clip, gain, false, at); }
 int Mixer::play_at_listener(const Clip& clip, float gain) { return start(clip, gain, true, {}); }
 
+Mixer::Channel* Mixer::find(int handle) {
+  for (Channel& c : channels_)
+    if (handle != 0 && c.handle == handle) return &c;
+  return nullptr;
+}
+
+const Mixer::Channel* Mixer::find(int handle) const { return const_cast<Mixer*>(this)->find(handle); }
+
 void Mixer::stop(int handle) {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
-  if (auto it = playing_.find(handle); it != playing_.end()) alSourceStop(it->second.source);
+  if (Channel* c = find(handle)) alSourceStop(c->source);
 }
 
 bool Mixer::playing(int handle) const {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
-  const auto it = playing_.find(handle);
-  if (it == playing_.end()) return false;
+  const Channel* c = find(handle);
+  if (!c) return false;
   ALint state = 0;
-  alGetSourcei(it->second.source, AL_SOURCE_STATE, &state);
+  alGetSourcei(c->source, AL_SOURCE_STATE, &state);
   return state == AL_PLAYING;
 }
 
-// Sources that have finished give their buffers back.
+// Channels whose sound has finished are free again.
 void Mixer::reclaim() {
-  for (auto it = playing_.begin(); it != playing_.end();) {
+  for (Channel& c : channels_) {
+    if (c.handle == 0) continue;
     ALint state = 0;
-    alGetSourcei(it->second.source, AL_SOURCE_STATE, &state);
-    if (state == AL_PLAYING) {
-      ++it;
-      continue;
-    }
-    alDeleteSources(1, &it->second.source);
-    alDeleteBuffers(1, &it->second.buffer);
-    it = playing_.erase(it);
+    alGetSourcei(c.source, AL_SOURCE_STATE, &state);
+    if (state != AL_PLAYING) c.handle = 0;
   }
 }
 

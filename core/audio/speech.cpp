@@ -1,5 +1,6 @@
 #include <espeak-ng/speak_lib.h>
 
+#include <atomic>
 #include <cstring>
 
 #include "audio/audio.h"
@@ -30,27 +31,38 @@ int engine_rate() {
 
 }  // namespace
 
+uint64_t new_clip_id() {
+  static std::atomic<uint64_t> next{1};
+  return next++;
+}
+
 Speech::Speech() : rate_(engine_rate()) {
   if (rate_ <= 0) throw AudioError("espeak-ng: cannot initialize (is espeak-ng-data installed?)");
 }
 
 Speech::~Speech() = default;
 
-const Clip& Speech::say(const std::string& text, const Voice& v) {
+const Clip& Speech::say(std::string_view text, const Voice& v) {
   if (v.rate < espeakRATE_MINIMUM || v.rate > espeakRATE_MAXIMUM)
     throw AudioError("speech rate " + std::to_string(v.rate) + " is outside 80 to 450 words per minute");
   if (v.volume < 0 || v.volume > 200) throw AudioError("speech volume " + std::to_string(v.volume) + " is outside 0 to 200");
-  const std::string key = v.name + '\x1f' + std::to_string(v.rate) + '\x1f' + std::to_string(v.volume) + '\x1f' + text;
-  if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+  // The phrases of the voice used last are at hand: a match speaks with one voice.
+  if (!last_phrases_ || v.name != last_voice_.name || v.rate != last_voice_.rate || v.volume != last_voice_.volume) {
+    last_phrases_ = &cache_[v.name + '\x1f' + std::to_string(v.rate) + '\x1f' + std::to_string(v.volume)];
+    last_voice_ = v;
+  }
+  if (auto it = last_phrases_->find(text); it != last_phrases_->end()) return it->second;
   // The engine is shared, so the voice is set for every new phrase; cached ones cost nothing.
   if (espeak_SetVoiceByName(v.name.c_str()) != EE_OK) throw AudioError("unknown espeak-ng voice '" + v.name + "'");
   espeak_SetParameter(espeakRATE, v.rate, 0);
   espeak_SetParameter(espeakVOLUME, v.volume, 0);
   Clip clip;
   clip.rate = rate_;
-  const espeak_ERROR e = espeak_Synth(text.c_str(), text.size() + 1, 0, POS_CHARACTER, 0, espeakCHARS_UTF8, nullptr, &clip);
-  if (e != EE_OK) throw AudioError("espeak-ng could not speak '" + text + "'");
-  return cache_.emplace(key, std::move(clip)).first->second;
+  clip.id = new_clip_id();
+  const std::string phrase(text);
+  const espeak_ERROR e = espeak_Synth(phrase.c_str(), phrase.size() + 1, 0, POS_CHARACTER, 0, espeakCHARS_UTF8, nullptr, &clip);
+  if (e != EE_OK) throw AudioError("espeak-ng could not speak '" + phrase + "'");
+  return last_phrases_->emplace(phrase, std::move(clip)).first->second;
 }
 
 }  // namespace quantum::audio

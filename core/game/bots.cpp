@@ -54,31 +54,41 @@ Bots::Bots(const Field& field, std::vector<double> skills, uint64_t seed) : fiel
     for (const Goal& g : field.goals)
       if (g.team == spec.team) b.mouth_lo = std::min(g.a.y, g.b.y), b.mouth_hi = std::max(g.a.y, g.b.y);
     b.rng.seed(seed * 0x9E3779B97F4A7C15ull + k);
+    b.heard.reserve(64);  // a reaction time's worth of events, and more
     bots_.push_back(std::move(b));
   }
+  moves_.resize(bots_.size());
 }
 
 void Bots::hear(const GameEvent& e) {
-  for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e});
+  switch (e.type) {
+    case EventKind::Drop: case EventKind::Shot: case EventKind::Intercept: case EventKind::Retouch:
+    case EventKind::Bounce: case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
+      for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.at, e.velocity});
+      return;
+    default: return;  // nothing about the ball
+  }
 }
 
 // What a player makes of an announcement: the ball where it was said to be, give or take.
-void Bots::imagine(Bot& b, const GameEvent& e) {
+void Bots::imagine(Bot& b, const Heard& e) {
   std::normal_distribution<double> noise(0, 1);
-  if (e.type == "drop") {
-    b.knows_ball = true, b.ball = e.at, b.ball_v = {0, 0};
-  } else if (e.type == "shot" || e.type == "intercept" || e.type == "retouch" || e.type == "bounce") {
-    const double err = b.skill.imagine_noise;
-    b.knows_ball = true;
-    b.ball = e.at + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))};
-    const float speed = length(e.velocity) * float(std::max(0.2, 1 + b.skill.speed_noise * noise(b.rng)));
-    b.ball_v = speed * rotated(unit(e.velocity), b.skill.aim_noise * 0.5 * noise(b.rng));
-    // The ball has flown on while the news travelled.
-    fly(b.ball, b.ball_v, std::max(0.0, b.skill.reaction));
-  } else if (e.type == "goal" || e.type == "own_goal" || e.type == "out") {
-    b.knows_ball = false;  // the ball is gone until the next drop
-  } else {
-    return;  // nothing about the ball
+  switch (e.type) {
+    case EventKind::Drop: b.knows_ball = true, b.ball = e.where, b.ball_v = {0, 0}; break;
+    case EventKind::Shot:
+    case EventKind::Intercept:
+    case EventKind::Retouch:
+    case EventKind::Bounce: {
+      const double err = b.skill.imagine_noise;
+      b.knows_ball = true;
+      b.ball = e.where + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))};
+      const float speed = length(e.velocity) * float(std::max(0.2, 1 + b.skill.speed_noise * noise(b.rng)));
+      b.ball_v = speed * rotated(unit(e.velocity), b.skill.aim_noise * 0.5 * noise(b.rng));
+      // The ball has flown on while the news travelled.
+      fly(b.ball, b.ball_v, std::max(0.0, b.skill.reaction));
+      break;
+    }
+    default: b.knows_ball = false; break;  // goal, own goal, out, dead: gone until the next drop
   }
   b.plan = Plan::Home;
 }
@@ -94,11 +104,15 @@ void Bots::fly(Vec2& ball, Vec2& velocity, double dt) const {
   }
 }
 
-Vec2 Bots::clamp_to_half(const Bot& b, Vec2 p) const {
+// A player keeps to its own half, unless the sport plays by turns: then whoever has the turn may
+// go anywhere on the field.
+Vec2 Bots::clamp_to_reach(const Bot& b, Vec2 p, bool whole_field) const {
   const float r = b.radius;
   float x0 = lo_.x + r, x1 = hi_.x - r;
-  if (b.attack_x > 0) x1 = std::min(x1, mid_x_ - r);
-  else x0 = std::max(x0, mid_x_ + r);
+  if (!whole_field) {
+    if (b.attack_x > 0) x1 = std::min(x1, mid_x_ - r);
+    else x0 = std::max(x0, mid_x_ + r);
+  }
   return {std::clamp(p.x, x0, x1), std::clamp(p.y, lo_.y + r, hi_.y - r)};
 }
 
@@ -110,19 +124,51 @@ float distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
   return length(ap - t * ab);
 }
 
-// Where to shoot, as a player who sees the opponents' mallets would choose: points across the
-// opponents' goal mouth, straight or banked off either side wall (aimed at the point mirrored
+// Where to shoot: where the sport's hint says (a point; a wall, at its point nearest the ball; a
+// goal), or by default into the opponents' goal that leaves the clearest path.
+Vec2 Bots::target(const Bot& b, const Aim& aim) const {
+  switch (aim.kind) {
+    case Aim::Kind::Point: return aim.point;
+    case Aim::Kind::Goal: return goal_target(b, field_.goals[size_t(aim.index)]);
+    case Aim::Kind::Wall: {
+      Vec2 best = b.ball;
+      float nearest = 1e30f;
+      for (const Segment& seg : field_.segments) {
+        if (seg.wall != aim.index) continue;
+        const Vec2 ab = seg.b - seg.a, ap = b.ball - seg.a;
+        const float l2 = ab.x * ab.x + ab.y * ab.y;
+        // Not the very ends: a corner sends the ball anywhere.
+        const float f = l2 > 0 ? std::clamp((ap.x * ab.x + ap.y * ab.y) / l2, 0.2f, 0.8f) : 0.5f;
+        const Vec2 p = seg.a + f * ab;
+        if (length(p - b.ball) < nearest) nearest = length(p - b.ball), best = p;
+      }
+      return best;
+    }
+    case Aim::Kind::Default: break;
+  }
+  Vec2 best{b.ball.x + b.attack_x, b.ball.y};
+  float best_clearance = -1;
+  for (const Goal& g : field_.goals) {
+    if (g.team == field_.bodies[b.body].team) continue;
+    const Vec2 at = goal_target(b, g);
+    float clearance = 1e9f;
+    for (const Bot& other : bots_)
+      if (field_.bodies[other.body].team != field_.bodies[b.body].team)
+        clearance = std::min(clearance, distance_to_segment(other.pos, b.ball, at));
+    if (clearance > best_clearance) best_clearance = clearance, best = at;
+  }
+  return best;
+}
+
+// Where to shoot at one goal, as a player who sees the opponents' mallets would choose: points
+// across its mouth, straight or banked off either side wall (aimed at the point mirrored
 // through the wall), taking the path that passes furthest from every opponent.
-Vec2 Bots::target(const Bot& b) const {
-  const Goal* goal = nullptr;
-  for (const Goal& g : field_.goals)
-    if (g.team != field_.bodies[b.body].team) goal = &g;
-  if (!goal) return {b.ball.x + b.attack_x, b.ball.y};
-  Vec2 best = centre(*goal);
+Vec2 Bots::goal_target(const Bot& b, const Goal& goal) const {
+  Vec2 best = centre(goal);
   float best_clearance = -1;
   for (int i = 0; i < 5; ++i) {
     const float f = 0.15f + 0.7f * float(i) / 4;  // stay inside the posts
-    const Vec2 spot = goal->a + f * (goal->b - goal->a);
+    const Vec2 spot = goal.a + f * (goal.b - goal.a);
     // Mirror through nothing, the high side wall, the low side wall.
     for (int wall = 0; wall < 3; ++wall) {
       auto mirror = [&](Vec2 p) -> Vec2 {
@@ -152,25 +198,31 @@ float Bots::guarded(const Bot& b, float y) const {
   return std::clamp(y, b.mouth_lo - slack, b.mouth_hi + slack);
 }
 
-// Where the bot wants its body now.
-Vec2 Bots::decide(Bot& b, double t) {
+// Where the bot wants its body now. Out of turn it keeps clear of the ball; with the turn in a
+// sport that plays by turns, the ball is its to play wherever it is.
+Vec2 Bots::decide(Bot& b, double t, std::span<const Player> players, bool whole_field) {
+  const Player& me = players[size_t(b.body)];
   if (!b.knows_ball) return b.home;
-  const bool mine = (b.ball.x - mid_x_) * b.attack_x < 0;
+  if (!me.turn) {
+    b.plan = Plan::Home;
+    return b.home;
+  }
+  const bool mine = whole_field || (b.ball.x - mid_x_) * b.attack_x < 0;
   const float toward_me = -b.attack_x * b.ball_v.x;
   const float speed = length(b.ball_v);
   if (b.plan == Plan::Strike) {
     if (t < b.strike_end) return b.ball + 0.3f * b.aim;
     b.plan = Plan::Home;
   }
-  if (mine && (speed < 0.6f || toward_me < 0.3f)) {
-    // A slow ball on my side: get behind it and strike toward the other goal.
+  if (mine && (speed < 0.6f || toward_me < 0.3f || whole_field)) {
+    // A slow ball on my side: get behind it and strike toward the target.
     if (b.plan != Plan::Approach) {
       std::normal_distribution<double> noise(0, b.skill.aim_noise);
-      b.aim = rotated(unit(target(b) - b.ball), noise(b.rng));
+      b.aim = rotated(unit(target(b, me.aim) - b.ball), noise(b.rng));
       b.plan = Plan::Approach;
     }
     const Vec2 start = b.ball - (kBehind + b.radius) * b.aim;
-    if (length(clamp_to_half(b, start) - b.pos) < kSetUp) {
+    if (length(clamp_to_reach(b, start, whole_field) - b.pos) < kSetUp) {
       b.plan = Plan::Strike;
       b.strike_end = t + kStrikeTime;
       return start;
@@ -196,22 +248,32 @@ Vec2 Bots::decide(Bot& b, double t) {
   return {b.home.x, guarded(b, b.home.y + 0.5f * (b.ball.y - b.home.y))};
 }
 
-std::vector<BodyInput> Bots::move(double t, double dt) {
-  std::vector<BodyInput> out;
-  for (Bot& b : bots_) {
-    auto due = std::stable_partition(b.heard.begin(), b.heard.end(), [&](const Heard& h) { return h.at > t; });
-    for (auto it = due; it != b.heard.end(); ++it) imagine(b, it->event);
-    b.heard.erase(due, b.heard.end());
+const std::vector<BodyInput>& Bots::move(double t, double dt, std::span<const Player> players) {
+  if (players.size() != bots_.size())
+    throw std::invalid_argument("got " + std::to_string(players.size()) + " players for " +
+                                std::to_string(bots_.size()) + " bots");
+  // A sport that gives the turn to some players only plays by turns.
+  const bool by_turns = std::any_of(players.begin(), players.end(), [](const Player& p) { return !p.turn; });
+  for (size_t k = 0; k < bots_.size(); ++k) {
+    Bot& b = bots_[k];
+    // Act on what is due, in the order heard; keep the rest (in place: no allocation).
+    size_t kept = 0;
+    for (const Heard& h : b.heard) {
+      if (h.at > t) b.heard[kept++] = h;
+      else imagine(b, h);
+    }
+    b.heard.resize(kept);
     if (b.knows_ball) fly(b.ball, b.ball_v, dt);
-    const Vec2 want = clamp_to_half(b, decide(b, t));
+    const bool whole_field = by_turns && players[k].turn;
+    const Vec2 want = clamp_to_reach(b, decide(b, t, players, whole_field), whole_field);
     const double limit = b.plan == Plan::Strike ? b.skill.strike_speed : b.skill.max_speed;
     Vec2 step = want - b.pos;
     const float l = length(step), most = float(limit * dt);
     if (l > most) step = (most / l) * step;
     b.pos = b.pos + step;
-    out.push_back({b.pos, (1 / float(dt)) * step});
+    moves_[k] = {b.pos, (1 / float(dt)) * step};
   }
-  return out;
+  return moves_;
 }
 
 }  // namespace quantum::game

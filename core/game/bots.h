@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "game/game.h"
@@ -31,13 +32,16 @@ class Bots {
 
   // An announced event; the bots act on it after their reaction time.
   void hear(const GameEvent& e);
-  // Where every body goes this frame, and its velocity.
-  std::vector<BodyInput> move(double t, double dt);
+  // Where every body goes this frame, and its velocity. `players` carries the sport's hints
+  // (whose turn it is, where to aim: game.turn, game.aim) and where the others are.
+  const std::vector<BodyInput>& move(double t, double dt, std::span<const Player> players);
 
  private:
+  // What a bot keeps of an event: only what is said about the ball.
   struct Heard {
     double at;  // when the bot acts on it
-    GameEvent event;
+    EventKind type;
+    Vec2 where, velocity;
   };
   enum class Plan { Home, Approach, Strike, Defend };
   struct Bot {
@@ -56,15 +60,17 @@ class Bots {
     std::mt19937_64 rng;
   };
 
-  void imagine(Bot& b, const GameEvent& e);
+  void imagine(Bot& b, const Heard& e);
   void fly(Vec2& ball, Vec2& velocity, double dt) const;
-  Vec2 decide(Bot& b, double t);
-  Vec2 target(const Bot& b) const;
+  Vec2 decide(Bot& b, double t, std::span<const Player> players, bool whole_field);
+  Vec2 target(const Bot& b, const Aim& aim) const;
+  Vec2 goal_target(const Bot& b, const Goal& goal) const;
   float guarded(const Bot& b, float y) const;
-  Vec2 clamp_to_half(const Bot& b, Vec2 p) const;
+  Vec2 clamp_to_reach(const Bot& b, Vec2 p, bool whole_field) const;
 
   Field field_;
   std::vector<Bot> bots_;
+  std::vector<BodyInput> moves_;
   Vec2 lo_, hi_;  // where a ball centre can be: the walls' box less the ball's radius
   float mid_x_;
 };

@@ -1,11 +1,33 @@
 #include "game/game.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 #include <stdexcept>
 
 namespace quantum::game {
+
+namespace {
+
+constexpr std::array<const char*, kEventKinds> kEventNames = {
+    "drop", "shot", "intercept", "retouch", "bounce", "goal", "own_goal", "out", "dead", "time_up", "match_end",
+    "powerup", "powerup_end", "paused", "resumed"};
+
+}  // namespace
+
+const char* to_string(EventKind kind) { return kEventNames[size_t(kind)]; }
+
+std::optional<EventKind> event_kind(std::string_view name) {
+  for (size_t k = 0; k < kEventNames.size(); ++k)
+    if (name == kEventNames[k]) return EventKind(k);
+  return std::nullopt;
+}
+
+const std::vector<std::string>& event_names() {
+  static const std::vector<std::string> names(kEventNames.begin(), kEventNames.end());
+  return names;
+}
 
 constexpr double kRetouch = 0.25;  // s
 
@@ -22,20 +44,19 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   for (size_t k = 0; k < f.bodies.size(); ++k) {
     const double h = handicaps.empty() ? 1.0 : handicaps[k];
     if (!(std::isfinite(h) && h > 0)) throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be > 0");
-    players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}});
+    players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}});
   }
-  for (const std::string& team : teams()) score_[team] = 0;
-  respawn(config.first_spot, 0);
-}
-
-std::vector<std::string> Match::teams() const {
-  std::vector<std::string> out;
   auto add = [&](const std::string& t) {
-    if (!t.empty() && std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+    if (!t.empty() && std::find(teams_.begin(), teams_.end(), t) == teams_.end()) teams_.push_back(t);
   };
-  for (const BodySpec& b : field().bodies) add(b.team);
-  for (const Goal& g : field().goals) add(g.team);
-  return out;
+  for (const BodySpec& b : f.bodies) add(b.team);
+  for (const Goal& g : f.goals) add(g.team);
+  for (const std::string& team : teams_) score_[team] = 0;
+  // A frame rarely tells more than a few events and phrases; room for more than that keeps the
+  // first busy frames from allocating.
+  events_.reserve(64);
+  said_.reserve(64);
+  respawn(config.first_spot, 0);
 }
 
 int Match::spot_of(const std::string& key) const {
@@ -45,8 +66,31 @@ int Match::spot_of(const std::string& key) const {
   return field().spot_of_team(key);
 }
 
-void Match::say(std::string text, std::string recording) {
-  said_.push_back({time(), std::move(text), handling_, std::move(recording)});
+void Match::say(std::string_view text, std::string_view recording) {
+  if (n_said_ == said_.size()) said_.emplace_back();
+  Said& s = said_[n_said_++];
+  s.t = time();
+  s.text.assign(text);
+  s.recording.assign(recording);
+  s.event = handling_;
+  s.cause = cause_;
+}
+
+void Match::clear_news() {
+  events_.clear();
+  n_said_ = 0;
+  errors_.clear();
+}
+
+void Match::set_cause(const char* cause) {
+  handling_ = -1;
+  cause_ = cause;
+}
+
+void Match::note(EventKind type) {
+  new_event(type);
+  handling_ = int(events_.size() - 1);
+  cause_ = to_string(type);
 }
 
 void Match::award(const std::string& team, int goals) {
@@ -58,20 +102,37 @@ void Match::respawn(int spot, double delay) {
   if (spot < 0 || spot >= int(field().spots.size()))
     throw std::invalid_argument("respawn: no spot " + std::to_string(spot));
   if (!(delay >= 0 && delay <= 60)) throw std::invalid_argument("respawn: delay must be in [0, 60] s");
+  dead_ball();
   respawn_spot_ = spot;
   respawn_at_ = time() + delay;
+}
+
+GameEvent& Match::new_event(EventKind type) {
+  GameEvent& e = events_.emplace_back();
+  e.t = time();
+  e.type = type;
+  return e;
+}
+
+void Match::dead_ball() {
+  if (!world_.live()) return;
+  world_.remove_ball();
+  ++stats_.rallies;
+  stats_.contacts += rally_contacts_;
+  GameEvent& e = new_event(EventKind::Dead);
+  if (last_toucher_ >= 0) e.by = players_[size_t(last_toucher_)].name, e.by_team = players_[size_t(last_toucher_)].team;
+  if (previous_toucher_ >= 0)
+    e.previous = players_[size_t(previous_toucher_)].name, e.previous_team = players_[size_t(previous_toucher_)].team;
+  tell_rules(events_.size() - 1);
 }
 
 void Match::finish(const std::string& winner) {
   if (finished_) return;
   finished_ = true;
   winner_ = winner;
-  GameEvent e;
-  e.t = time();
-  e.type = "match_end";
-  e.actor = e.team = winner;
-  events_.push_back(e);
-  tell_rules(e);
+  GameEvent& e = new_event(EventKind::MatchEnd);
+  e.actor = e.team = winner_;
+  tell_rules(events_.size() - 1);
 }
 
 void Match::grant(int player, const std::string& name, double seconds, std::map<std::string, double> params) {
@@ -79,24 +140,39 @@ void Match::grant(int player, const std::string& name, double seconds, std::map<
   if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("grant: seconds must be in (0, 3600]");
   std::erase_if(powerups_, [&](const ActivePowerup& p) { return p.player == player && p.name == name; });
   powerups_.push_back({name, player, time() + seconds, std::move(params)});
-  powerup_event("powerup", player, name);
+  powerup_event(EventKind::Powerup, player, name);
 }
 
-void Match::powerup_event(const char* type, int player, const std::string& name) {
-  GameEvent e;
-  e.t = time();
-  e.type = type;
-  e.actor = players_[size_t(player)].name, e.team = players_[size_t(player)].team, e.actor_index = player;
+void Match::powerup_event(EventKind type, int player, const std::string& name) {
+  GameEvent& e = new_event(type);
+  const Player& p = players_[size_t(player)];
+  e.actor = p.name, e.team = p.team, e.actor_index = player;
   e.powerup = name;
-  e.at = players_[size_t(player)].position;
-  events_.push_back(e);
-  tell_rules(e);
+  e.at = p.position;
+  tell_rules(events_.size() - 1);
 }
 
 void Match::set_handicap(int k, double handicap) {
   if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
   if (!(std::isfinite(handicap) && handicap > 0)) throw std::invalid_argument("a handicap must be > 0");
   players_[size_t(k)].handicap = handicap;
+}
+
+void Match::set_turn(int k, bool turn) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  players_[size_t(k)].turn = turn;
+}
+
+void Match::set_aim(int k, Aim aim) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  const int most = aim.kind == Aim::Kind::Goal ? int(field().goals.size())
+                   : aim.kind == Aim::Kind::Wall ? int(field().wall_names.size())
+                                                 : 0;
+  if ((aim.kind == Aim::Kind::Goal || aim.kind == Aim::Kind::Wall) && (aim.index < 0 || aim.index >= most))
+    throw std::invalid_argument("no such goal or wall to aim at");
+  if (aim.kind == Aim::Kind::Point && !(std::isfinite(aim.point.x) && std::isfinite(aim.point.y)))
+    throw std::invalid_argument("a point to aim at must be finite");
+  players_[size_t(k)].aim = aim;
 }
 
 void Match::set_wormholes(std::vector<Wormhole> wormholes) {
@@ -112,7 +188,7 @@ void Match::expire_powerups() {
     }
     const ActivePowerup p = powerups_[k];
     powerups_.erase(powerups_.begin() + long(k));
-    powerup_event("powerup_end", p.player, p.name);
+    powerup_event(EventKind::PowerupEnd, p.player, p.name);
   }
 }
 
@@ -127,16 +203,13 @@ void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_to
   world_.set_last_touch(last_touch);
   respawn_at_ = -1;
   last_toucher_ = last_touch;
+  previous_toucher_ = -1;
   last_touch_t_ = -kRetouch;  // a scene's last touch is no swing in progress
   rally_contacts_ = 0;
   retweak();
 }
 
 void Match::report_error(std::string message) { errors_.push_back(std::move(message)); }
-
-std::vector<GameEvent> Match::take_events() { return std::exchange(events_, {}); }
-std::vector<Said> Match::take_said() { return std::exchange(said_, {}); }
-std::vector<std::string> Match::take_errors() { return std::exchange(errors_, {}); }
 
 void Match::step(std::span<const BodyInput> input) {
   if (finished_) return;
@@ -152,16 +225,15 @@ void Match::step(std::span<const BodyInput> input) {
   stats_.seconds = time();
   for (const Event& e : core_events_) handle(e);
   expire_powerups();
+  rules_->tick(*this);
+  set_cause("");
   // A ball gone without an outcome that brings it back (crushed away, or a shot that left while its
   // contact was caught up): it comes back where it was dropped.
   if (!world_.live() && respawn_at_ < 0 && !finished_) respawn(respawn_spot_, 1.0);
   if (!finished_ && !time_up_told_ && time() >= config_.seconds - 1e-9) {
     time_up_told_ = true;
-    GameEvent e;
-    e.t = time();
-    e.type = "time_up";
-    events_.push_back(e);
-    tell_rules(e);
+    new_event(EventKind::TimeUp);
+    tell_rules(events_.size() - 1);
     if (!finished_) {  // rules that ignore the clock: the leader wins, equal scores draw
       std::string best;
       int most = -1, leaders = 0;
@@ -182,73 +254,74 @@ void Match::step(std::span<const BodyInput> input) {
 
 void Match::handle(const Event& e) {
   const Field& f = field();
-  GameEvent g;
-  g.t = e.t, g.p = e.p, g.p_newtonian = e.p_newtonian, g.particles = e.particles, g.at = e.at;
-  g.velocity = e.velocity, g.actor_index = e.actor;
+  EventKind type = EventKind::Out;
   switch (e.type) {
-    case EventType::Drop:
-      g.type = "drop", g.actor = f.spots[e.actor].name, g.team = f.spots[e.actor].team;
-      rally_contacts_ = 0;
-      last_toucher_ = -1;
-      break;
+    case EventType::Drop: type = EventKind::Drop; break;
     case EventType::Hit: {
       const bool other_team = last_toucher_ >= 0 && f.bodies[last_toucher_].team != f.bodies[e.actor].team;
       // A swing goes on through the puck and may meet it again a few frames later: that is the
       // same touch, not a new shot.
       const bool again = e.actor == last_toucher_ && e.t - last_touch_t_ < kRetouch;
-      g.type = again ? "retouch" : other_team ? "intercept" : "shot";
-      g.actor = f.bodies[e.actor].name, g.team = f.bodies[e.actor].team, g.by = g.actor, g.by_team = g.team;
+      type = again ? EventKind::Retouch : other_team ? EventKind::Intercept : EventKind::Shot;
+      if (!again) previous_toucher_ = last_toucher_;
       last_toucher_ = e.actor;
       last_touch_t_ = e.t;
       rally_contacts_ += again ? 0 : 1;
       break;
     }
-    case EventType::Bounce:
-      g.type = "bounce", g.actor = f.wall_names[e.actor];
-      break;
-    case EventType::Goal:
-    case EventType::OwnGoal:
-      g.type = e.type == EventType::Goal ? "goal" : "own_goal";
-      g.actor = f.goals[e.actor].name, g.team = f.goals[e.actor].team;
-      break;
-    case EventType::Out: g.type = "out"; break;
+    case EventType::Bounce: type = EventKind::Bounce; break;
+    case EventType::Goal: type = EventKind::Goal; break;
+    case EventType::OwnGoal: type = EventKind::OwnGoal; break;
+    case EventType::Out: type = EventKind::Out; break;
   }
-  if (e.type != EventType::Drop && e.type != EventType::Hit && last_toucher_ >= 0)
-    g.by = f.bodies[last_toucher_].name, g.by_team = f.bodies[last_toucher_].team;
+  if (type == EventKind::Drop) rally_contacts_ = 0, last_toucher_ = previous_toucher_ = -1;
+  GameEvent& g = new_event(type);
+  g.t = e.t, g.p = e.p, g.p_newtonian = e.p_newtonian, g.particles = e.particles, g.at = e.at;
+  g.velocity = e.velocity, g.actor_index = e.actor;
+  switch (e.type) {
+    case EventType::Drop: g.actor = f.spots[e.actor].name, g.team = f.spots[e.actor].team; break;
+    case EventType::Hit: g.actor = f.bodies[e.actor].name, g.team = f.bodies[e.actor].team; break;
+    case EventType::Bounce: g.actor = f.wall_names[e.actor]; break;
+    case EventType::Goal:
+    case EventType::OwnGoal: g.actor = f.goals[e.actor].name, g.team = f.goals[e.actor].team; break;
+    case EventType::Out: break;
+  }
+  if (type != EventKind::Drop) {
+    if (last_toucher_ >= 0) g.by = f.bodies[last_toucher_].name, g.by_team = f.bodies[last_toucher_].team;
+    if (previous_toucher_ >= 0)
+      g.previous = f.bodies[previous_toucher_].name, g.previous_team = f.bodies[previous_toucher_].team;
+  }
   if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out) {
     ++stats_.rallies;
     stats_.contacts += rally_contacts_;
     stats_.goals += e.type == EventType::Out ? 0 : 1;
   }
-  events_.push_back(g);
-  tell_rules(g);
+  tell_rules(events_.size() - 1);
 }
 
-void Match::tell_rules(const GameEvent& e) {
-  const std::string outer = std::exchange(handling_, e.type);
+void Match::tell_rules(size_t event) {
+  const int outer = std::exchange(handling_, int(event));
+  const char* outer_cause = std::exchange(cause_, to_string(events_[event].type));
+  // A copy: the handler's own actions may add events and move the list.
+  const GameEvent e = events_[event];
   rules_->on_event(e, *this);
-  handling_ = outer;
+  handling_ = outer, cause_ = outer_cause;
 }
 
 FateView Match::view(const FateGroup& group) const {
   const Field& f = field();
   const Fate& fate = group.fate;
   FateView v;
-  v.kind = to_string(fate.kind);
+  v.fate = fate;
   v.mass = group.mass, v.tweaked = group.tweaked_mass, v.count = group.count;
   if (fate.kind == FateKind::Body) {
     v.actor = f.bodies[fate.target].name, v.team = v.favours = f.bodies[fate.target].team;
   } else if (fate.kind == FateKind::Goal || fate.kind == FateKind::OwnGoal) {
     v.actor = f.goals[fate.target].name, v.team = f.goals[fate.target].team;
     // A goal is good for the other side; with more than two teams, for the shooter's.
-    for (const std::string& t : teams())
+    for (const std::string& t : teams_)
       if (t != v.team && (v.favours.empty() || (last_toucher_ >= 0 && f.bodies[last_toucher_].team == t))) v.favours = t;
   }
-  for (int i = 0; i < fate.path_len; ++i) {
-    v.path.push_back(f.wall_names[fate.path[i]]);
-    v.via += (i == 0 ? "via " : ", ") + f.wall_names[fate.path[i]];
-  }
-  if (fate.path_more) v.via += ", ...";
   return v;
 }
 
@@ -271,22 +344,18 @@ double Match::handicap_now(int k) const {
 }
 
 void Match::retweak() {
-  FateReport report = world_.predict();
-  std::vector<FateView> views;
-  for (const FateGroup& g : report.groups) views.push_back(view(g));
-  std::vector<double> factors = rules_->factors(views, *this);
-  if (factors.size() != views.size()) {
-    report_error("rules gave " + std::to_string(factors.size()) + " factors for " + std::to_string(views.size()) +
-                 " fates; factors skipped");
-    return;
-  }
+  world_.predict(report_);
+  views_.clear();
+  for (const FateGroup& g : report_.groups) views_.push_back(view(g));
+  factors_.assign(views_.size(), 1.0);
+  rules_->factors(views_, *this, factors_);
   // The handicap of the player an outcome favours: the one it reaches, or for a goal the shooter
   // when on the favoured team, else that team's mean.
-  for (size_t k = 0; k < views.size(); ++k) {
-    const FateView& v = views[k];
+  for (size_t k = 0; k < views_.size(); ++k) {
+    const FateView& v = views_[k];
     double h = 1;
-    if (v.kind == "body") {
-      h = handicap_now(report.groups[k].fate.target);
+    if (v.fate.kind == FateKind::Body) {
+      h = handicap_now(v.fate.target);
     } else if (!v.favours.empty()) {
       if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) {
         h = handicap_now(last_toucher_);
@@ -298,10 +367,10 @@ void Match::retweak() {
         if (n > 0) h = sum / n;
       }
     }
-    factors[k] *= h;
+    factors_[k] *= h;
   }
   try {
-    world_.tweak(report, factors);
+    world_.tweak(report_, factors_);
   } catch (const std::invalid_argument& e) {
     report_error(std::string("fate factors refused: ") + e.what());
   }

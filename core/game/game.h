@@ -3,52 +3,66 @@
 // the sport's rules what to do about them, and keeps the fates tweaked by the rules' factors.
 // The rules see fates, players and the score, never particles; they are written in Lua
 // (bindings/) behind the Rules interface, so this library does not know Lua.
+//
+// A running match allocates nothing per frame once warm: events, phrases and fates live in
+// buffers the match keeps and refills (see docs/PERFORMANCE.md, "Allocations").
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "quantum/world.h"
 
 namespace quantum::game {
 
-struct Player {
-  std::string name, team;  // the body's name and team in the field
-  double handicap = 1;     // multiplies the fates that favour this player (see docs/lua-api.md)
-  Vec2 position, velocity;
+// What the rules are told. Retouch is the same player meeting the ball again within 0.25 s of
+// its last touch (one swing); Dead is a ball the rules ended while it still moved; Paused and
+// Resumed come from the runtime when a live tracking source loses the players and finds them.
+enum class EventKind : uint8_t {
+  Drop, Shot, Intercept, Retouch, Bounce, Goal, OwnGoal, Out, Dead, TimeUp, MatchEnd, Powerup, PowerupEnd,
+  Paused, Resumed,
 };
+constexpr int kEventKinds = int(EventKind::Resumed) + 1;
+const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "time_up", "powerup_end", ...
+// The kind named `name`, or none.
+std::optional<EventKind> event_kind(std::string_view name);
+// Every kind's name, in order: for error messages and the strict readers.
+const std::vector<std::string>& event_names();
 
-// What the rules are told. type: drop, shot, intercept, retouch (the same player meeting the
-// ball again within 0.25 s of its last touch: one swing), bounce (off a wall, audibly), goal,
-// own_goal, out, time_up, match_end; powerup and powerup_end when a power-up starts and ends.
+// Names are views into the field (or the match, for a winner): they stay valid while the match
+// lives, and events cost no allocation.
 struct GameEvent {
   double t = 0;
-  std::string type;
-  std::string actor;   // the spot, the player, the wall, the goal ("" for out and time_up)
-  std::string team;    // the actor's team (goal: the team defending it; "" for a wall)
-  std::string by;      // all but drop, time_up and match_end: the last player to touch the ball
-  std::string by_team;
+  EventKind type = EventKind::Drop;
+  std::string_view actor;     // the spot, the player, the wall, the goal, the winner ("" for out, dead, time_up)
+  std::string_view team;      // the actor's team (goal: the team defending it; "" for a wall)
+  std::string_view by;        // the last player to touch the ball (for a touch: the toucher itself)
+  std::string_view by_team;
+  std::string_view previous;  // the player who touched it before `by` this rally (who passed), "" for none
+  std::string_view previous_team;
   double p = 1, p_newtonian = 1;
   uint32_t particles = 0;
-  Vec2 at, velocity;   // where it happened; for a shot, intercept or bounce the ball's mean velocity after it
+  Vec2 at, velocity;   // where it happened; for a touch or bounce the ball's mean velocity after it
   int actor_index = -1;  // spot, body, wall or goal index in the field
   std::string powerup;   // powerup, powerup_end: the power-up's name (actor is its holder)
 };
 
 // A fate as the rules see it.
 struct FateView {
-  std::string kind;     // goal, own_goal, body, out, field
-  std::string actor;    // the goal's or the body's name, "" otherwise
-  std::string team;     // the body's team, or the team defending the goal
-  std::string favours;  // the team this outcome is good for: the body's, or the one attacking the goal
-  std::string via;      // "via left wall, Red's end", "" when direct
-  std::vector<std::string> path;
-  double mass = 0;      // Newtonian probability
-  double tweaked = 0;   // probability after the current factors
+  Fate fate;                   // kind, target, and the walls on the way (fate.path)
+  std::string_view actor;      // the goal's or the body's name, "" otherwise
+  std::string_view team;       // the body's team, or the team defending the goal
+  std::string_view favours;    // the team this outcome is good for: the body's, or the one attacking the goal
+  double mass = 0;             // Newtonian probability
+  double tweaked = 0;          // probability after the current factors
   uint32_t count = 0;
+
+  const char* kind() const { return to_string(fate.kind); }
 };
 
 class Match;
@@ -58,11 +72,14 @@ class Match;
 class Rules {
  public:
   virtual ~Rules() = default;
-  // One multiplier per fate (fate factor x modifiers; the host adds the handicaps), each finite
-  // and >= 0. Reads the match; a failing modifier is reported through match.report_error.
-  virtual std::vector<double> factors(std::span<const FateView> fates, Match& match) = 0;
+  // Writes one multiplier per fate into `out` (fate factor x modifiers; the host adds the
+  // handicaps), each finite and >= 0. Reads the match; a failing modifier is reported through
+  // match.report_error.
+  virtual void factors(std::span<const FateView> fates, Match& match, std::span<double> out) = 0;
   // Reacts to an event through the match's actions (say, award, respawn, finish).
   virtual void on_event(const GameEvent& event, Match& match) = 0;
+  // Once a frame, after its events: what the rules scheduled for this time (timers).
+  virtual void tick(Match&) {}
 };
 
 struct MatchConfig {
@@ -78,15 +95,15 @@ struct MatchConfig {
 };
 
 struct Said {
-  double t;
+  double t = 0;
   std::string text;
-  std::string event;      // the type of the event whose handler said it
-  std::string recording;  // a sound file to play instead of speaking the text ("" to speak it)
+  int event = -1;             // the event (index into events()) whose handler said it; -1 for none
+  const char* cause = "";     // that event's type, or "timer", or "" when said outside any handler
+  std::string recording;      // a sound file to play instead of speaking the text ("" to speak it)
 };
 
-// A power-up a player holds: its script's name (rules/powerups/<name>.lua), until when, and its
-// numbers (strength, and whatever its start stored). The host keeps them, so they survive a
-// reload of the scripts.
+// A power-up a player holds: its script's name, until when, and its numbers (strength, and
+// whatever its start stored). The host keeps them, so they survive a reload of the scripts.
 struct ActivePowerup {
   std::string name;
   int player = -1;  // body index
@@ -95,10 +112,28 @@ struct ActivePowerup {
 };
 
 struct RallyStats {
-  int rallies = 0;      // balls dropped that ended (goal, own goal or out)
+  int rallies = 0;      // balls dropped that ended (goal, own goal, out or dead)
   int contacts = 0;     // shots and intercepts within those rallies
   int goals = 0;
   double seconds = 0;   // match time played
+};
+
+// Where a simulated player should send the ball (the sport's hint, game.aim): a goal (across its
+// mouth), a wall (the point of it nearest the ball) or a point; none: the opponents' goal.
+struct Aim {
+  enum class Kind : uint8_t { Default, Goal, Wall, Point } kind = Kind::Default;
+  int index = -1;  // the goal or wall
+  Vec2 point;
+};
+
+struct Player {
+  std::string name, team;  // the body's name and team in the field
+  double handicap = 1;     // multiplies the fates that favour this player (see docs/lua-api.md)
+  Vec2 position, velocity;
+  // Hints to simulated players (game.turn, game.aim): whether it is this player's turn to play
+  // the ball, and where to send it.
+  bool turn = true;
+  Aim aim;
 };
 
 class Match {
@@ -113,16 +148,23 @@ class Match {
   void set_rules(Rules& rules) { rules_ = &rules; }
 
   // --- Actions for the rules.
-  void say(std::string text, std::string recording = {});
+  void say(std::string_view text, std::string_view recording = {});
   void award(const std::string& team, int goals = 1);
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
+  // A ball still in play is dead first (see dead_ball).
   void respawn(int spot, double delay);
+  // Ends the rally while the ball still moves: the cloud is removed, a `dead` event is told, and
+  // nothing more happens until the next drop. Nothing happens when no ball is in play.
+  void dead_ball();
   void finish(const std::string& winner);  // "" for a draw
   // Sets player k's own handicap (> 0) from now on: a sport's rules may change it during a match.
   void set_handicap(int k, double handicap);
+  // Hints to simulated players: whether it is player k's turn, and where player k aims.
+  void set_turn(int k, bool turn);
+  void set_aim(int k, Aim aim);
 
   // Opens these wormholes on the field, replacing any (an empty list closes them). Throws
-  // std::invalid_argument for mouths the core refuses.
+  // std::invalid_argument for wormholes the core refuses.
   void set_wormholes(std::vector<Wormhole> wormholes);
 
   // Gives `player` (a body index) a power-up for `seconds`; it ends with a powerup_end event. A
@@ -130,7 +172,7 @@ class Match {
   void grant(int player, const std::string& name, double seconds, std::map<std::string, double> params);
 
   // Puts the players where (and as fast as) `input` says without a step (a rule spec's scene).
-  // Throws InputError like step().
+  // Throws InputError like step(), and then changes nothing.
   void place_players(std::span<const BodyInput> input);
 
   // Sets up a scene (a rule spec): the players where (and as fast as) `input` says, the ball replaced by
@@ -143,8 +185,9 @@ class Match {
   const Field& field() const { return world_.field(); }
   const std::vector<Player>& players() const { return players_; }
   const std::map<std::string, int>& score() const { return score_; }
-  std::vector<std::string> teams() const;
+  const std::vector<std::string>& teams() const { return teams_; }
   double time() const { return world_.time(); }
+  double fps() const { return config_.fps; }
   bool finished() const { return finished_; }
   const std::string& winner() const { return winner_; }
   const RallyStats& stats() const { return stats_; }
@@ -155,12 +198,20 @@ class Match {
   double handicap_now(int k) const;
   int spot_of(const std::string& team_or_name) const;  // -1 when there is none
 
-  // Events and phrases since the last call, in order.
-  std::vector<GameEvent> take_events();
-  std::vector<Said> take_said();
-  // Rule errors since the last call ("rules/x/sport.lua:12: ... (on goal skipped)").
-  std::vector<std::string> take_errors();
+  // What happened since the last clear_news(), in order: events, phrases (each naming its
+  // event), rule errors ("rules/x/sport.lua:12: ... (on goal skipped)"). The spans stay valid
+  // until the next action on the match.
+  std::span<const GameEvent> events() const { return events_; }
+  std::span<const Said> said() const { return {said_.data(), n_said_}; }
+  std::span<const std::string> errors() const { return errors_; }
+  // Forgets the news once every consumer has read it; the buffers keep their room.
+  void clear_news();
   void report_error(std::string message);
+  // Phrases said from now on belong to no event but `cause` (a timer), until the next event.
+  void set_cause(const char* cause);
+  // Records an event of the host's own (the runtime's paused and resumed) without telling the
+  // rules; phrases said next belong to it.
+  void note(EventKind type);
 
   // The current fates as the rules see them (fresh prediction; empty when no ball is live).
   std::vector<FateView> fates() const;
@@ -168,8 +219,9 @@ class Match {
  private:
   void handle(const Event& e);
   void expire_powerups();
-  void powerup_event(const char* type, int player, const std::string& name);  // powerup, powerup_end
-  void tell_rules(const GameEvent& e);
+  void powerup_event(EventKind type, int player, const std::string& name);
+  GameEvent& new_event(EventKind type);
+  void tell_rules(size_t event);
   void retweak();
   FateView view(const FateGroup& g) const;
 
@@ -177,21 +229,28 @@ class Match {
   MatchConfig config_;
   Rules* rules_;
   std::vector<Player> players_;
+  std::vector<std::string> teams_;
   std::vector<ActivePowerup> powerups_;
   std::map<std::string, int> score_;
   std::vector<GameEvent> events_;
-  std::vector<Said> said_;
+  std::vector<Said> said_;  // the first n_said_ are news; the rest keep their strings' room
+  size_t n_said_ = 0;
   std::vector<std::string> errors_;
   std::vector<Event> core_events_;
+  FateReport report_;              // this frame's prediction, refilled in place
+  std::vector<FateView> views_;
+  std::vector<double> factors_;
   RallyStats stats_;
   double respawn_at_ = -1;
   int respawn_spot_ = 0;
   int rally_contacts_ = 0;
-  int last_toucher_ = -1;  // body of the last announced touch this rally
+  int last_toucher_ = -1;      // body of the last announced touch this rally
+  int previous_toucher_ = -1;  // the one before it (another touch, or the same player's earlier one)
   double last_touch_t_ = 0;
   bool finished_ = false, time_up_told_ = false;
   std::string winner_;
-  std::string handling_;  // type of the event the rules are handling
+  int handling_ = -1;          // the event the rules are handling
+  const char* cause_ = "";     // its type, or what else is speaking
 };
 
 }  // namespace quantum::game

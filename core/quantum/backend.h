@@ -26,14 +26,20 @@ struct StepContext {
   float noise_amplitude;  // see noise_amplitude()
 };
 
-// Something a particle ran into during a step. target: body k is k, goal g is n_bodies + g,
-// out is n_bodies + n_goals, wall w (bounced off at an audible speed, and nothing else met) is
-// n_bodies + n_goals + 1 + w, and kCrushed marks a particle with no valid place left.
+// Something a particle ran into during a step: a body, a goal line, the bounds (Out), a wall it
+// bounced off at an audible speed (and met nothing else), or no valid place left (Crushed).
+enum class TargetKind : uint8_t { Body, Goal, Out, Wall, Crushed };
+struct Target {
+  TargetKind kind;
+  uint16_t index;  // the body, goal or wall; 0 for Out and Crushed
+
+  bool operator==(const Target&) const = default;
+};
+
 struct Contact {
   uint32_t particle;
-  int32_t target;
+  Target target;
 };
-constexpr int32_t kCrushed = -1;
 
 class Backend {
  public:

@@ -88,8 +88,8 @@ Geometry::Geometry(const Field& f)
     sy0.push_back(std::min(s.a.y, s.b.y)), sy1.push_back(std::max(s.a.y, s.b.y));
     for (Vec2 p : {s.a, s.b}) {
       bool known = false;
-      for (size_t k = 0; k < vx.size(); ++k) known |= vx[k] == p.x && vy[k] == p.y;
-      if (!known) vx.push_back(p.x), vy.push_back(p.y), vwall.push_back(s.wall);
+      for (size_t k = 0; k < cap_x.size(); ++k) known |= cap_x[k] == p.x && cap_y[k] == p.y;
+      if (!known) cap_x.push_back(p.x), cap_y.push_back(p.y), cap_wall.push_back(s.wall);
     }
   }
   Vec2 centre{0, 0};
@@ -119,7 +119,7 @@ void Geometry::build_grid(const Field& f) {
   grid_reach = cell;
   cols = std::max(1, int(std::ceil((bounds.x1 - bounds.x0) / cell)));
   rows = std::max(1, int(std::ceil((bounds.y1 - bounds.y0) / cell)));
-  const size_t most = std::max({ax.size(), vx.size(), gax.size(), size_t(1)});
+  const size_t most = std::max({ax.size(), cap_x.size(), gax.size(), size_t(1)});
   for (size_t k = 0; k < most; ++k) all_items.push_back(uint16_t(k));
   cell_start.push_back(0);
   for (int row = 0; row < rows; ++row) {
@@ -131,8 +131,8 @@ void Geometry::build_grid(const Field& f) {
       for (size_t k = 0; k < ax.size(); ++k)
         if (segment_touches_box(f.segments[k].a, f.segments[k].b, wall_zone)) cell_items.push_back(uint16_t(k));
       cell_start.push_back(uint32_t(cell_items.size()));
-      for (size_t k = 0; k < vx.size(); ++k)
-        if (wall_zone.contains(vx[k], vy[k])) cell_items.push_back(uint16_t(k));
+      for (size_t k = 0; k < cap_x.size(); ++k)
+        if (wall_zone.contains(cap_x[k], cap_y[k])) cell_items.push_back(uint16_t(k));
       cell_start.push_back(uint32_t(cell_items.size()));
       for (size_t k = 0; k < gax.size(); ++k)
         if (segment_touches_box(f.goals[k].a, f.goals[k].b, goal_zone)) cell_items.push_back(uint16_t(k));
@@ -146,7 +146,7 @@ void Geometry::build_grid(const Field& f) {
 Geometry::Candidates Geometry::candidates(float x, float y, float travel2) const {
   const int col = int(std::floor((x - bounds.x0) * inv_cell)), row = int(std::floor((y - bounds.y0) * inv_cell));
   if (travel2 > grid_reach * grid_reach || col < 0 || row < 0 || col >= cols || row >= rows)
-    return {all_items.data(), all_items.data(), all_items.data(), uint16_t(ax.size()), uint16_t(vx.size()),
+    return {all_items.data(), all_items.data(), all_items.data(), uint16_t(ax.size()), uint16_t(cap_x.size()),
             uint16_t(gax.size()), true};
   const uint32_t* at = &cell_start[3 * size_t(row * cols + col)];
   return {&cell_items[at[0]], &cell_items[at[1]], &cell_items[at[2]], uint16_t(at[1] - at[0]),
@@ -185,14 +185,14 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
     if (dt < best.dt) best = {dt, HitKind::Wall, g.wall[k], hnx, hny};
   }
   // ...and against the round caps at the segment ends (goal posts, convex corners).
-  for (uint16_t q = 0; q < near.n_points; ++q) {
-    const size_t k = near.points[q];
-    if (g.vx[k] < bx0 || g.vx[k] > bx1 || g.vy[k] < by0 || g.vy[k] > by1) continue;
-    const float qx = m.x - g.vx[k], qy = m.y - g.vy[k];
+  for (uint16_t q = 0; q < near.n_caps; ++q) {
+    const size_t k = near.caps[q];
+    if (g.cap_x[k] < bx0 || g.cap_x[k] > bx1 || g.cap_y[k] < by0 || g.cap_y[k] > by1) continue;
+    const float qx = m.x - g.cap_x[k], qy = m.y - g.cap_y[k];
     const float dt = circle_time(qx, qy, m.ux, m.uy, r, span);
     if (!(dt < best.dt)) continue;
     const float hx = qx + m.ux * dt, hy = qy + m.uy * dt, l = norm(hx, hy);
-    if (l > 0) best = {dt, HitKind::Wall, g.vwall[k], hx / l, hy / l};
+    if (l > 0) best = {dt, HitKind::Wall, g.cap_wall[k], hx / l, hy / l};
   }
   for (uint16_t q = 0; q < near.n_goals; ++q) {
     const size_t k = near.goals[q];
@@ -206,7 +206,7 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
   }
   for (size_t k = 0; k < g.mx.size(); ++k) {
     const float dt = mouth_time(m.x - g.mx[k], m.y - g.my[k], m.ux, m.uy, g.mr[k], span);
-    if (dt < best.dt) best = {dt, HitKind::Portal, int(k), 0, 0};
+    if (dt < best.dt) best = {dt, HitKind::Wormhole, int(k), 0, 0};
   }
   if (!with_bodies) return best;
   for (int k = 0; k < n_bodies; ++k) {
@@ -253,9 +253,9 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
       hnx[i] = better ? nx : hnx[i], hny[i] = better ? ny : hny[i];
     }
   }
-  for (size_t k = 0; k < g.vx.size(); ++k) {
-    const int32_t c = hit_code(HitKind::Wall, g.vwall[k]);
-    const float px = g.vx[k], py = g.vy[k];
+  for (size_t k = 0; k < g.cap_x.size(); ++k) {
+    const int32_t c = hit_code(HitKind::Wall, g.cap_wall[k]);
+    const float px = g.cap_x[k], py = g.cap_y[k];
     // Each iteration reads and writes only particle i.
 #pragma GCC ivdep
     for (size_t i = 0; i < n; ++i) {
@@ -292,7 +292,7 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     }
   }
   for (size_t k = 0; k < g.mx.size(); ++k) {
-    const int32_t c = hit_code(HitKind::Portal, int(k));
+    const int32_t c = hit_code(HitKind::Wormhole, int(k));
     const float px = g.mx[k], py = g.my[k], pr = g.mr[k];
     // Each iteration reads and writes only particle i.
 #pragma GCC ivdep
@@ -327,7 +327,7 @@ void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index,
     if (un < 0) m.ux -= (1 + g.e_wall) * un * nx, m.uy -= (1 + g.e_wall) * un * ny;
     if (vn < 0) m.vx -= (1 + g.e_wall) * vn * nx, m.vy -= (1 + g.e_wall) * vn * ny;
     m.x += kSkin * nx, m.y += kSkin * ny;
-  } else if (kind == HitKind::Portal) {
+  } else if (kind == HitKind::Wormhole) {
     // Out of the other mouth at the same offset, a hair inside it so it is not entering it.
     const int to = index ^ 1;
     const float s = 1 - 1e-4f;

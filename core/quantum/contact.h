@@ -35,8 +35,8 @@ struct Geometry {
   std::vector<float> ax, ay, tx, ty, nx, ny, len;  // segments: start, unit tangent, left normal
   std::vector<int> wall;
   std::vector<float> sx0, sy0, sx1, sy1;           // segment bounding boxes
-  std::vector<float> vx, vy;                       // segment end points (round caps)
-  std::vector<int> vwall;                          // the wall each end point belongs to
+  std::vector<float> cap_x, cap_y;                 // segment end points: round caps a ball can hit
+  std::vector<int> cap_wall;                       // the wall each end point belongs to
   std::vector<float> gax, gay, gtx, gty, gnx, gny, glen;  // goal lines; normal points into the goal
   std::vector<float> gx0, gy0, gx1, gy1;
   Box bounds;
@@ -51,8 +51,8 @@ struct Geometry {
   // that a ball starting in the cell can reach within `grid_reach` of travel: a step's path is a
   // few centimetres, so its contact search tests one or two primitives instead of all of them.
   struct Candidates {
-    const uint16_t *segments, *points, *goals;
-    uint16_t n_segments, n_points, n_goals;
+    const uint16_t *segments, *caps, *goals;
+    uint16_t n_segments, n_caps, n_goals;
     bool near_bounds;
   };
   Candidates candidates(float x, float y, float travel_squared) const;
@@ -166,7 +166,7 @@ inline SegmentParams goal_line(const Geometry& g, size_t k) {
 
 // --- Searches.
 
-enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed, Portal };
+enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed, Wormhole };
 
 struct Hit {
   float dt;  // from the search's start

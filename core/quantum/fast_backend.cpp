@@ -48,11 +48,10 @@ class FastBackend final : public Backend {
     const uint32_t key = ctx.noise_key;
     const detail::Box s = g.safe;
 
-    const int ng = int(g.gax.size());
     tracer_.begin(paths_.data(), nb, dt);
     auto finish = [&](uint32_t i, const detail::Mover& m, detail::Outcome out) {
       x[i] = m.x, y[i] = m.y, vx[i] = m.vx, vy[i] = m.vy;
-      if (out.kind != detail::HitKind::None) contacts.push_back({i, target_of(out, nb, ng)});
+      if (out.kind != detail::HitKind::None) contacts.push_back({i, target_of(out)});
     };
 
     alignas(64) float ox[kBlock], oy[kBlock];
@@ -145,13 +144,13 @@ class FastBackend final : public Backend {
     return false;
   }
 
-  static int32_t target_of(detail::Outcome out, int nb, int ng) {
+  static Target target_of(detail::Outcome out) {
     switch (out.kind) {
-      case detail::HitKind::Body: return out.index;
-      case detail::HitKind::Goal: return nb + out.index;
-      case detail::HitKind::Out: return nb + ng;
-      case detail::HitKind::Wall: return nb + ng + 1 + out.index;
-      default: return kCrushed;
+      case detail::HitKind::Body: return {TargetKind::Body, uint16_t(out.index)};
+      case detail::HitKind::Goal: return {TargetKind::Goal, uint16_t(out.index)};
+      case detail::HitKind::Out: return {TargetKind::Out, 0};
+      case detail::HitKind::Wall: return {TargetKind::Wall, uint16_t(out.index)};
+      default: return {TargetKind::Crushed, 0};
     }
   }
 

@@ -1,8 +1,8 @@
 #include "quantum/fate.h"
 
 #include <cmath>
+#include <algorithm>
 #include <stdexcept>
-#include <unordered_map>
 
 #include "quantum/contact.h"
 #include "quantum/noise.h"
@@ -14,8 +14,6 @@ namespace {
 
 // A ball still rattling after this many contacts is taken to stay in the field.
 constexpr int kMaxFateContacts = 64;
-// Particles traced together: enough to fill the vector lanes, few enough to stay in L1/L2.
-constexpr size_t kChunk = 1024;
 
 // Records a wall touch in the path; bouncing along one wall (two pieces of a chain) reads as one.
 void add_to_path(Fate& f, int wall) {
@@ -90,25 +88,6 @@ Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int n
   return f;
 }
 
-// Particles being traced: a batch for the vectorized search, plus who they are.
-struct Flight {
-  detail::MoverBatch b;
-  std::vector<uint32_t> id;
-  std::vector<uint8_t> contacts;
-  size_t n = 0;
-
-  Flight() {
-    b.resize(kChunk);
-    id.resize(kChunk);
-    contacts.resize(kChunk);
-  }
-  void push(const detail::Mover& m, float t, uint32_t who, uint8_t touched) {
-    b.x[n] = m.x, b.y[n] = m.y, b.ux[n] = m.ux, b.uy[n] = m.uy, b.vx[n] = m.vx, b.vy[n] = m.vy, b.t[n] = t;
-    id[n] = who, contacts[n] = touched;
-    ++n;
-  }
-};
-
 // Whether m can meet nothing within `dt`: its path stays inside the safe box (no wall, goal line
 // or bound within reach) and clear of every body's sweep. Most particles of a cloud can't; they
 // skip the search for the drift step.
@@ -134,8 +113,9 @@ bool meets_nothing(const detail::Geometry& g, const detail::BodyPath* bodies, in
 // chunk at once (vectorized), then moves each to its contact. The first `drift_end` seconds run
 // with the next step's drift (see NextStep), the rest without.
 void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
-                 const Cloud& c, const NextStep& next, float horizon, std::vector<Fate>& fates) {
-  Flight flying, later;
+                 const Cloud& c, const NextStep& next, float horizon, Flight& flying, Flight& later,
+                 std::vector<Fate>& fates) {
+  constexpr size_t kChunk = Flight::kChunk;
   const float drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
   for (size_t begin = 0; begin < c.size(); begin += kChunk) {
     flying.n = later.n = 0;
@@ -234,19 +214,21 @@ void World::check_horizon(float horizon) const {
 
 // Bodies keep their last velocity for the lookahead, then hold: players rarely keep running in
 // a straight line, and a body extrapolated for seconds would leave the field.
-static std::vector<detail::BodyPath> predicted_bodies(const Field& field, const std::vector<Vec2>& pos,
-                                                      const std::vector<Vec2>& vel, float lookahead) {
-  std::vector<detail::BodyPath> bodies(field.bodies.size());
-  for (size_t k = 0; k < bodies.size(); ++k)
-    bodies[k] = {pos[k].x, pos[k].y, vel[k].x, vel[k].y, lookahead, vel[k].x, vel[k].y, field.bodies[k].radius};
-  return bodies;
+void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
+  bodies.resize(field_.bodies.size());
+  for (size_t k = 0; k < bodies.size(); ++k) {
+    const Vec2 p = body_pos_[k], v = body_vel_[k];
+    bodies[k] = {p.x, p.y, v.x, v.y, config_.body_lookahead, v.x, v.y, field_.bodies[k].radius};
+  }
 }
 
 std::vector<Vec2> World::predict_path(size_t i, float horizon) const {
   check_horizon(horizon);
   if (i >= cloud_.size()) throw std::out_of_range("no live particle " + std::to_string(i));
-  const auto bodies = predicted_bodies(field_, body_pos_, body_vel_, config_.body_lookahead);
-  const std::vector<uint8_t> own = own_goals();
+  std::vector<detail::BodyPath> bodies;
+  predicted_bodies(bodies);
+  std::vector<uint8_t> own;
+  own_goals(own);
   std::vector<Vec2> path;
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_);
   trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), own.data(), start_of(cloud_, i, next), next.dt,
@@ -256,36 +238,68 @@ std::vector<Vec2> World::predict_path(size_t i, float horizon) const {
 }
 
 FateReport World::predict(float horizon) const {
-  check_horizon(horizon);
-  const detail::Geometry& g = internals_->geometry;
-  const int nb = int(field_.bodies.size());
-  const auto bodies = predicted_bodies(field_, body_pos_, body_vel_, config_.body_lookahead);
-  const std::vector<uint8_t> own = own_goals();
   FateReport report;
+  predict(report, horizon);
+  return report;
+}
+
+void World::predict(FateReport& report, float horizon) const {
+  check_horizon(horizon);
+  WorldInternals& s = *internals_;
+  predicted_bodies(s.predicted_bodies);
+  own_goals(s.own_goal);
   report.horizon = horizon;
   report.cloud_version = version_;
+  report.groups.clear();
   report.group_of.resize(cloud_.size());
-  std::vector<Fate> fates(cloud_.size());
-  trace_fates(g, bodies.data(), nb, own.data(), cloud_, next_step(config_.seed, step_, field_.brownian, last_dt_),
-              horizon, fates);
-  std::unordered_map<uint64_t, uint32_t> index;
+  s.fates.assign(cloud_.size(), Fate{});
+  trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), s.own_goal.data(), cloud_,
+              next_step(config_.seed, step_, field_.brownian, last_dt_), horizon, s.flying, s.later, s.fates);
+  s.index.clear();
   for (size_t i = 0; i < cloud_.size(); ++i) {
-    const Fate& f = fates[i];
-    auto [it, fresh] = index.try_emplace(f.key(), uint32_t(report.groups.size()));
-    if (fresh) report.groups.push_back({f, 0, 0, 0, uint32_t(i), {}});
-    FateGroup& group = report.groups[it->second];
+    const Fate& f = s.fates[i];
+    const uint32_t k = s.index.find_or_add(f.key(), uint32_t(report.groups.size()));
+    if (k == report.groups.size()) report.groups.push_back({f, 0, 0, 0, uint32_t(i)});
+    FateGroup& group = report.groups[k];
     group.mass += cloud_.w[i];
     group.tweaked_mass += cloud_.tw[i];
     ++group.count;
     if (cloud_.w[i] > cloud_.w[group.representative]) group.representative = uint32_t(i);
-    report.group_of[i] = it->second;
+    report.group_of[i] = k;
   }
   for (FateGroup& group : report.groups) {
     group.mass /= cloud_.mass;
     group.tweaked_mass /= cloud_.tmass;
-    group.trajectory = predict_path(group.representative, horizon);
   }
-  return report;
+}
+
+void GroupIndex::clear() {
+  if (keys.empty()) keys.resize(64), groups.resize(64);
+  std::fill(groups.begin(), groups.end(), 0u);
+  used = 0;
+}
+
+uint32_t GroupIndex::find_or_add(uint64_t key, uint32_t fresh) {
+  if (2 * (used + 1) > keys.size()) {
+    // Rehash into twice the room: only a frame with more fates than any before comes here.
+    const std::vector<uint64_t> old_keys = std::move(keys);
+    const std::vector<uint32_t> old_groups = std::move(groups);
+    keys.assign(old_keys.size() * 2, 0);
+    groups.assign(old_groups.size() * 2, 0u);
+    used = 0;
+    for (size_t k = 0; k < old_keys.size(); ++k)
+      if (old_groups[k]) find_or_add(old_keys[k], old_groups[k] - 1);
+  }
+  const size_t mask = keys.size() - 1;
+  // Fibonacci hashing spreads keys that differ only in their high bits (wall paths).
+  for (size_t k = size_t((key * 0x9E3779B97F4A7C15ull) >> 32) & mask;; k = (k + 1) & mask) {
+    if (groups[k] == 0) {
+      keys[k] = key, groups[k] = fresh + 1;
+      ++used;
+      return fresh;
+    }
+    if (keys[k] == key) return groups[k] - 1;
+  }
 }
 
 void World::tweak(FateReport& report, std::span<const double> factors) {

@@ -29,8 +29,7 @@ struct FateGroup {
   double mass = 0;          // Newtonian probability: the untweaked weight of the group
   double tweaked_mass = 0;  // probability after fate factors; equals mass until tweaked
   uint32_t count = 0;
-  uint32_t representative = 0;    // heaviest particle of the group
-  std::vector<Vec2> trajectory;   // its predicted path: start, every contact, end
+  uint32_t representative = 0;  // heaviest particle of the group: World::predict_path draws its way
 };
 
 struct FateReport {

@@ -29,14 +29,15 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
     throw std::invalid_argument("split jitter must be between 0 and 1.6 rad");
   if (!(config_.body_lookahead >= 0)) throw std::invalid_argument("body lookahead must be >= 0");
   internals_ = std::make_unique<WorldInternals>(field_);
-  internals_->tally.resize(field_.bodies.size() + field_.goals.size() + 1 + field_.wall_names.size());
+  internals_->targets = {int(field_.bodies.size()), int(field_.goals.size()), int(field_.wall_names.size())};
+  internals_->tally.resize(size_t(internals_->targets.size()));
   internals_->resting.resize(field_.bodies.size());
   backend_ = backend ? std::move(backend) : make_fast_backend(field_);
   const size_t nb = field_.bodies.size();
   for (const BodySpec& b : field_.bodies) body_pos_.push_back(b.start), body_vel_.push_back({0, 0});
   motion_.resize(nb);
-  purgatory_.resize(nb * config_.purgatory_frames);
-  slot_step_.assign(config_.purgatory_frames, 0);
+  purgatory_.resize(config_.purgatory_frames);
+  for (PurgatorySlot& slot : purgatory_) slot.touched.reserve(config_.particles), slot.body.reserve(config_.particles);
   cloud_.reserve(config_.particles);
   scratch_.reserve(config_.particles);
   contacts_.reserve(config_.particles);
@@ -47,12 +48,12 @@ World::~World() = default;
 
 size_t World::purgatory_size(int body) const {
   size_t n = 0;
-  for (uint32_t s = 0; s < config_.purgatory_frames; ++s) n += purgatory_[body * config_.purgatory_frames + s].size();
+  for (const PurgatorySlot& slot : purgatory_) n += size_t(std::count(slot.body.begin(), slot.body.end(), uint16_t(body)));
   return n;
 }
 
 void World::clear_purgatory() {
-  for (Cloud& slot : purgatory_) slot.clear();
+  for (PurgatorySlot& slot : purgatory_) slot.touched.clear(), slot.body.clear();
 }
 
 void World::drop(int spot, std::vector<Event>& events) {
@@ -102,20 +103,22 @@ void World::check_bodies(std::span<const BodyInput> input) const {
                      std::to_string(input.size()));
   // A body further than a field's size beyond the bounds is a tracking fault, not a player.
   const float slack = std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
+  // Messages are built only for a body that fails: checking runs every frame.
+  auto who = [&](size_t k) { return "body " + std::to_string(k) + " (" + field_.bodies[k].name + "): "; };
+  auto position = [](const BodyInput& in) {
+    return "position (" + std::to_string(in.position.x) + ", " + std::to_string(in.position.y) + ")";
+  };
   for (size_t k = 0; k < input.size(); ++k) {
     const BodyInput& in = input[k];
-    const std::string who = "body " + std::to_string(k) + " (" + field_.bodies[k].name + "): ";
-    const std::string pos = "(" + std::to_string(in.position.x) + ", " + std::to_string(in.position.y) + ")";
     if (!std::isfinite(in.position.x) || !std::isfinite(in.position.y))
-      throw InputError(who + "position " + pos + " is not finite");
-    if (!std::isfinite(in.velocity.x) || !std::isfinite(in.velocity.y))
-      throw InputError(who + "velocity is not finite");
+      throw InputError(who(k) + position(in) + " is not finite");
+    if (!std::isfinite(in.velocity.x) || !std::isfinite(in.velocity.y)) throw InputError(who(k) + "velocity is not finite");
     if (in.position.x < field_.bounds_min.x - slack || in.position.x > field_.bounds_max.x + slack ||
         in.position.y < field_.bounds_min.y - slack || in.position.y > field_.bounds_max.y + slack)
-      throw InputError(who + "position " + pos + " is far outside the field");
+      throw InputError(who(k) + position(in) + " is far outside the field");
     const float speed = std::hypot(in.velocity.x, in.velocity.y);
     if (speed > field_.max_body_speed)
-      throw InputError(who + "speed " + std::to_string(speed) + " m/s is above the field's max_body_speed " +
+      throw InputError(who(k) + "speed " + std::to_string(speed) + " m/s is above the field's max_body_speed " +
                        std::to_string(field_.max_body_speed));
   }
 }
@@ -129,9 +132,9 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   time_ += dt;
   last_dt_ = dt;
   // The oldest purgatory slot falls out; this step's contacts go in its place.
-  const uint32_t slot = step_ % config_.purgatory_frames;
-  for (int k = 0; k < nb; ++k) purgatory_[k * config_.purgatory_frames + slot].clear();
-  slot_step_[slot] = step_;
+  PurgatorySlot& slot = purgatory_[step_ % config_.purgatory_frames];
+  slot.touched.clear(), slot.body.clear();
+  slot.step = step_;
   if (live_) {
     contacts_.clear();
     const StepContext ctx{dt, motion_.data(), nb, step_key(config_.seed, step_),
@@ -187,12 +190,11 @@ void World::decide(float dt, std::vector<Event>& events) {
   // Particle order makes the draw and the purgatory independent of the backend's visiting order.
   std::sort(contacts_.begin(), contacts_.end(),
             [](const Contact& a, const Contact& b) { return a.particle < b.particle; });
-  const int nb = int(field_.bodies.size()), ng = int(field_.goals.size());
-  const int first_wall = nb + ng + 1;  // targets: bodies, goals, out, walls
-  const int n_targets = first_wall + int(field_.wall_names.size());
+  const TargetSlots& targets = internals_->targets;
+  const int n_targets = targets.size();
   std::vector<Tally>& tally = internals_->tally;
   std::fill(tally.begin(), tally.end(), Tally{});
-  const uint32_t slot = step_ % config_.purgatory_frames;
+  PurgatorySlot& slot = purgatory_[step_ % config_.purgatory_frames];
   removed_.clear();
   // Contacts are scattered over a cloud of up to millions: fetch a few ahead, or every one of
   // them waits for memory.
@@ -206,12 +208,12 @@ void World::decide(float dt, std::vector<Event>& events) {
     }
     const Contact& c = contacts_[k];
     removed_.push_back(c.particle);
-    if (c.target == kCrushed) continue;
-    Tally& t = tally[c.target];
+    if (c.target.kind == TargetKind::Crushed) continue;
+    Tally& t = tally[size_t(targets.slot(c.target))];
     const double w = cloud_.w[c.particle];
     t.tweaked += cloud_.tw[c.particle], t.newtonian += w, ++t.count;
     t.cx += w * cloud_.x[c.particle], t.cy += w * cloud_.y[c.particle];
-    if (c.target < nb) purgatory_[c.target * config_.purgatory_frames + slot].push_from(cloud_, c.particle);
+    if (c.target.kind == TargetKind::Body) slot.touched.push_from(cloud_, c.particle), slot.body.push_back(c.target.index);
   }
   // The chance that the ball met target k is the tweaked mass that met it. When nothing is left
   // in the field something must have happened, so the draw is conditioned on the contacts.
@@ -238,7 +240,7 @@ void World::decide(float dt, std::vector<Event>& events) {
   if (realized < 0) {
     cloud_.remove_sorted(removed_);
     if (cloud_.empty()) {
-      end_ball();
+      remove_ball();
     } else if (!(cloud_.mass > 1e-3 && cloud_.tmass > 1e-3)) {
       // The sums are kept by subtraction; re-sum once they have shrunk a thousandfold, long
       // before rounding could show in the normalized weights (a pass every few hundred steps).
@@ -246,37 +248,43 @@ void World::decide(float dt, std::vector<Event>& events) {
     }
     return;
   }
-  const Tally& t = tally[realized];
-  Event e{time_, EventType::Hit, realized, t.tweaked / total, t.newtonian / total_newtonian, t.count,
+  const Tally& t = tally[size_t(realized)];
+  const Target target = targets.at(realized);
+  Event e{time_, EventType::Hit, target.index, t.tweaked / total, t.newtonian / total_newtonian, t.count,
           Vec2{float(t.cx / t.newtonian), float(t.cy / t.newtonian)}, Vec2{0, 0}};
-  if (realized < nb || realized >= first_wall) {
-    if (realized < nb) {
-      realize_body(realized, dt);
-    } else {
-      e.type = EventType::Bounce;
-      e.actor = realized - first_wall;
-      realize_bounce(realized);
+  switch (target.kind) {
+    case TargetKind::Body:
+    case TargetKind::Wall:
+      if (target.kind == TargetKind::Body) {
+        realize_body(target.index, dt);
+      } else {
+        e.type = EventType::Bounce;
+        realize_bounce(target);
+      }
+      for (size_t i = 0; i < cloud_.size(); ++i)
+        e.velocity.x += float(cloud_.weight(i) * cloud_.vx[i]), e.velocity.y += float(cloud_.weight(i) * cloud_.vy[i]);
+      break;
+    case TargetKind::Goal: {
+      const bool own = last_touch_ >= 0 && field_.bodies[last_touch_].team == field_.goals[target.index].team;
+      e.type = own ? EventType::OwnGoal : EventType::Goal;
+      remove_ball();
+      break;
     }
-    for (size_t i = 0; i < cloud_.size(); ++i)
-      e.velocity.x += float(cloud_.weight(i) * cloud_.vx[i]), e.velocity.y += float(cloud_.weight(i) * cloud_.vy[i]);
-  } else if (realized < nb + ng) {
-    const int goal = realized - nb;
-    e.actor = goal;
-    const bool own = last_touch_ >= 0 && field_.bodies[last_touch_].team == field_.goals[goal].team;
-    e.type = own ? EventType::OwnGoal : EventType::Goal;
-    end_ball();
-  } else {
-    e.type = EventType::Out;
-    e.actor = -1;
-    end_ball();
+    case TargetKind::Out:
+    case TargetKind::Crushed:
+      e.type = EventType::Out;
+      e.actor = -1;
+      remove_ball();
+      break;
   }
   events.push_back(e);
 }
 
-void World::end_ball() {
+void World::remove_ball() {
   cloud_.clear();
   clear_purgatory();
   live_ = false;
+  ++version_;
 }
 
 void World::realize_body(int body, float dt) {
@@ -294,9 +302,9 @@ void World::realize_body(int body, float dt) {
   detail::StepTracer& tracer = internals_->tracer;
   for (uint32_t age = config_.purgatory_frames; age-- > 0;) {
     if (age >= step_) continue;
-    const uint32_t slot = (step_ - age) % config_.purgatory_frames;
-    if (slot_step_[slot] != step_ - age) continue;
-    const Cloud& from = purgatory_[body * config_.purgatory_frames + slot];
+    const PurgatorySlot& slot = purgatory_[(step_ - age) % config_.purgatory_frames];
+    if (slot.step != step_ - age) continue;
+    const Cloud& from = slot.touched;
     auto keep = [&](uint32_t i, detail::Mover m, detail::Outcome out) {
       // Went in, or out, while catching up; bouncing off a wall meanwhile is part of the flight.
       if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) return;
@@ -305,6 +313,7 @@ void World::realize_body(int body, float dt) {
     };
     tracer.begin(nullptr, 0, float(age) * dt);
     for (size_t i = 0; i < from.size(); ++i) {
+      if (slot.body[i] != body) continue;
       const detail::Mover m{from.x[i], from.y[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i]};
       if (age == 0) keep(uint32_t(i), m, {detail::HitKind::None, -1});
       else tracer.add(uint32_t(i), m, false, keep);
@@ -316,7 +325,7 @@ void World::realize_body(int body, float dt) {
   last_touch_ = body;
   ++version_;
   if (cloud_.empty()) {  // every particle of the shot went in or out while catching up
-    end_ball();
+    remove_ball();
     return;
   }
   cloud_.normalize();
@@ -325,7 +334,7 @@ void World::realize_body(int body, float dt) {
   refill(true);
 }
 
-void World::realize_bounce(int target) {
+void World::realize_bounce(Target wall) {
   // The ball is what bounced off the wall in this step, with the weights it had. Unlike a shot,
   // a bounce starts no new flight: the particles keep their tweak and fates, a wall is smooth
   // (no fanning out), and earlier bounces are not revived. Reviving them, as a body's purgatory
@@ -333,7 +342,7 @@ void World::realize_bounce(int target) {
   // tweaked odds (chi-square 452 on 16 degrees of freedom in Property.RealizedOutcomes...).
   scratch_.clear();
   for (const Contact& c : contacts_)
-    if (c.target == target) scratch_.push_from(cloud_, c.particle);
+    if (c.target == wall) scratch_.push_from(cloud_, c.particle);
   std::swap(cloud_, scratch_);
   clear_purgatory();
   ++version_;
@@ -383,11 +392,10 @@ void World::split_round(bool jitter) {
   ++version_;
 }
 
-std::vector<uint8_t> World::own_goals() const {
-  std::vector<uint8_t> own(field_.goals.size(), 0);
+void World::own_goals(std::vector<uint8_t>& own) const {
+  own.assign(field_.goals.size(), 0);
   if (last_touch_ >= 0)
     for (size_t g = 0; g < own.size(); ++g) own[g] = field_.goals[g].team == field_.bodies[last_touch_].team;
-  return own;
 }
 
 }  // namespace quantum

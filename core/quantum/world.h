@@ -15,6 +15,11 @@
 
 namespace quantum {
 
+namespace detail {
+struct BodyPath;
+}
+struct PurgatorySlot;
+
 struct WorldConfig {
   uint32_t particles = 1000;      // target cloud size; splitting grows the cloud to it
   uint32_t purgatory_frames = 3;  // how many steps a body keeps the particles it touched
@@ -55,6 +60,10 @@ class World {
   // Puts the ball back: one particle of weight 1 at the spot, grown by splitting in later steps.
   void drop(int spot, std::vector<Event>& events);
 
+  // Takes the ball off the field: the cloud and the purgatory are emptied, and nothing more is
+  // decided until the next drop (a dead ball, ended by the rules).
+  void remove_ball();
+
   // Replaces the ball with the given particles (a scene set up by a test, a benchmark or a
   // tool). Throws std::invalid_argument for non-finite values, particles outside the bounds or
   // inside a wall, or weights that are negative or sum to zero.
@@ -83,10 +92,14 @@ class World {
   // Forward-simulates every live particle up to `horizon` seconds, jumping from contact to
   // contact; bodies move on their last velocity for config.body_lookahead, then hold. The first
   // step (as long as the last one) carries the Brownian offsets the next step() will draw; the
-  // rest is traced without noise.
+  // rest is traced without noise. The second form refills `report` in place: with the world's own
+  // scratch, a match's every-frame prediction allocates nothing once warm. Not thread-safe: one
+  // world predicts on one thread at a time.
   FateReport predict(float horizon = 3.0f) const;
+  void predict(FateReport& report, float horizon = 3.0f) const;
 
-  // The predicted path of one live particle, as predict() traces it: start, contacts, end.
+  // The predicted path of one live particle, as predict() traces it: start, contacts, end. Only
+  // pictures need it (a fate group's representative particle shows the group's way).
   std::vector<Vec2> predict_path(size_t particle, float horizon = 3.0f) const;
 
   // Multiplies every particle's Newtonian weight by its group's factor; later decisions draw
@@ -109,12 +122,12 @@ class World {
   void check_bodies(std::span<const BodyInput> input) const;
   void decide(float dt, std::vector<Event>& events);
   void realize_body(int body, float dt);
-  void realize_bounce(int target);
+  void realize_bounce(Target wall);
   void refill(bool jitter);
-  void end_ball();
   void split_round(bool jitter);
   void clear_purgatory();
-  std::vector<uint8_t> own_goals() const;
+  void own_goals(std::vector<uint8_t>& own) const;  // per goal: 1 when the last toucher's team defends it
+  void predicted_bodies(std::vector<detail::BodyPath>& bodies) const;
   void check_horizon(float horizon) const;
 
   Field field_;
@@ -122,9 +135,8 @@ class World {
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<struct WorldInternals> internals_;
   Cloud cloud_, scratch_;
-  std::vector<Cloud> purgatory_;          // body * purgatory_frames + slot
+  std::vector<PurgatorySlot> purgatory_;  // one per step kept, in a ring
   std::vector<Wormhole> wormholes_;
-  std::vector<uint64_t> slot_step_;       // the step each slot was filled in
   std::vector<Vec2> body_pos_, body_vel_;
   std::vector<BodyMotion> motion_;
   std::vector<Contact> contacts_;

@@ -1,9 +1,12 @@
-// World's private working state that needs the internal contact types.
+// World's private working state that needs the internal contact types, and the scratch memory
+// of its step and its prediction: made once, reused every frame, so a running match allocates
+// nothing (as Box2D v3 keeps a step's scratch in its world).
 #pragma once
 
 #include <vector>
 
 #include "quantum/contact.h"
+#include "quantum/fate.h"
 #include "step_tracer.h"
 
 namespace quantum {
@@ -13,12 +16,83 @@ struct Tally {
   uint32_t count = 0;
 };
 
+// The decision targets of a field in one flat list, one tally each: bodies, goals, out, walls.
+struct TargetSlots {
+  int bodies = 0, goals = 0, walls = 0;
+
+  int size() const { return bodies + goals + 1 + walls; }
+  int slot(Target t) const {
+    switch (t.kind) {
+      case TargetKind::Body: return t.index;
+      case TargetKind::Goal: return bodies + t.index;
+      case TargetKind::Out: return bodies + goals;
+      case TargetKind::Wall: return bodies + goals + 1 + t.index;
+      case TargetKind::Crushed: break;
+    }
+    return -1;
+  }
+  Target at(int slot) const {
+    if (slot < bodies) return {TargetKind::Body, uint16_t(slot)};
+    if (slot < bodies + goals) return {TargetKind::Goal, uint16_t(slot - bodies)};
+    if (slot == bodies + goals) return {TargetKind::Out, 0};
+    return {TargetKind::Wall, uint16_t(slot - bodies - goals - 1)};
+  }
+};
+
+// The particles the bodies touched in one step, kept for a few steps (the purgatory). One slot
+// per step, shared by all bodies: a step's contacts never outnumber the cloud, so a slot sized
+// for the cloud never grows, however many bodies the field has.
+struct PurgatorySlot {
+  Cloud touched;
+  std::vector<uint16_t> body;  // which body touched each particle
+  uint64_t step = 0;           // the step the slot was filled in
+};
+
+// Particles being traced by the prediction: a batch for the vectorized search, plus who they are.
+struct Flight {
+  static constexpr size_t kChunk = 1024;  // enough to fill the vector lanes, few enough to stay in L1/L2
+  detail::MoverBatch b;
+  std::vector<uint32_t> id;
+  std::vector<uint8_t> contacts;
+  size_t n = 0;
+
+  Flight() {
+    b.resize(kChunk);
+    id.resize(kChunk);
+    contacts.resize(kChunk);
+  }
+  void push(const detail::Mover& m, float t, uint32_t who, uint8_t touched) {
+    b.x[n] = m.x, b.y[n] = m.y, b.ux[n] = m.ux, b.uy[n] = m.uy, b.vx[n] = m.vx, b.vy[n] = m.vy, b.t[n] = t;
+    id[n] = who, contacts[n] = touched;
+    ++n;
+  }
+};
+
+// Fate groups by key: open addressing over a power-of-two table, grown (rarely: a frame with more
+// fates than any before) to stay at most half full.
+struct GroupIndex {
+  std::vector<uint64_t> keys;
+  std::vector<uint32_t> groups;  // group index + 1; 0 marks an empty slot
+  size_t used = 0;
+
+  void clear();
+  // The group of `key`, or `fresh` (which the caller then creates) when it has none.
+  uint32_t find_or_add(uint64_t key, uint32_t fresh);
+};
+
 struct WorldInternals {
   explicit WorldInternals(const Field& field) : geometry(field), tracer(geometry) {}
   detail::Geometry geometry;
   detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
   std::vector<detail::BodyPath> resting;  // bodies held at their current positions
   std::vector<Tally> tally;               // per decision target, reused every step
+  TargetSlots targets;
+  // Prediction's scratch.
+  std::vector<detail::BodyPath> predicted_bodies;
+  std::vector<uint8_t> own_goal;
+  std::vector<Fate> fates;
+  Flight flying, later;
+  GroupIndex index;
 };
 
 }  // namespace quantum

@@ -3,6 +3,7 @@
 #include <box2d/box2d.h>
 
 #include <cmath>
+#include <optional>
 
 #include "quantum/noise.h"
 
@@ -132,19 +133,21 @@ class Box2DBackend final : public Backend {
     listener_.wall = &first_wall_;
     listener_.audible = field_.audible_bounce;
     world_.Step(ctx.dt, 8, 3);
-    const int nb = ctx.n_bodies, ng = int(field_.goals.size());
+    const int ng = int(field_.goals.size());
     for (size_t i = 0; i < n; ++i) {
       const b2Vec2 p = particles_[i]->GetPosition(), v = particles_[i]->GetLinearVelocity();
       cloud.x[i] = p.x, cloud.y[i] = p.y, cloud.vx[i] = v.x, cloud.vy[i] = v.y;
       mirrored_[i] = {p.x, p.y, v.x, v.y};
-      int32_t target = first_body_[i];
-      for (int g = 0; g < ng && target < 0; ++g)
-        if (crosses(start_[i], {p.x, p.y}, field_.goals[g], inside_)) target = nb + g;
-      if (target < 0 && (p.x < field_.bounds_min.x || p.x > field_.bounds_max.x || p.y < field_.bounds_min.y ||
-                         p.y > field_.bounds_max.y))
-        target = nb + ng;
-      if (target < 0 && first_wall_[i] >= 0) target = nb + ng + 1 + first_wall_[i];
-      if (target >= 0) contacts.push_back({uint32_t(i), target});
+      // The first thing met, in the fast backend's order of precedence: body, goal, out, wall.
+      std::optional<Target> met;
+      if (first_body_[i] >= 0) met = Target{TargetKind::Body, uint16_t(first_body_[i])};
+      for (int g = 0; g < ng && !met; ++g)
+        if (crosses(start_[i], {p.x, p.y}, field_.goals[g], inside_)) met = Target{TargetKind::Goal, uint16_t(g)};
+      if (!met && (p.x < field_.bounds_min.x || p.x > field_.bounds_max.x || p.y < field_.bounds_min.y ||
+                   p.y > field_.bounds_max.y))
+        met = Target{TargetKind::Out, 0};
+      if (!met && first_wall_[i] >= 0) met = Target{TargetKind::Wall, uint16_t(first_wall_[i])};
+      if (met) contacts.push_back({uint32_t(i), *met});
     }
   }
 

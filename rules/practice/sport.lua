@@ -12,9 +12,6 @@ local sport = {
   -- The listener stands behind the shooter, facing the goal.
   audio = { voice = "en", rate = 180, listener = { -0.5, 0 }, facing = { 1, 0 } },
 
-  -- Every third goal earns the goal seeker (rules/powerups/goal_seeker.lua) for ten seconds.
-  streak_reward = { every = 3, powerup = "goal_seeker", seconds = 10 },
-
   phrases = {
     goal_seeker_start = "Hat trick! Your shots seek the goal",
     goal_seeker_over = "The goal seeker is gone",
@@ -24,6 +21,9 @@ local sport = {
     time_up = "Time! {goals} goals from {shots} shots",
   },
 }
+
+-- Every third goal earns the goal seeker (rules/powerups/goal_seeker.lua) for ten seconds.
+local streak_reward = { every = 3, powerup = "goal_seeker", seconds = 10 }
 
 local shots, goals = 0, 0
 
@@ -41,8 +41,8 @@ sport.on = {
     goals = goals + 1
     game.award("blue")
     game.say("goal", { goals = goals, shots = shots })
-    if goals % sport.streak_reward.every == 0 then
-      game.grant(e.by, sport.streak_reward.powerup, { seconds = sport.streak_reward.seconds })
+    if goals % streak_reward.every == 0 then
+      game.grant(e.by, streak_reward.powerup, { seconds = streak_reward.seconds })
     end
     game.respawn("blue", 1.0)
   end,

@@ -154,8 +154,8 @@ TEST(Announcer, EqualPriorityWaitsAndStalePhrasesAreDropped) {
     a.update(0.2 + 0.1 * k);
   }
   EXPECT_EQ(a.speaking(), "a long story");
-  ASSERT_EQ(a.dropped.size(), 1u);  // 1.5 s old by then: dropped, never spoken
-  EXPECT_EQ(a.dropped[0], "Blue shoots");
+  ASSERT_EQ(a.dropped().size(), 1u);  // 1.5 s old by then: dropped, never spoken
+  EXPECT_EQ(a.dropped()[0], "Blue shoots");
 }
 
 }  // namespace

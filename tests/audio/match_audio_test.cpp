@@ -10,8 +10,8 @@
 #include <sndfile.h>
 
 #include "audio/audio.h"
-#include "match_audio.h"
 #include "play.h"
+#include "session.h"
 #include "sport.h"
 
 namespace quantum {
@@ -34,14 +34,26 @@ std::string sport_with_audio(const std::string& name, const std::string& audio) 
 }
 
 tools::PlayResult play_to(const std::string& sport, const std::string& wav, std::ostringstream& errors) {
-  tools::PlayOptions o;
+  runtime::SessionOptions o;
   o.sport = sport;
   o.seconds = 10;
-  o.transcript = false;
   o.audio = "wav:" + wav;
   std::ostringstream out;
-  return tools::play(o, out, errors);
+  return tools::play(o, out, errors, false);
 }
+
+// Players who stand where the field starts them.
+class StillPlayers final : public runtime::PlayerSource {
+ public:
+  explicit StillPlayers(const Field& f) {
+    for (const BodySpec& b : f.bodies) still_.push_back({b.start, {0, 0}});
+  }
+  Status advance(double, const game::Match&, bool) override { return Status::Ready; }
+  std::span<const BodyInput> bodies() const override { return still_; }
+
+ private:
+  std::vector<BodyInput> still_;
+};
 
 TEST(MatchAudio, AMatchIsHeardInItsWavFile) {
   const std::string wav = (fs::temp_directory_path() / "quantum_match_audio.wav").string();
@@ -61,28 +73,22 @@ TEST(MatchAudio, AMatchIsHeardInItsWavFile) {
 // the sport's wall sound plays there. Nothing else makes a sound in this scene.
 TEST(MatchAudio, ABounceOffTheLeftWallIsHeardOnTheLeft) {
   const std::string wav = (fs::temp_directory_path() / "quantum_bounce_left.wav").string();
-  lua::Sport sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
-  game::MatchConfig config;
-  config.particles = 200;
-  game::Match match(sport.field(), config, sport);
-  std::vector<BodyInput> still;
-  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.particles = 200;
+  o.audio = "wav:" + wav;
+  std::ostringstream warnings;
+  const Field field = lua::Sport(o.sport).field();
+  runtime::Session session(o, nullptr, warnings, std::make_unique<StillPlayers>(field));
+  int bounces = 0;
+  session.watch([&](const runtime::News& news) {
+    for (const game::GameEvent& e : news.events) bounces += e.type == game::EventKind::Bounce && e.actor == "left wall";
+  });
   Cloud ball;
   ball.push(0.3f, 0.2f, 0.0f, 1.5f, 1, 1);
-  match.set_scene(still, ball, 0);
-  std::ostringstream warnings;
-  tools::MatchAudio audio("wav:" + wav, sport.audio(), warnings);
-  int bounces = 0;
-  for (int frame = 0; frame < 30; ++frame) {  // 0.5 s: the bounce back reaches the right wall at 0.87 s
-    match.step(still);
-    for (const game::GameEvent& e : match.take_events()) {
-      bounces += e.type == "bounce" && e.actor == "left wall";
-      audio.event(e);
-    }
-    for (const game::Said& s : match.take_said()) audio.said(s);
-    audio.frame(match.time());
-  }
-  audio.finish(match.time());
+  session.match().set_scene(session.players().bodies(), ball, 0);
+  for (int frame = 0; frame < 30; ++frame) session.frame();  // 0.5 s: the bounce back reaches the right wall at 0.87 s
+  session.finish();
   ASSERT_EQ(bounces, 1);  // the whole puck bounced: certain
   EXPECT_EQ(warnings.str(), "");
 

@@ -16,7 +16,7 @@ namespace {
 constexpr int kMatches = 200;
 
 double red_win_rate(double red_handicap) {
-  tools::PlayOptions o;
+  runtime::SessionOptions o;
   o.particles = 300;
   o.skills = {1.0, 0.0};
   o.handicaps = {1.0, red_handicap};
@@ -41,7 +41,7 @@ TEST(Balance, HandicapBringsTheWeakPlayerCloserToEven) {
 
 // Matches are spread over threads; the totals must be those of the same seeds played one by one.
 TEST(Balance, ResultsDoNotDependOnHowMatchesAreSpread) {
-  tools::PlayOptions o;
+  runtime::SessionOptions o;
   o.particles = 200;
   o.seconds = 20;
   o.seed = 11;
@@ -49,7 +49,7 @@ TEST(Balance, ResultsDoNotDependOnHowMatchesAreSpread) {
   std::map<std::string, int> wins;
   int draws = 0;
   for (int k = 0; k < 6; ++k) {
-    tools::PlayOptions one = o;
+    runtime::SessionOptions one = o;
     one.seed = o.seed + uint64_t(k);
     const tools::BalanceResult r = tools::balance(one, 1);
     draws += r.draws;

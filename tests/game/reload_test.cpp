@@ -59,13 +59,13 @@ struct Running {
   double red_intercept() const {
     double p = 0;
     for (const game::FateView& f : match->fates())
-      if (f.kind == "body" && f.actor == "Red's mallet") p += f.tweaked;
+      if (f.fate.kind == FateKind::Body && f.actor == "Red's mallet") p += f.tweaked;
     return p;
   }
 };
 
 // inotify delivers the rename a moment later: poll until something reloads or fails (or 1 s).
-int poll_until_reloaded(tools::RulesReloader& reloader, Running& m, std::ostringstream& errors) {
+int poll_until_reloaded(lua::Reloader& reloader, Running& m, std::ostringstream& errors) {
   for (int tries = 0; tries < 50; ++tries) {
     if (const int n = reloader.poll(m.sport, *m.match, errors)) return n;
     if (!errors.str().empty()) return 0;
@@ -77,7 +77,7 @@ int poll_until_reloaded(tools::RulesReloader& reloader, Running& m, std::ostring
 TEST(Reload, AnEditedPowerUpActsFromTheNextFrame) {
   const Rules r("powerup");
   Running m(r);
-  tools::RulesReloader reloader(r.sport.string());
+  lua::Reloader reloader(*m.sport);
   m.sport->grant(*m.match, 1, "penalty", {{"strength", 0.5}});
   m.match->step(m.still);
   const double before = m.red_intercept();
@@ -99,7 +99,7 @@ TEST(Reload, AnEditedPowerUpActsFromTheNextFrame) {
 TEST(Reload, ABrokenEditIsReportedAndTheOldVersionGoesOn) {
   const Rules r("broken");
   Running m(r);
-  tools::RulesReloader reloader(r.sport.string());
+  lua::Reloader reloader(*m.sport);
   m.sport->grant(*m.match, 1, "penalty", {{"strength", 0.5}});
   m.match->step(m.still);
   const double before = m.red_intercept();
@@ -123,7 +123,7 @@ TEST(Reload, ABrokenEditIsReportedAndTheOldVersionGoesOn) {
 TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
   const Rules r("sport");
   Running m(r);
-  tools::RulesReloader reloader(r.sport.string());
+  lua::Reloader reloader(*m.sport);
   m.match->award("red", 2);
   m.sport->grant(*m.match, 0, "attract", {});
   // The new version changes a phrase and takes its state over in on_reload.
@@ -145,7 +145,7 @@ TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
   r.write(r.sport / "sport.lua", s);  // and once more: the state comes along
   ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
   std::vector<std::string> said;
-  for (const game::Said& x : m.match->take_said()) said.push_back(x.text);
+  for (const game::Said& x : m.match->said()) said.push_back(x.text);
   ASSERT_GE(said.size(), 2u);
   EXPECT_EQ(said[said.size() - 2], "reloaded 1 times");
   EXPECT_EQ(said.back(), "reloaded 2 times, cycle kept");  // a table met again is the same table

@@ -3,10 +3,12 @@
 // outcomes follow the tweaked probabilities, and what survives an event agrees with it.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include <boost/math/distributions/chi_squared.hpp>
 #include <map>
 
-#include "event_log.h"
+#include "simulate.h"
 #include "quantum/noise.h"
 #include "scenes.h"
 #include "test_scenes.h"
@@ -84,11 +86,11 @@ std::string event_log(uint64_t seed) {
   config.particles = 1500;
   config.seed = seed;
   World world(test::airhockey(), config);
-  std::string log;
+  std::ostringstream log;
   play(world, 90, [&](const World& w, const std::vector<Event>& events) {
-    for (const Event& e : events) log += tools::event_json(e, w.field()) + "\n";
+    for (const Event& e : events) tools::write_event(log, e, w.field());
   });
-  return log;
+  return log.str();
 }
 
 TEST(Property, OneSeedGivesByteIdenticalEventLogs) {

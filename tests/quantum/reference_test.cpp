@@ -41,7 +41,6 @@ struct Stepped {
 Stepped fates_by_stepping(Backend& backend, const Field& f) {
   Cloud c = scene();
   const int nb = int(f.bodies.size()), ng = int(f.goals.size()), nw = int(f.wall_names.size());
-  const int first_wall = nb + ng + 1;
   std::vector<BodyMotion> bodies;
   for (const BodySpec& b : f.bodies) bodies.push_back({b.start, b.start, {0, 0}, b.radius});
   std::vector<int> end(c.size(), -1), wall(c.size(), -1);
@@ -51,8 +50,13 @@ Stepped fates_by_stepping(Backend& backend, const Field& f) {
     const StepContext ctx{kDt, bodies.data(), nb, 0, 0.0f};
     backend.advance(c, ctx, contacts);
     for (const Contact& k : contacts) {
-      int& slot = k.target >= first_wall ? wall[k.particle] : end[k.particle];
-      if (slot < 0 && end[k.particle] < 0) slot = k.target >= first_wall ? k.target - first_wall : k.target;
+      if (k.target.kind == TargetKind::Crushed || end[k.particle] >= 0) continue;
+      const int index = k.target.index;
+      if (k.target.kind == TargetKind::Wall) {
+        if (wall[k.particle] < 0) wall[k.particle] = index;
+      } else {
+        end[k.particle] = k.target.kind == TargetKind::Body ? index : k.target.kind == TargetKind::Goal ? nb + index : nb + ng;
+      }
     }
   }
   Stepped out{std::vector<double>(nb + ng + 2, 0), std::vector<double>(nw + 1, 0)};

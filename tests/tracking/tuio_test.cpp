@@ -143,7 +143,7 @@ TEST(Tuio, APortInUseIsNamed) {
 TEST(Tuio, AMatchPausesWhileItsTrackerIsSilent) {
   const int port = test_port() + 3;
   const std::string events = (std::filesystem::temp_directory_path() / ("quantum_tuio_play_" + std::to_string(port))).string();
-  tools::PlayOptions o;
+  runtime::SessionOptions o;
   o.input = "tuio:" + std::to_string(port);
   o.seconds = 3;  // 1 s of frames, up to 1 s more before the silence counts, then the rest
   o.events = events;

@@ -7,7 +7,7 @@
 
 #include "tracking/tracking.h"
 
-namespace quantum::tools {
+namespace quantum::tracking {
 
 struct SourceOptions {
   std::string accel;  // with video or camera: FILE (CSV) or udp:PORT
@@ -25,12 +25,12 @@ class TrackingInput {
   };
 
   // Throws std::invalid_argument for an unknown source, TrackingError when it cannot be opened.
-  TrackingInput(const std::string& spec, const tracking::TrackedField& field, const SourceOptions& options);
+  TrackingInput(const std::string& spec, const TrackedField& field, const SourceOptions& options);
   ~TrackingInput();
 
   // The next frame. Recordings return every frame in order; live sources wait up to `timeout`
   // seconds. Throws RecordingError or TrackingError for bad input.
-  Status next(tracking::TrackedFrame& frame, double timeout);
+  Status next(TrackedFrame& frame, double timeout);
 
   bool live() const;
 
@@ -39,4 +39,4 @@ class TrackingInput {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace quantum::tools
+}  // namespace quantum::tracking

@@ -6,7 +6,7 @@
 #include <thread>
 #include <ostream>
 
-namespace quantum::tools {
+namespace quantum::runtime {
 namespace {
 
 // espeak-ng keeps global state: one Speech per process, made on first use.
@@ -31,9 +31,9 @@ MatchAudio::MatchAudio(const std::string& spec, const lua::SportAudio& sport, st
     : sport_(sport), warnings_(warnings) {
   if (spec == "none") return;
   if (spec.rfind("wav:", 0) == 0) {
-    wav_ = spec.substr(4);
-    if (wav_.empty()) throw std::invalid_argument("--audio wav:FILE needs a file name");
+    if (spec.size() == 4) throw std::invalid_argument("--audio wav:FILE needs a file name");
     mixer_ = audio::Mixer::open_loopback(44100);
+    wav_ = std::make_unique<audio::WavWriter>(spec.substr(4), mixer_->rate());
   } else if (spec.empty()) {
     mixer_ = audio::Mixer::open_device();
     if (!mixer_) {
@@ -67,14 +67,14 @@ const audio::Clip* MatchAudio::clip(const std::string& path) {
 
 void MatchAudio::event(const game::GameEvent& e) {
   if (!mixer_) return;
-  const auto sound = sport_.sounds.find(e.type);
+  const auto sound = sport_.sounds.find(std::string_view(game::to_string(e.type)));
   if (sound == sport_.sounds.end()) return;
   if (const audio::Clip* c = clip(sound->second)) mixer_->play(*c, e.at);
 }
 
 void MatchAudio::said(const game::Said& s) {
   if (!announcer_) return;
-  const auto p = sport_.priorities.find(s.event);
+  const auto p = sport_.priorities.find(std::string_view(s.cause));
   const int priority = p == sport_.priorities.end() ? 1 : p->second;
   if (!s.recording.empty()) {
     if (const audio::Clip* c = clip(s.recording)) {
@@ -96,13 +96,14 @@ void MatchAudio::said(const game::Said& s) {
 void MatchAudio::frame(double now) {
   if (!announcer_) return;
   announcer_->update(now);
-  if (wav_.empty()) return;
+  announcer_->clear_dropped();
+  if (!wav_) return;
   // Whole samples up to `now`; rounding both ends keeps the total exact over a match.
   const int frames = int(std::lround(now * mixer_->rate()) - std::lround(rendered_until_ * mixer_->rate()));
   rendered_until_ = std::max(rendered_until_, now);
   if (frames <= 0) return;
   mixer_->render(frames, chunk_);
-  rendered_.insert(rendered_.end(), chunk_.begin(), chunk_.end());
+  wav_->write(chunk_);
 }
 
 void MatchAudio::finish(double now) {
@@ -111,12 +112,12 @@ void MatchAudio::finish(double now) {
   // waiting, into the file by rendering.
   double t = now;
   for (; t < now + 3.0 && !announcer_->speaking().empty(); t += 0.05) {
-    if (wav_.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (!wav_) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     frame(t);
   }
-  if (wav_.empty()) return;
+  if (!wav_) return;
   frame(t + 0.5);
-  audio::write_wav(wav_, rendered_, mixer_->rate());
+  wav_->close();
 }
 
-}  // namespace quantum::tools
+}  // namespace quantum::runtime

@@ -15,24 +15,28 @@
 #include "game/game.h"
 #include "sport.h"
 
-namespace quantum::tools {
+namespace quantum::runtime {
 
 class MatchAudio {
  public:
   // spec: "" (the sound card, or silence with a warning when there is none), "none", or
-  // "wav:FILE". Throws std::invalid_argument for any other spec.
+  // "wav:FILE" (created at once: a bad path fails here, before anything plays). Throws
+  // std::invalid_argument for any other spec, audio::AudioError for a WAV file that cannot be
+  // written.
   MatchAudio(const std::string& spec, const lua::SportAudio& sport, std::ostream& warnings);
   ~MatchAudio();
+
+  // The sport's sound settings changed (a reloaded sport.lua).
+  void set_sport(const lua::SportAudio& sport) { sport_ = sport; }
 
   void event(const game::GameEvent& e);
   void said(const game::Said& s);
   // Once per frame: starts due phrases and, for a WAV file, renders up to match time `now`.
   void frame(double now);
-  // Lets the last phrase finish and writes the WAV file, if any.
+  // Lets the last phrase finish and completes the WAV file, if any.
   void finish(double now);
 
   bool on_device() const { return mixer_ && !mixer_->loopback(); }  // the match runs in real time
-  const std::string& wav() const { return wav_; }
 
  private:
   const audio::Clip* clip(const std::string& path);
@@ -42,11 +46,11 @@ class MatchAudio {
   std::ostream& warnings_;
   std::unique_ptr<audio::Mixer> mixer_;
   std::unique_ptr<audio::Announcer> announcer_;
+  std::unique_ptr<audio::WavWriter> wav_;
   std::map<std::string, audio::Clip> clips_;
   std::set<std::string> warned_;
-  std::string wav_;
-  std::vector<int16_t> rendered_, chunk_;
+  std::vector<int16_t> chunk_;
   double rendered_until_ = 0;
 };
 
-}  // namespace quantum::tools
+}  // namespace quantum::runtime

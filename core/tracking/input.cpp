@@ -1,4 +1,4 @@
-#include "tracked_input.h"
+#include "tracking/input.h"
 
 #include <libfreenect_sync.h>
 #include <opencv2/imgproc.hpp>
@@ -11,7 +11,7 @@
 
 #include "system/quiet.h"
 
-namespace quantum::tools {
+namespace quantum::tracking {
 
 using Clock = std::chrono::steady_clock;
 using Status = TrackingInput::Status;
@@ -31,7 +31,7 @@ class LiveKinect {
   }
   // False when no frame came (after the first one: the Kinect went away; it is asked again on the
   // next call). Throws when there was never a Kinect.
-  bool next(tracking::RecordedFrame& f) {
+  bool next(RecordedFrame& f) {
     void *depth = nullptr, *video = nullptr;
     uint32_t depth_ts = 0, video_ts = 0;
     bool got = false;
@@ -43,7 +43,7 @@ class LiveKinect {
             freenect_sync_get_video(&video, &video_ts, 0, FREENECT_VIDEO_RGB) == 0;
     }
     if (!got) {
-      if (frames_ == 0) throw tracking::TrackingError("kinect: no Kinect found (is it plugged in, and may this user use it?)");
+      if (frames_ == 0) throw TrackingError("kinect: no Kinect found (is it plugged in, and may this user use it?)");
       return false;
     }
     if (frames_ == 0) start_ = Clock::now();
@@ -64,28 +64,28 @@ class LiveKinect {
 }  // namespace
 
 struct TrackingInput::Impl {
-  tracking::TrackedField field;
+  TrackedField field;
   // Kinect depth (a recording or live).
-  std::optional<tracking::FakenectReader> recording;
+  std::optional<FakenectReader> recording;
   std::optional<LiveKinect> kinect;
-  std::optional<tracking::DepthTracker> depth;
+  std::optional<DepthTracker> depth;
   // Hats in colour video (a file or a camera), throws from accelerometers.
   std::optional<cv::VideoCapture> video;
   int camera = -1;  // the camera's index when live
-  std::optional<tracking::HatTracker> hats;
-  std::optional<tracking::AccelSource> accel;
-  tracking::ThrowDetector throws;
+  std::optional<HatTracker> hats;
+  std::optional<AccelSource> accel;
+  ThrowDetector throws;
   double fps = 30;
   int frames = 0;
   Clock::time_point start = Clock::now(), retried = start;
   // TUIO.
-  std::optional<tracking::TuioSource> tuio;
+  std::optional<TuioSource> tuio;
   bool heard = false;
 
-  Status next_depth(tracking::TrackedFrame& out) {
-    tracking::RecordedFrame f;
+  Status next_depth(TrackedFrame& out) {
+    RecordedFrame f;
     if (recording ? !recording->next(f) : !kinect->next(f)) return recording ? Status::Ended : Status::Lost;
-    std::optional<tracking::TrackedFrame> seen = depth->feed(f);
+    std::optional<TrackedFrame> seen = depth->feed(f);
     if (!seen) {
       out = {f.index, f.t, {}, {}};
       return Status::Calibrating;
@@ -94,7 +94,7 @@ struct TrackingInput::Impl {
     return Status::Frame;
   }
 
-  Status next_hats(tracking::TrackedFrame& out) {
+  Status next_hats(TrackedFrame& out) {
     cv::Mat image;
     if (!video->read(image)) {
       if (camera < 0) return Status::Ended;
@@ -108,8 +108,8 @@ struct TrackingInput::Impl {
     return Status::Frame;
   }
 
-  Status next_tuio(tracking::TrackedFrame& out, double timeout) {
-    if (std::optional<tracking::TrackedFrame> f = tuio->next(timeout)) {
+  Status next_tuio(TrackedFrame& out, double timeout) {
+    if (std::optional<TrackedFrame> f = tuio->next(timeout)) {
       heard = true;
       out = std::move(*f);
       return Status::Frame;
@@ -118,7 +118,7 @@ struct TrackingInput::Impl {
   }
 };
 
-TrackingInput::TrackingInput(const std::string& spec, const tracking::TrackedField& field, const SourceOptions& o)
+TrackingInput::TrackingInput(const std::string& spec, const TrackedField& field, const SourceOptions& o)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.field = field;
@@ -135,12 +135,12 @@ TrackingInput::TrackingInput(const std::string& spec, const tracking::TrackedFie
     m.video.emplace();
     if (spec.rfind("camera:", 0) == 0) {
       m.camera = std::atoi(after("camera:").c_str());
-      if (!m.video->open(m.camera)) throw tracking::TrackingError(spec + ": cannot open the camera");
+      if (!m.video->open(m.camera)) throw TrackingError(spec + ": cannot open the camera");
     } else if (!m.video->open(after("video:"))) {
-      throw tracking::TrackingError(after("video:") + ": cannot open the video");
+      throw TrackingError(after("video:") + ": cannot open the video");
     }
     if (m.camera < 0 && m.video->get(cv::CAP_PROP_FPS) > 0) m.fps = m.video->get(cv::CAP_PROP_FPS);
-    tracking::HatConfig config;
+    HatConfig config;
     config.horizontal_fov = o.fov;
     m.hats.emplace(field, config);
     if (!o.accel.empty()) m.accel.emplace(o.accel);
@@ -156,11 +156,11 @@ TrackingInput::~TrackingInput() = default;
 
 bool TrackingInput::live() const { return impl_->kinect || impl_->camera >= 0 || impl_->tuio; }
 
-Status TrackingInput::next(tracking::TrackedFrame& frame, double timeout) {
+Status TrackingInput::next(TrackedFrame& frame, double timeout) {
   Impl& m = *impl_;
   if (m.depth) return m.next_depth(frame);
   if (m.hats) return m.next_hats(frame);
   return m.next_tuio(frame, timeout);
 }
 
-}  // namespace quantum::tools
+}  // namespace quantum::tracking

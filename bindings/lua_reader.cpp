@@ -1,0 +1,136 @@
+#include "lua_reader.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace quantum::lua {
+
+ReadError::ReadError(std::string p, std::string m)
+    : std::runtime_error(p.empty() ? m : p + ": " + m), place(std::move(p)), message(std::move(m)) {}
+
+namespace {
+
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  std::iota(row.begin(), row.end(), size_t(0));
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string nearest(std::string_view key, std::span<const std::string> known) {
+  std::string best;
+  size_t best_distance = 0;
+  for (const std::string& k : known) {
+    const size_t d = edit_distance(key, k);
+    if (best.empty() || d < best_distance) best = k, best_distance = d;
+  }
+  // Near means a slip of the keyboard, not another word: at most a third of the key wrong.
+  return best_distance <= std::max<size_t>(2, key.size() / 3) ? best : std::string();
+}
+
+std::string unknown_key(std::string_view key, std::span<const std::string> known, std::string_view what) {
+  std::string list;
+  for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+  const std::string near = nearest(key, known);
+  return "unknown " + std::string(what) + " '" + std::string(key) + "' (" +
+         (near.empty() ? "" : "did you mean '" + near + "'? ") + "known: " + (list.empty() ? "none" : list) + ")";
+}
+
+void Reader::fail(const std::string& place, const std::string& message) const { throw ReadError(place, message); }
+
+void Reader::only_keys(int idx, const std::string& place, std::initializer_list<const char*> known) const {
+  const std::vector<std::string> names(known.begin(), known.end());
+  only_keys(idx, place, names);
+}
+
+void Reader::only_keys(int idx, const std::string& place, std::span<const std::string> known,
+                       std::string_view what) const {
+  idx = absolute(idx);
+  lua_pushnil(L);
+  while (lua_next(L, idx)) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) != LUA_TSTRING) continue;  // array parts are checked by their readers
+    const std::string key = lua_tostring(L, -1);
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      lua_pop(L, 1);
+      fail(place, unknown_key(key, known, what));
+    }
+  }
+}
+
+bool Reader::field(int idx, const char* key) const {
+  idx = absolute(idx);
+  lua_pushstring(L, key);
+  lua_rawget(L, idx);
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    return false;
+  }
+  return true;
+}
+
+void Reader::expect(int type, const std::string& place, const char* what) const {
+  if (lua_type(L, -1) == type) return;
+  fail(place, std::string("expected ") + (what ? what : std::string("a ") + lua_typename(L, type)) + ", got " + type_at(-1));
+}
+
+double Reader::number(int idx, const char* key, const std::string& place, double fallback, bool required) const {
+  if (!field(idx, key)) {
+    if (required) fail(place, std::string("missing '") + key + "'");
+    return fallback;
+  }
+  expect(LUA_TNUMBER, place.empty() ? key : place + "." + key);
+  const double v = lua_tonumber(L, -1);
+  lua_pop(L, 1);
+  return v;
+}
+
+std::string Reader::string(int idx, const char* key, const std::string& place, const std::string& fallback,
+                           bool required) const {
+  if (!field(idx, key)) {
+    if (required) fail(place, std::string("missing '") + key + "'");
+    return fallback;
+  }
+  expect(LUA_TSTRING, place.empty() ? key : place + "." + key);
+  std::string v = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  return v;
+}
+
+Vec2 Reader::point(const std::string& place) const {
+  if (!lua_istable(L, -1)) fail(place, "expected a point {x, y}, got " + type_at(-1));
+  const int t = lua_gettop(L);
+  Vec2 p;
+  const char* names[2] = {"x", "y"};
+  for (int k = 0; k < 2; ++k) {
+    lua_rawgeti(L, t, k + 1);
+    if (lua_isnil(L, -1)) {
+      lua_pop(L, 1);
+      lua_pushstring(L, names[k]);
+      lua_rawget(L, t);
+    }
+    if (lua_type(L, -1) != LUA_TNUMBER)
+      fail(place, std::string("expected a number for ") + names[k] + ", got " + type_at(-1));
+    (k == 0 ? p.x : p.y) = float(lua_tonumber(L, -1));
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  return p;
+}
+
+Vec2 Reader::point_at(int idx, const char* key, const std::string& place) const {
+  if (!field(idx, key)) fail(place, std::string("missing '") + key + "'");
+  return point(place + "." + key);
+}
+
+}  // namespace quantum::lua

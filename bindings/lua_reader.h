@@ -1,0 +1,96 @@
+// Reads the tables a script returns (field.lua, sport.lua, power-ups, a spec's options) strictly:
+// every place it looks at is named in its errors, an unknown key is named with the nearest known
+// one (a typo is never silently ignored), and values are read raw, so a table's metamethods
+// never run outside a protected call.
+#pragma once
+
+#include <lua.hpp>
+
+#include <initializer_list>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "quantum/field.h"
+
+namespace quantum::lua {
+
+// A value where it does not belong. `place` is the path to it ("walls[2].points[3]"), `message`
+// what is wrong; readers' callers prefix the file.
+struct ReadError : std::runtime_error {
+  ReadError(std::string place, std::string message);
+  std::string place, message;
+};
+
+// The closest of `known` to `key` by edit distance ("phrase" -> "phrases"); "" when none is near.
+std::string nearest(std::string_view key, std::span<const std::string> known);
+// "unknown key 'phrase' (did you mean 'phrases'? known: a, b, c)"
+std::string unknown_key(std::string_view key, std::span<const std::string> known, std::string_view what = "key");
+
+class Reader {
+ public:
+  explicit Reader(lua_State* L) : L(L) {}
+
+  [[noreturn]] void fail(const std::string& place, const std::string& message) const;
+  std::string type_at(int idx) const { return luaL_typename(L, idx); }
+
+  // Fails on a string key of the table at idx that is not in `known` ("unknown key 'x'", or
+  // "unknown event 'x'" with what = "event"). Array entries are left to their readers.
+  void only_keys(int idx, const std::string& place, std::initializer_list<const char*> known) const;
+  void only_keys(int idx, const std::string& place, std::span<const std::string> known,
+                 std::string_view what = "key") const;
+
+  // Pushes t[key] (raw); false, and nothing pushed, when it is nil.
+  bool field(int idx, const char* key) const;
+  // The value at the top must be of `type` (LUA_TTABLE, ...); fails naming `place` otherwise.
+  void expect(int type, const std::string& place, const char* what = nullptr) const;
+
+  double number(int idx, const char* key, const std::string& place, double fallback, bool required) const;
+  std::string string(int idx, const char* key, const std::string& place, const std::string& fallback,
+                     bool required) const;
+  // A point is {x, y} (or {x = .., y = ..}) at the top of the stack; pops it.
+  Vec2 point(const std::string& place) const;
+  Vec2 point_at(int idx, const char* key, const std::string& place) const;
+
+  // Calls each(i, place) with entry i of the list t[key] on top of the stack; each entry must be
+  // a table.
+  template <class Each>
+  void array(int idx, const char* key, const std::string& place, Each each) const {
+    if (!field(idx, key)) return;
+    const std::string here = place.empty() ? key : place + "." + key;
+    expect(LUA_TTABLE, here, "a list");
+    const int list = lua_gettop(L);
+    const size_t n = lua_objlen(L, list);
+    for (size_t i = 1; i <= n; ++i) {
+      lua_rawgeti(L, list, int(i));
+      const std::string entry = here + "[" + std::to_string(i) + "]";
+      expect(LUA_TTABLE, entry);
+      each(lua_gettop(L), entry);
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+
+  // Calls each(key, place) with t[key] on top of the stack for every string key of the map at
+  // idx (in no particular order); a key that is not a string fails.
+  template <class Each>
+  void map(int idx, const std::string& place, Each each) const {
+    idx = absolute(idx);
+    lua_pushnil(L);
+    while (lua_next(L, idx)) {
+      if (lua_type(L, -2) != LUA_TSTRING) fail(place, "expected names as keys, got a " + type_at(-2));
+      const std::string key = lua_tostring(L, -2);
+      each(key, place + "." + key);
+      lua_pop(L, 1);
+    }
+  }
+
+  lua_State* const L;
+
+ private:
+  int absolute(int idx) const { return idx > 0 || idx <= LUA_REGISTRYINDEX ? idx : lua_gettop(L) + idx + 1; }
+};
+
+}  // namespace quantum::lua

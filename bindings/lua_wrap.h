@@ -1,0 +1,83 @@
+// The one way C++ is exposed to Lua (after LÖVE's luax_* helpers). Two kinds of API, one style:
+//
+//  - a module is a table of functions called with a dot: `game.say("goal")`, `quantum.scenario(...)`;
+//  - an object made by a module function is a userdata whose methods are called with a colon:
+//    `s:run(1.0)`.
+//
+// Every function goes through guard<F>: a C++ exception thrown by F (bad arguments included, see
+// the arg helpers) becomes a Lua error at the calling script's file and line, naming the
+// function: "rules/x/sport.lua:12: game.respawn: no spot or team 'bleu' in this field". A dot
+// used for a colon, or the other way round, is the same kind of error, saying which to use.
+#pragma once
+
+#include <lua.hpp>
+
+#include <initializer_list>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace quantum::lua {
+
+// A script called a function the wrong way; the guard names the function and the line.
+struct ArgError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+namespace wrap_detail {
+// False, with the error message pushed, when the function was called in the wrong style.
+bool style_ok(lua_State* L);
+// Pushes "where: name: message", the error the guard raises.
+void push_error(lua_State* L, const char* message);
+}  // namespace wrap_detail
+
+// Calls F with the guard described above. F returns its number of results, like a lua_CFunction.
+// lua_error is raised only once no C++ object of this frame is alive.
+template <int (*F)(lua_State*)>
+int guard(lua_State* L) {
+  if (!wrap_detail::style_ok(L)) return lua_error(L);
+  int results = -1;
+  try {
+    results = F(L);
+  } catch (const std::exception& e) {
+    wrap_detail::push_error(L, e.what());
+  }
+  return results >= 0 ? results : lua_error(L);
+}
+
+struct Function {
+  const char* name;
+  lua_CFunction call;  // guard<f>
+};
+
+// Pushes a module table: `prefix.name` for each function, each seeing `self` (upvalue_self).
+void push_module(lua_State* L, const char* prefix, std::initializer_list<Function> functions, void* self);
+// Registers the metatable of a userdata type whose methods are called as `object:name(...)`;
+// `gc` (may be null) runs when the object is collected.
+void register_type(lua_State* L, const char* type, std::initializer_list<Function> methods, lua_CFunction gc);
+
+// Inside a module function: the `self` its module was made with.
+template <class T>
+T& upvalue_self(lua_State* L) {
+  return *static_cast<T*>(lua_touserdata(L, lua_upvalueindex(3)));
+}
+// Inside a method: the object (argument 1), a T* boxed in the userdata (null once collected).
+template <class T>
+T* object(lua_State* L) {
+  return *static_cast<T**>(lua_touserdata(L, 1));
+}
+
+// Argument readers: each throws ArgError naming the argument ("argument 2: expected a number,
+// got string"). Indices are the script's own (1 is the first argument it wrote).
+std::string check_string(lua_State* L, int arg);
+// The same without a copy: valid while the argument is on the stack.
+std::string_view check_view(lua_State* L, int arg);
+double check_number(lua_State* L, int arg);
+double opt_number(lua_State* L, int arg, double fallback);
+std::optional<std::string> opt_string(lua_State* L, int arg);
+void check_table(lua_State* L, int arg);
+// The argument's position as the script counts it: for a method, `self` is not counted.
+int script_arg(lua_State* L, int arg);
+
+}  // namespace quantum::lua

@@ -1,0 +1,86 @@
+#include "reloader.h"
+
+#include <sys/inotify.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <ostream>
+#include <stdexcept>
+#include <utility>
+
+namespace quantum::lua {
+namespace fs = std::filesystem;
+
+Reloader::Reloader(const Sport& sport, std::map<std::string, double> factors)
+    : folder_(fs::path(sport.folder()).lexically_normal()), factors_(std::move(factors)) {
+  fd_ = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  if (fd_ < 0) throw std::runtime_error(std::string("cannot watch the rules: ") + std::strerror(errno));
+  for (const fs::path& f : sport.powerup_folders()) powerup_folders_.insert(f.lexically_normal());
+  for (const fs::path& f : sport.module_folders()) module_folders_.insert(f.lexically_normal());
+  std::set<fs::path> folders = powerup_folders_;
+  folders.insert(module_folders_.begin(), module_folders_.end());
+  // Editors save in place (close after write) or write a new file and rename it over the old.
+  const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO;
+  for (const fs::path& dir : folders) {
+    if (!fs::is_directory(dir)) continue;
+    const int wd = inotify_add_watch(fd_, dir.c_str(), mask);
+    if (wd >= 0) watches_[wd] = dir;
+  }
+}
+
+Reloader::~Reloader() {
+  if (fd_ >= 0) close(fd_);
+}
+
+void Reloader::changed(const fs::path& file) { changed_.insert(file.lexically_normal()); }
+
+int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors) {
+  alignas(inotify_event) char buf[8192];
+  for (ssize_t n; (n = read(fd_, buf, sizeof buf)) > 0;) {
+    for (char* p = buf; p < buf + n;) {
+      const auto* e = reinterpret_cast<const inotify_event*>(p);
+      if (e->len > 0 && watches_.count(e->wd)) changed(watches_[e->wd] / e->name);
+      p += sizeof(inotify_event) + e->len;
+    }
+  }
+  if (changed_.empty()) return 0;
+  const std::set<fs::path> files = std::exchange(changed_, {});
+  int reloaded = 0;
+  bool sport_changed = false;
+  for (const fs::path& file : files) {
+    if (file.extension() != ".lua") continue;
+    const fs::path dir = file.parent_path();
+    if (dir == folder_ && file.filename() == "field.lua") {
+      errors << "quantum: " << file.string() << " changed: a field takes effect in the next match\n";
+    } else if (module_folders_.count(dir)) {
+      sport_changed = true;  // sport.lua, or a module it may require
+    } else if (powerup_folders_.count(dir)) {
+      const std::string name = file.stem().string();
+      if (!sport->has_powerup(name)) continue;  // not in use: it loads as it is when granted
+      try {
+        sport->reload_powerup(name);
+        ++reloaded;
+      } catch (const std::exception& e) {
+        errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
+      }
+    }
+  }
+  if (sport_changed) {
+    try {
+      auto fresh = std::make_unique<Sport>(folder_.string());
+      for (const auto& [kind, value] : factors_) fresh->set_factor(kind, value);
+      // The new rules hear whatever on_reload sets off; the old ones are still there to read.
+      match.set_rules(*fresh);
+      fresh->take_over(*sport, match);
+      sport = std::move(fresh);
+      ++reloaded;
+    } catch (const std::exception& e) {
+      match.set_rules(*sport);
+      errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
+    }
+  }
+  return reloaded;
+}
+
+}  // namespace quantum::lua

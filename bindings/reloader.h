@@ -1,0 +1,46 @@
+// Hot reload while a match runs: the sport's folder, its power-up folders and the engine's Lua
+// helpers are watched (inotify); a changed sport.lua (or a module it requires) or power-up
+// script in use is loaded again between two frames, and the match plays on with it. A script
+// that fails to load is reported and the old one keeps running.
+#pragma once
+
+#include <filesystem>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "game/game.h"
+#include "sport.h"
+
+namespace quantum::lua {
+
+class Reloader {
+ public:
+  // Watches what `sport` loads from. `factors`: overrides of the sport's factors, applied to
+  // every reloaded version too. Throws std::runtime_error when the folders cannot be watched.
+  Reloader(const Sport& sport, std::map<std::string, double> factors = {});
+  ~Reloader();
+  Reloader(const Reloader&) = delete;
+  Reloader& operator=(const Reloader&) = delete;
+
+  // Takes `file` as changed, as if it had been saved (the next poll reloads it).
+  void changed(const std::filesystem::path& file);
+
+  // Reloads whatever changed since the last call. A new sport takes over from `sport` (state
+  // carried, see Sport::take_over) and becomes the match's rules; `sport` then owns it. Each
+  // failure is one line on `errors`, "quantum: reload failed: FILE:LINE: ...". Returns the
+  // number of files reloaded.
+  int poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors);
+
+ private:
+  std::filesystem::path folder_;
+  std::map<std::string, double> factors_;
+  int fd_ = -1;
+  std::map<int, std::filesystem::path> watches_;  // watch descriptor -> folder
+  std::set<std::filesystem::path> powerup_folders_, module_folders_;
+  std::set<std::filesystem::path> changed_;
+};
+
+}  // namespace quantum::lua

@@ -1,0 +1,56 @@
+#include "event_log.h"
+
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+
+#include "json_lines.h"
+
+namespace quantum::runtime {
+namespace {
+
+void write_said(JsonLine& line, std::span<const game::Said> said, int event) {
+  bool any = false;
+  for (const game::Said& s : said) {
+    if (s.event != event) continue;
+    if (!any) line.array("said"), any = true;
+    line.item(s.text);
+  }
+  if (any) line.close();
+}
+
+}  // namespace
+
+void write_events(std::ostream& out, std::span<const game::GameEvent> events, std::span<const game::Said> said) {
+  for (size_t k = 0; k < events.size(); ++k) {
+    const game::GameEvent& e = events[k];
+    JsonLine line(out);
+    line.field("t", e.t).field("type", game::to_string(e.type)).field("actor", e.actor);
+    if (!e.team.empty()) line.field("team", e.team);
+    if (!e.by.empty()) line.field("by", e.by);
+    if (!e.previous.empty()) line.field("previous", e.previous);
+    if (!e.powerup.empty()) line.field("powerup", e.powerup);
+    line.field("p", e.p).field("p_newtonian", e.p_newtonian).field("particles", uint64_t(e.particles));
+    line.field("x", double(e.at.x)).field("y", double(e.at.y));
+    write_said(line, said, int(k));
+    line.end();
+  }
+  // Phrases of no event: a timer's, one line per timer call.
+  for (size_t i = 0; i < said.size(); ++i) {
+    if (said[i].event >= 0 || (i > 0 && said[i - 1].event < 0 && said[i - 1].t == said[i].t)) continue;
+    JsonLine line(out);
+    line.field("t", said[i].t).field("type", *said[i].cause ? said[i].cause : "said").array("said");
+    for (size_t j = i; j < said.size() && said[j].event < 0 && said[j].t == said[i].t; ++j) line.item(said[j].text);
+    line.end();
+  }
+}
+
+void write_transcript(std::ostream& out, std::span<const game::Said> said) {
+  for (const game::Said& s : said) {
+    char stamp[32];
+    std::snprintf(stamp, sizeof stamp, "%4d:%05.2f", int(s.t / 60), std::fmod(s.t, 60.0));
+    out << stamp << "  " << s.text << '\n';
+  }
+}
+
+}  // namespace quantum::runtime

@@ -1,0 +1,20 @@
+// A match told to the outside world: JSON lines for tools, a transcript for people.
+#pragma once
+
+#include <iosfwd>
+#include <span>
+
+#include "game/game.h"
+
+namespace quantum::runtime {
+
+// One JSON object per event: {"t", "type", "actor", "team", "by", "previous", "p", "p_newtonian",
+// "particles", "x", "y", "said"}, where "said" lists the phrases that event's own handlers said
+// (an event set off by another's handler keeps its own). Phrases said outside any event (a
+// timer) get a line of their own, {"t", "type": "timer", "said"}.
+void write_events(std::ostream& out, std::span<const game::GameEvent> events, std::span<const game::Said> said);
+
+// "   0:03.42  Blue shoots", one line per phrase.
+void write_transcript(std::ostream& out, std::span<const game::Said> said);
+
+}  // namespace quantum::runtime

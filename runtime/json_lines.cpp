@@ -1,0 +1,117 @@
+#include "json_lines.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+
+namespace quantum::runtime {
+
+double rounded(double v) { return std::round(v * 1e6) / 1e6; }
+
+JsonLine::JsonLine(std::ostream& out) : out_(out) {
+  out_ << '{';
+  open_[0] = '}', first_[0] = true, depth_ = 1;
+}
+
+void JsonLine::key(const char* name) {
+  if (!first_[depth_ - 1]) out_ << ',';
+  first_[depth_ - 1] = false;
+  if (!name) return;  // an array's item
+  text(name);
+  out_ << ':';
+}
+
+void JsonLine::text(std::string_view s) {
+  out_ << '"';
+  for (char c : s) {
+    switch (c) {
+      case '"': out_ << "\\\""; break;
+      case '\\': out_ << "\\\\"; break;
+      case '\n': out_ << "\\n"; break;
+      case '\t': out_ << "\\t"; break;
+      case '\r': out_ << "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(c));
+          out_ << buf;
+        } else {
+          out_ << c;
+        }
+    }
+  }
+  out_ << '"';
+}
+
+JsonLine& JsonLine::field(const char* name, std::string_view s) {
+  key(name);
+  text(s);
+  return *this;
+}
+
+JsonLine& JsonLine::field(const char* name, double number) {
+  key(name);
+  char buf[32];
+  const double v = rounded(number);
+  // JSON has no NaN or infinity; a value that is not a number is written as null.
+  if (std::isfinite(v)) std::snprintf(buf, sizeof buf, "%.15g", v == 0 ? 0.0 : v);
+  else std::snprintf(buf, sizeof buf, "null");
+  out_ << buf;
+  return *this;
+}
+
+JsonLine& JsonLine::field(const char* name, uint64_t number) {
+  key(name);
+  out_ << number;
+  return *this;
+}
+
+JsonLine& JsonLine::array(const char* name) {
+  key(name);
+  out_ << '[';
+  open_[depth_] = ']', first_[depth_] = true, ++depth_;
+  return *this;
+}
+
+JsonLine& JsonLine::object(const char* name) {
+  key(name);
+  out_ << '{';
+  open_[depth_] = '}', first_[depth_] = true, ++depth_;
+  return *this;
+}
+
+JsonLine& JsonLine::item(std::string_view s) {
+  key(nullptr);
+  text(s);
+  return *this;
+}
+
+JsonLine& JsonLine::close() {
+  if (depth_ > 1) out_ << open_[--depth_];
+  return *this;
+}
+
+void JsonLine::end() {
+  while (depth_ > 0) out_ << open_[--depth_];
+  out_ << '\n';
+}
+
+LineFile::LineFile(const std::string& path) : path_(path) {
+  if (path.empty()) return;
+  if (path == "-") {
+    stream_ = &std::cout;
+    return;
+  }
+  file_.open(path);
+  if (!file_) throw std::runtime_error("cannot write events to " + path);
+  stream_ = &file_;
+}
+
+void LineFile::close() {
+  if (!stream_) return;
+  stream_->flush();
+  if (!*stream_) throw std::runtime_error("could not write every event to " + (path_ == "-" ? "stdout" : path_));
+}
+
+}  // namespace quantum::runtime

@@ -1,0 +1,60 @@
+#include "players.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace quantum::runtime {
+
+using Status = PlayerSource::Status;
+using TrackingStatus = tracking::TrackingInput::Status;
+
+TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field)
+    : field_(field), input_(spec, tracking::tracked_field(field), tracking::SourceOptions{}) {
+  for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
+}
+
+Status TrackedPlayers::advance(double t, const game::Match&, bool waiting) {
+  // A live source is asked at most once a frame of the match: a Kinect blocks until its next
+  // frame, and asking every step would hold the match to the camera's 30 Hz.
+  if (live() && seen_ && t < next_ask_) return Status::Ready;
+  const double timeout = waiting ? 0.1 : 0.0;
+  for (;;) {
+    if (!pending_) {
+      tracking::TrackedFrame f;
+      const TrackingStatus s = input_.next(f, timeout);
+      if (s == TrackingStatus::Calibrating) continue;  // the match waits for the source
+      // Nothing new: the bodies stay as they are; before the first frame the match waits.
+      if (s == TrackingStatus::Waiting) return seen_ ? Status::Ready : Status::Lost;
+      if (s == TrackingStatus::Lost) return Status::Lost;
+      if (s == TrackingStatus::Ended) return Status::Ended;
+      if (t0_ < 0) t0_ = f.t - t;
+      f.t -= t0_;
+      pending_ = std::move(f);
+    }
+    if (pending_->t > t + 1e-9 && !live()) return Status::Ready;  // not due yet
+    apply(*pending_);
+    seen_ = true;
+    next_ask_ = pending_->t + 1.0 / 60;
+    pending_.reset();
+    if (live()) return Status::Ready;
+  }
+}
+
+// Tracking glitches must not stop a match: positions stay within a field's size of the bounds
+// and speeds under the field's limit, as the core requires.
+void TrackedPlayers::apply(const tracking::TrackedFrame& f) {
+  for (BodyInput& b : bodies_) b.velocity = {0, 0};  // no input: the body holds still
+  const float slack = 0.5f * std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
+  for (const tracking::TrackedPlayer& p : f.players) {
+    for (size_t k = 0; k < field_.bodies.size(); ++k) {
+      if (field_.bodies[k].name != p.id) continue;
+      bodies_[k].position = {std::clamp(float(p.x), field_.bounds_min.x - slack, field_.bounds_max.x + slack),
+                             std::clamp(float(p.y), field_.bounds_min.y - slack, field_.bounds_max.y + slack)};
+      const double speed = std::hypot(p.vx, p.vy), most = 0.99 * field_.max_body_speed;
+      const double scale = speed > most ? most / speed : 1.0;
+      bodies_[k].velocity = {float(p.vx * scale), float(p.vy * scale)};
+    }
+  }
+}
+
+}  // namespace quantum::runtime

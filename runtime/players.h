@@ -1,0 +1,79 @@
+// Where a match's players come from, frame by frame: simulated players (game::Bots), a tracking
+// source (core/tracking/input.h), or a script (the rule specs' scenario). The session asks its
+// source once a frame and hands it the frame's events.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "game/bots.h"
+#include "game/game.h"
+#include "tracking/input.h"
+
+namespace quantum::runtime {
+
+class PlayerSource {
+ public:
+  enum class Status {
+    Ready,  // bodies() holds the players for the frame
+    Lost,   // a live source lost the players: the match pauses until they are back
+    Ended,  // a recording is over: so is the match
+  };
+  virtual ~PlayerSource() = default;
+  // Brings the players up to match time `t`, the end of the frame about to be stepped.
+  // `waiting`: the match is paused, and the source may take a moment to answer.
+  virtual Status advance(double t, const game::Match& match, bool waiting) = 0;
+  virtual std::span<const BodyInput> bodies() const = 0;
+  // What the announcer just told everyone.
+  virtual void hear(std::span<const game::GameEvent>) {}
+  // A live source (a camera, a tracker): the match runs in real time with it.
+  virtual bool live() const { return false; }
+  // After a pause the source's clock went on without the match's.
+  virtual void resync() {}
+};
+
+// Simulated players, one skill each (0 to 1).
+class BotPlayers final : public PlayerSource {
+ public:
+  BotPlayers(const Field& field, std::vector<double> skills, uint64_t seed) : bots_(field, std::move(skills), seed) {}
+  Status advance(double t, const game::Match& match, bool) override {
+    moves_ = bots_.move(t, 1.0 / match.fps(), match.players());
+    return Status::Ready;
+  }
+  std::span<const BodyInput> bodies() const override { return moves_; }
+  void hear(std::span<const game::GameEvent> events) override {
+    for (const game::GameEvent& e : events) bots_.hear(e);
+  }
+
+ private:
+  game::Bots bots_;
+  std::span<const BodyInput> moves_;
+};
+
+// Players from a tracking source: each tracked id moves the body of that name. Recordings are
+// replayed in match time; live sources as their frames come.
+class TrackedPlayers final : public PlayerSource {
+ public:
+  // `spec`: fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT (see tracking/input.h).
+  TrackedPlayers(const std::string& spec, const Field& field);
+  Status advance(double t, const game::Match& match, bool waiting) override;
+  std::span<const BodyInput> bodies() const override { return bodies_; }
+  bool live() const override { return input_.live(); }
+  void resync() override { t0_ = -1, next_ask_ = 0; }
+
+ private:
+  void apply(const tracking::TrackedFrame& f);
+
+  Field field_;
+  tracking::TrackingInput input_;
+  std::vector<BodyInput> bodies_;
+  std::optional<tracking::TrackedFrame> pending_;
+  double t0_ = -1;        // source time at match time 0
+  bool seen_ = false;     // a frame has come
+  double next_ask_ = 0;   // match time from which a live source is asked again
+};
+
+}  // namespace quantum::runtime

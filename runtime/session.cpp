@@ -1,0 +1,142 @@
+#include "session.h"
+
+#include <chrono>
+#include <ostream>
+#include <stdexcept>
+#include <thread>
+
+#include "event_log.h"
+#include "json_lines.h"
+#include "match_audio.h"
+#include "reloader.h"
+
+namespace quantum::runtime {
+namespace {
+
+double clock_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// n values, one per player of `sport`: the given ones, or `fallback` for each.
+std::vector<double> per_player(const std::vector<double>& given, const std::vector<double>& fallback,
+                               const lua::Sport& sport, const char* option, const char* what) {
+  const size_t n = sport.field().bodies.size();
+  const std::vector<double>& v = given.empty() ? fallback : given;
+  if (v.size() != n)
+    throw std::invalid_argument(std::string(option) + ": " + sport.name() + " has " + std::to_string(n) +
+                                " players, got " + std::to_string(v.size()) + " " + what);
+  return v;
+}
+
+}  // namespace
+
+Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream& errors,
+                 std::unique_ptr<PlayerSource> players)
+    : options_(o), transcript_(transcript), errors_(errors), players_(std::move(players)) {
+  if (!(o.seconds >= 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
+  sport_ = std::make_unique<lua::Sport>(o.sport);
+  for (const auto& [kind, value] : o.factors) sport_->set_factor(kind, value);
+  const std::vector<double> handicaps = per_player(o.handicaps, sport_->handicaps(), *sport_, "--handicap", "handicaps");
+  game::MatchConfig config;
+  config.particles = o.particles ? o.particles : sport_->particles();
+  config.seed = o.seed;
+  config.seconds = o.seconds > 0 ? o.seconds : sport_->seconds();
+  config.first_spot = sport_->first_spot();
+  config.balance_per_goal = o.auto_balance >= 0 ? o.auto_balance : sport_->balance_per_goal();
+  config.balance_most = sport_->balance_most();
+  match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
+  if (!players_) {
+    if (o.input == "bots") {
+      const std::vector<double> skills(sport_->field().bodies.size(), 0.6);
+      players_ = std::make_unique<BotPlayers>(match_->field(), per_player(o.skills, skills, *sport_, "--skill", "skills"),
+                                              o.seed);
+    } else {
+      players_ = std::make_unique<TrackedPlayers>(o.input, match_->field());
+    }
+  }
+  if (o.watch) reloader_ = std::make_unique<lua::Reloader>(*sport_, o.factors);
+  log_ = std::make_unique<LineFile>(o.events);
+  audio_ = std::make_unique<MatchAudio>(o.audio, sport_->audio(), errors_);
+  // People are listening, or playing: then the match runs in real time.
+  real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
+               (o.pacing == SessionOptions::Pacing::Automatic && (audio_->on_device() || players_->live()));
+  wall_start_ = clock_seconds();
+  if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << o.seed << '\n';
+}
+
+Session::~Session() = default;
+
+void Session::reload(const std::string& file) {
+  if (!reloader_) throw std::logic_error("this session does not reload its scripts (SessionOptions::watch)");
+  reloader_->changed(file);
+}
+
+void Session::tell() {
+  game::Match& m = *match_;
+  const News news{m.events(), m.said(), m.errors()};
+  players_->hear(news.events);
+  for (const game::GameEvent& e : news.events) audio_->event(e);
+  for (const game::Said& s : news.said) audio_->said(s);
+  for (const std::string& e : news.errors) errors_ << "quantum: rules error: " << e << '\n';
+  rule_errors_ += int(news.errors.size());
+  if (transcript_) write_transcript(*transcript_, news.said);
+  if (log_->stream()) write_events(*log_->stream(), news.events, news.said);
+  if (watcher_) watcher_(news);
+  m.clear_news();
+}
+
+// A camera that went away pauses the match, with an announcement, until it is back.
+void Session::pause_or_resume(bool lost) {
+  paused_ = lost;
+  match_->note(lost ? game::EventKind::Paused : game::EventKind::Resumed);
+  sport_->say_host(*match_, lost ? "paused" : "resumed",
+                   lost ? "The players cannot be seen. The match is paused" : "Play on");
+  match_->set_cause("");
+  if (!lost) {
+    players_->resync();
+    wall_start_ = clock_seconds() - match_->time();
+  }
+}
+
+bool Session::frame() {
+  if (over_) return false;
+  game::Match& m = *match_;
+  tell();  // what happened between frames (a spec's grant, a scene set up)
+  if (reloader_ && reloader_->poll(sport_, m, errors_) > 0) audio_->set_sport(sport_->audio());
+  const double dt = 1.0 / m.fps();
+  const PlayerSource::Status status = players_->advance(m.time() + dt, m, paused_);
+  if (status == PlayerSource::Status::Ended) {
+    if (transcript_) {
+      const game::Said end{m.time(), "(the recording is over)", -1, "", ""};
+      write_transcript(*transcript_, {&end, 1});
+    }
+    over_ = true;
+  } else {
+    const bool lost = status == PlayerSource::Status::Lost;
+    if (lost != paused_) pause_or_resume(lost);
+    if (!paused_) m.step(players_->bodies());
+  }
+  tell();
+  audio_->frame(m.time());
+  over_ = over_ || m.finished();
+  // A camera is asked again while paused, not spun on.
+  if (paused_) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  else if (real_time_) std::this_thread::sleep_for(std::chrono::duration<double>(wall_start_ + m.time() - clock_seconds()));
+  return !over_;
+}
+
+void Session::run() {
+  while (frame()) {
+  }
+  finish();
+}
+
+void Session::finish() {
+  if (finished_) return;
+  finished_ = true;
+  tell();
+  audio_->finish(match_->time());
+  log_->close();
+}
+
+}  // namespace quantum::runtime

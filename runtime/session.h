@@ -1,0 +1,114 @@
+// One match session: where the players come from, the match and its sport, its sound, hot
+// reload, the event log, the transcript and the pacing. frame() is the one frame loop of the
+// engine: `quantum play`, `quantum balance`, the rule specs' scenarios, the benchmarks and the
+// tests all run matches through it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "game/game.h"
+#include "players.h"
+#include "sport.h"
+
+namespace quantum::lua {
+class Reloader;
+}
+
+namespace quantum::runtime {
+
+class MatchAudio;
+class LineFile;
+
+struct SessionOptions {
+  std::string sport = "rules/airhockey";
+  std::string input = "bots";   // or a tracking source: fakenect:DIR, kinect, video:FILE, camera:N, tuio:PORT
+  uint64_t seed = 1;
+  double seconds = 0;           // 0: the sport's own time limit
+  uint32_t particles = 0;       // 0: the sport's own
+  std::vector<double> skills;   // per player, 0..1; empty: 0.6 each
+  std::vector<double> handicaps;  // per player; empty: the sport's
+  double auto_balance = -1;       // handicap boost per goal behind; < 0: the sport's (docs/lua-api.md)
+  std::map<std::string, double> factors;  // overrides of the sport's factors by fate kind
+  std::string audio = "none";   // "" the sound card, "none", "wav:FILE" (see MatchAudio)
+  std::string events;           // JSON lines: "" none, "-" stdout, or a file
+  bool watch = false;           // reload the sport's and power-ups' scripts when they change
+  // Real time: each frame waits for the clock. Automatic: real time when someone listens (a sound
+  // card) or plays (a live tracking source), as fast as possible otherwise.
+  enum class Pacing { Automatic, RealTime, Fast } pacing = Pacing::Automatic;
+};
+
+// What a frame told, for whoever watches the session (a rule spec, a test, a view).
+struct News {
+  std::span<const game::GameEvent> events;
+  std::span<const game::Said> said;     // Said::event indexes `events`
+  std::span<const std::string> errors;  // rule errors
+};
+
+class Session {
+ public:
+  // Loads the sport and opens the outputs: the transcript to `transcript` (null for none), rule
+  // errors and warnings to `errors`. Players come from `players`, or when null from
+  // options.input. Throws on bad options, a sport that does not load, a bad field, an event
+  // log or WAV file that cannot be written, or a tracking source that cannot be opened.
+  Session(const SessionOptions& options, std::ostream* transcript, std::ostream& errors,
+          std::unique_ptr<PlayerSource> players = nullptr);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // One frame: scripts that changed are reloaded, the players are brought up to the frame's
+  // end, the match steps, and what it told goes to the players, the sound, the transcript, the
+  // event log and the watcher; then the frame waits for the clock if the session runs in real
+  // time. A live source that lost the players pauses the match (paused and resumed events)
+  // until they are back. Returns false once the session is over: the match finished, or its
+  // recording ended.
+  bool frame();
+  // Frames until the session is over, then finish().
+  void run();
+  // Lets the last phrase ring out and closes the sound and the event log (once). Throws when the
+  // event log could not be written completely.
+  void finish();
+
+  // Called with each frame's news, and with news made between frames (a spec's grant), before
+  // it is forgotten.
+  void watch(std::function<void(const News&)> watcher) { watcher_ = std::move(watcher); }
+  // Hands what the match told since the last frame to everyone now (a spec acting between frames).
+  void tell();
+
+  game::Match& match() { return *match_; }
+  const game::Match& match() const { return *match_; }
+  // The sport as it is now: a reload replaces it, so hold no reference across frames.
+  lua::Sport& sport() { return *sport_; }
+  PlayerSource& players() { return *players_; }
+  bool over() const { return over_; }
+  bool real_time() const { return real_time_; }
+  int rule_errors() const { return rule_errors_; }
+  // Takes `file` as saved: the next frame reloads it as if inotify had seen it (benchmarks).
+  void reload(const std::string& file);
+
+ private:
+  void pause_or_resume(bool lost);
+
+  SessionOptions options_;
+  std::ostream* transcript_;
+  std::ostream& errors_;
+  std::unique_ptr<lua::Sport> sport_;
+  std::unique_ptr<game::Match> match_;
+  std::unique_ptr<PlayerSource> players_;
+  std::unique_ptr<lua::Reloader> reloader_;
+  std::unique_ptr<MatchAudio> audio_;
+  std::unique_ptr<LineFile> log_;
+  std::function<void(const News&)> watcher_;
+  double wall_start_ = 0;  // the steady clock's seconds at match time 0
+  bool real_time_ = false, paused_ = false, over_ = false, finished_ = false;
+  int rule_errors_ = 0;
+};
+
+}  // namespace quantum::runtime
