@@ -12,6 +12,7 @@ Announcer::Announcer(Mixer& mixer, double stale_after) : mixer_(mixer), stale_af
 }
 
 void Announcer::say(const Clip& clip, int priority, double now, std::string_view text) {
+  mixer_.prepare(clip);
   if (n_waiting_ == queue_.size()) queue_.emplace_back();
   Waiting& w = queue_[n_waiting_++];
   w.clip = &clip, w.priority = priority, w.at = now;

@@ -103,10 +103,15 @@ class Mixer {
 
   void set_listener(const Listener& listener);
   // Starts a clip at a place on the field (positional) or at the listener's ears; returns a
-  // handle. At most kVoices sounds play at once: beyond that the oldest is cut off.
-  static constexpr int kVoices = 32;
+  // handle. A clip with an id keeps its own sources, with its buffer attached for good (attaching
+  // one costs OpenAL an allocation), so a sound heard before starts without one. At most
+  // kSources sources are made; beyond that the longest-finished (or oldest) one is taken over.
+  static constexpr size_t kSources = 128;
   int play(const Clip& clip, Vec2 at, float gain = 1);
   int play_at_listener(const Clip& clip, float gain = 1);
+  // Uploads a clip with an id and gives it a source, so that its first play costs no more than
+  // any other (a phrase queued for the announcer).
+  void prepare(const Clip& clip);
   void stop(int handle);
   bool playing(int handle) const;
   // Loopback only: renders the next `frames` frames (interleaved stereo), advancing every source.
@@ -115,26 +120,27 @@ class Mixer {
   int rate() const { return rate_; }
 
  private:
+  // A source, and the clip it plays. Buffers of clips with an id are made once per clip.
+  struct Channel {
+    unsigned source = 0;
+    uint64_t clip = 0;        // the clip whose buffer is attached; 0 for none
+    unsigned own_buffer = 0;  // a buffer made for one play (a clip without an id), 0 for none
+    int handle = 0;           // the last play's handle
+  };
+
   Mixer() = default;
   int start(const Clip& clip, float gain, bool relative, Vec2 at);
-  void reclaim();
-  void make_channels();
+  Channel& channel_for(const Clip& clip);
+  bool busy(const Channel& c) const;
 
   void* device_ = nullptr;   // ALCdevice*
   void* context_ = nullptr;  // ALCcontext*
   bool loopback_ = false;
   int rate_ = 0;
   Listener listener_;
-  // Sources made once, handed out in turn; buffers of clips with an id made once per clip.
-  struct Channel {
-    unsigned source = 0;
-    unsigned own_buffer = 0;  // a buffer made for one play (a clip without an id), 0 for none
-    int handle = 0;           // 0: free
-  };
-  Channel channels_[kVoices];
+  std::vector<Channel> channels_;  // room for kSources, made once
   std::map<uint64_t, unsigned> buffers_;
   int next_handle_ = 1;
-  Channel* find(int handle);
   const Channel* find(int handle) const;
 };
 

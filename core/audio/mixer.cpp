@@ -30,7 +30,7 @@ std::unique_ptr<Mixer> Mixer::open_device() {
   }
   std::unique_ptr<Mixer> m(new Mixer);
   m->device_ = d, m->context_ = c;
-  m->make_channels();
+  m->channels_.reserve(kSources);
   ALCint rate = 0;
   alcGetIntegerv(d, ALC_FREQUENCY, 1, &rate);
   m->rate_ = rate;
@@ -55,7 +55,7 @@ std::unique_ptr<Mixer> Mixer::open_loopback(int rate) {
   }
   std::unique_ptr<Mixer> m(new Mixer);
   m->device_ = d, m->context_ = c, m->loopback_ = true, m->rate_ = rate;
-  m->make_channels();
+  m->channels_.reserve(kSources);
   m->set_listener({});
   return m;
 }
@@ -72,12 +72,6 @@ Mixer::~Mixer() {
   alcCloseDevice(dev(device_));
 }
 
-void Mixer::make_channels() {
-  alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
-  for (Channel& c : channels_) alGenSources(1, &c.source);
-  if (alGetError() != AL_NO_ERROR) throw AudioError("OpenAL could not make " + std::to_string(kVoices) + " sources");
-}
-
 // Field (x, y) is OpenAL (x, 0, -y): the field lies flat, up is up, and a listener facing +x
 // has +y on its left, as a player facing the other end does.
 void Mixer::set_listener(const Listener& l) {
@@ -90,17 +84,30 @@ void Mixer::set_listener(const Listener& l) {
   alDistanceModel(AL_NONE);
 }
 
-int Mixer::start(const Clip& clip, float gain, bool relative, Vec2 at) {
-  alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
-  reclaim();
-  if (clip.samples.empty() || clip.rate <= 0) return 0;
-  // A free channel, else the one that started longest ago.
-  Channel* c = &channels_[0];
-  for (Channel& candidate : channels_)
-    if (candidate.handle == 0 || (c->handle != 0 && candidate.handle < c->handle)) c = &candidate;
-  alSourceStop(c->source);
-  alSourcei(c->source, AL_BUFFER, 0);  // a buffer still attached could not be deleted
-  if (c->own_buffer) alDeleteBuffers(1, &c->own_buffer), c->own_buffer = 0;
+bool Mixer::busy(const Channel& c) const {
+  ALint state = 0;
+  alGetSourcei(c.source, AL_SOURCE_STATE, &state);
+  return state == AL_PLAYING;
+}
+
+// A source for `clip`: one of its own that is free, else a new one, else the one that finished
+// longest ago (or, all playing, the oldest), given the clip's buffer.
+Mixer::Channel& Mixer::channel_for(const Clip& clip) {
+  if (clip.id != 0)
+    for (Channel& c : channels_)
+      if (c.clip == clip.id && !busy(c)) return c;
+  Channel* c = nullptr;
+  if (channels_.size() < kSources) {
+    c = &channels_.emplace_back();
+    alGenSources(1, &c->source);
+  } else {
+    for (Channel& candidate : channels_)
+      if (!c || (busy(*c) && !busy(candidate)) || (busy(*c) == busy(candidate) && candidate.handle < c->handle))
+        c = &candidate;
+    alSourceStop(c->source);
+    alSourcei(c->source, AL_BUFFER, 0);  // a buffer still attached could not be deleted
+    if (c->own_buffer) alDeleteBuffers(1, &c->own_buffer), c->own_buffer = 0;
+  }
   unsigned buffer = 0;
   if (clip.id != 0) {
     auto [it, fresh] = buffers_.try_emplace(clip.id, 0u);
@@ -117,49 +124,50 @@ int Mixer::start(const Clip& clip, float gain, bool relative, Vec2 at) {
     buffer = c->own_buffer;
   }
   alSourcei(c->source, AL_BUFFER, ALint(buffer));
-  alSourcef(c->source, AL_GAIN, gain);
-  alSourcei(c->source, AL_SOURCE_RELATIVE, relative ? AL_TRUE : AL_FALSE);
-  if (relative) alSource3f(c->source, AL_POSITION, 0, 0, 0);
-  else alSource3f(c->source, AL_POSITION, at.x, 0, -at.y);
-  alSourcePlay(c->source);
+  c->clip = clip.id;
+  return *c;
+}
+
+void Mixer::prepare(const Clip& clip) {
+  alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
+  if (clip.id == 0 || clip.samples.empty() || clip.rate <= 0) return;
+  for (const Channel& c : channels_)
+    if (c.clip == clip.id) return;
+  channel_for(clip);
+}
+
+int Mixer::start(const Clip& clip, float gain, bool relative, Vec2 at) {
+  alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
+  if (clip.samples.empty() || clip.rate <= 0) return 0;
+  Channel& c = channel_for(clip);
+  alSourcef(c.source, AL_GAIN, gain);
+  alSourcei(c.source, AL_SOURCE_RELATIVE, relative ? AL_TRUE : AL_FALSE);
+  if (relative) alSource3f(c.source, AL_POSITION, 0, 0, 0);
+  else alSource3f(c.source, AL_POSITION, at.x, 0, -at.y);
+  alSourcePlay(c.source);
   if (alGetError() != AL_NO_ERROR) throw AudioError("OpenAL refused to play a sound");
-  c->handle = next_handle_++;
-  return c->handle;
+  c.handle = next_handle_++;
+  return c.handle;
 }
 
 int Mixer::play(const Clip& clip, Vec2 at, float gain) { return start(clip, gain, false, at); }
 int Mixer::play_at_listener(const Clip& clip, float gain) { return start(clip, gain, true, {}); }
 
-Mixer::Channel* Mixer::find(int handle) {
-  for (Channel& c : channels_)
+const Mixer::Channel* Mixer::find(int handle) const {
+  for (const Channel& c : channels_)
     if (handle != 0 && c.handle == handle) return &c;
   return nullptr;
 }
 
-const Mixer::Channel* Mixer::find(int handle) const { return const_cast<Mixer*>(this)->find(handle); }
-
 void Mixer::stop(int handle) {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
-  if (Channel* c = find(handle)) alSourceStop(c->source);
+  if (const Channel* c = find(handle)) alSourceStop(c->source);
 }
 
 bool Mixer::playing(int handle) const {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
   const Channel* c = find(handle);
-  if (!c) return false;
-  ALint state = 0;
-  alGetSourcei(c->source, AL_SOURCE_STATE, &state);
-  return state == AL_PLAYING;
-}
-
-// Channels whose sound has finished are free again.
-void Mixer::reclaim() {
-  for (Channel& c : channels_) {
-    if (c.handle == 0) continue;
-    ALint state = 0;
-    alGetSourcei(c.source, AL_SOURCE_STATE, &state);
-    if (state != AL_PLAYING) c.handle = 0;
-  }
+  return c && busy(*c);
 }
 
 void Mixer::render(int frames, std::vector<int16_t>& stereo) {

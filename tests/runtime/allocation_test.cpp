@@ -1,0 +1,180 @@
+// A running match allocates nothing per frame: step, decisions, prediction, tweak, the Lua rules,
+// the simulated players, the event log, the transcript and the sound all work in memory made
+// before. Every malloc of this process goes through the hook below, so nothing escapes the count
+// (C++'s operator new, OpenAL, libsndfile and LuaJIT's allocator all come here). Lua's own
+// allocations are counted apart: the rules' garbage is kept small, not zero.
+//
+// Set QUANTUM_ALLOCATION_TRACE=1 to print a stack for every allocation counted against a frame.
+#include <gtest/gtest.h>
+
+#include <execinfo.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <utility>
+#include <sstream>
+
+#include "session.h"
+
+extern "C" {
+void* __libc_malloc(size_t);
+void* __libc_calloc(size_t, size_t);
+void* __libc_realloc(void*, size_t);
+void* __libc_memalign(size_t, size_t);
+}
+
+namespace {
+
+thread_local bool counting = false;
+std::atomic<size_t> allocations{0};
+bool tracing = false;  // the measurement that the test judges
+
+void count() {
+  if (!counting) return;
+  ++allocations;
+  static const bool trace = std::getenv("QUANTUM_ALLOCATION_TRACE") != nullptr;
+  if (!trace || !tracing) return;
+  counting = false;
+  void* frames[32];
+  const int n = backtrace(frames, 32);
+  backtrace_symbols_fd(frames, n, STDERR_FILENO);
+  write(STDERR_FILENO, "--\n", 3);
+  counting = true;
+}
+
+}  // namespace
+
+extern "C" {
+void* malloc(size_t n) {
+  count();
+  return __libc_malloc(n);
+}
+void* calloc(size_t n, size_t size) {
+  count();
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, size_t n) {
+  count();
+  return __libc_realloc(p, n);
+}
+void* memalign(size_t alignment, size_t n) {
+  count();
+  return __libc_memalign(alignment, n);
+}
+void* aligned_alloc(size_t alignment, size_t n) {
+  count();
+  return __libc_memalign(alignment, n);
+}
+int posix_memalign(void** out, size_t alignment, size_t n) {
+  count();
+  *out = __libc_memalign(alignment, n);
+  return *out ? 0 : ENOMEM;
+}
+}
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kWarmUp = 1200;  // 20 s of play: every buffer has met a busy moment
+constexpr int kMeasured = 600;  // 10 s
+
+struct Measured {
+  size_t cxx = 0, lua = 0;           // allocations over the measured frames
+  size_t first_heard_frames = 0;     // frames that played a sound or phrase for the first time
+  size_t worst_first_heard = 0;      // the most allocations of one such frame
+  size_t frames_with_events = 0;
+};
+
+// A match of air hockey between simulated players at `particles`, with its sound rendered to a
+// WAV file, its events logged and its transcript written, as `quantum play` runs it.
+Measured measure(uint32_t particles, const std::string& audio, const std::string& powerup = "") {
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.seconds = 600;
+  o.particles = particles;
+  o.seed = 5;
+  o.audio = audio;
+  o.events = (fs::temp_directory_path() / "quantum_allocation_events.jsonl").string();
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  std::ofstream transcript(fs::temp_directory_path() / "quantum_allocation_transcript.txt");
+  std::ostringstream errors;
+  runtime::Session session(o, &transcript, errors);
+  // A phrase or sound heard for the first time is synthesized or loaded and handed to OpenAL
+  // once: that frame may allocate. Every other frame must not.
+  std::set<std::string> heard;
+  bool first_heard = false, any_event = false;
+  session.watch([&](const runtime::News& news) {
+    const bool was_counting = std::exchange(counting, false);
+    for (const game::GameEvent& e : news.events) first_heard |= heard.insert(game::to_string(e.type)).second;
+    for (const game::Said& s : news.said) first_heard |= heard.insert(s.text).second;
+    any_event |= !news.events.empty();
+    counting = was_counting;
+  });
+  // A power-up's factor runs for every fate of every frame, with the fate, its holder and its
+  // numbers as tables: the engine's own, refilled in place.
+  if (!powerup.empty()) session.sport().grant(session.match(), 1, powerup, {{"seconds", 600}});
+  for (int f = 0; f < kWarmUp; ++f) session.frame();
+  Measured m;
+  for (int f = 0; f < kMeasured; ++f) {
+    first_heard = any_event = false;
+    const size_t lua_before = session.sport().sandbox().allocations();
+    allocations = 0;
+    counting = true;
+    session.frame();
+    counting = false;
+    const size_t lua = session.sport().sandbox().allocations() - lua_before;
+    const size_t cxx = allocations - lua;
+    m.lua += lua;
+    m.frames_with_events += any_event;
+    if (first_heard) {
+      ++m.first_heard_frames;
+      m.worst_first_heard = std::max(m.worst_first_heard, cxx);
+    } else {
+      m.cxx += cxx;
+    }
+  }
+  EXPECT_EQ(errors.str(), "");
+  EXPECT_FALSE(session.over());
+  return m;
+}
+
+TEST(Allocations, ARunningMatchAllocatesNothingPerFrame) {
+  // Once through first, so every phrase of this seeded match is synthesized (espeak-ng's cache
+  // is the process's), as it is in any match once its phrases have been heard.
+  measure(1000, "wav:" + (fs::temp_directory_path() / "quantum_allocation_warm.wav").string());
+  tracing = true;
+  const Measured m = measure(1000, "wav:" + (fs::temp_directory_path() / "quantum_allocation.wav").string());
+  std::cout << "frames with events " << m.frames_with_events << ", C++ allocations " << m.cxx
+            << ", frames hearing something new " << m.first_heard_frames << " (at most " << m.worst_first_heard
+            << " allocations each), Lua allocations " << m.lua << " (" << double(m.lua) / kMeasured << " a frame)\n";
+  EXPECT_GT(m.frames_with_events, 20u);  // a match in full flow, not an empty field
+  EXPECT_EQ(m.cxx, 0u);
+  // A clip played for the first time: its OpenAL buffer and a map node in the mixer.
+  EXPECT_LE(m.worst_first_heard, 4u);
+  // The rules' garbage: a table per event told to a handler, and the strings it builds.
+  EXPECT_LT(double(m.lua) / kMeasured, 5.0);
+}
+
+TEST(Allocations, APowerUpsFactorMakesNoGarbagePerFate) {
+  const Measured m = measure(1000, "none", "slow_motion");
+  std::cout << "Lua allocations " << m.lua << " (" << double(m.lua) / kMeasured << " a frame)\n";
+  EXPECT_EQ(m.cxx, 0u);
+  EXPECT_LT(double(m.lua) / kMeasured, 5.0);
+}
+
+// Twenty times the particles, and no sound: the core's buffers are sized by the cloud, not by
+// what a frame happens to meet.
+TEST(Allocations, ALargerCloudAllocatesNothingEither) {
+  const Measured m = measure(20'000, "none");
+  EXPECT_GT(m.frames_with_events, 20u);
+  EXPECT_EQ(m.cxx, 0u);
+}
+
+}  // namespace
+}  // namespace quantum
