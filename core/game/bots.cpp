@@ -198,6 +198,25 @@ float Bots::guarded(const Bot& b, float y) const {
   return std::clamp(y, b.mouth_lo - slack, b.mouth_hi + slack);
 }
 
+// Out of turn a player keeps clear of the ball: of its place at home and beside it on either
+// side, the one the imagined ball's next second passes furthest from.
+Vec2 Bots::out_of_the_way(const Bot& b) const {
+  const float margin = b.radius + field_.ball_radius + 0.05f;
+  const Vec2 places[] = {b.home, {b.home.x, lo_.y + margin}, {b.home.x, hi_.y - margin}};
+  Vec2 best = b.home;
+  float best_clearance = -1;
+  for (const Vec2& place : places) {
+    Vec2 ball = b.ball, velocity = b.ball_v;
+    float clearance = length(ball - place);
+    for (int k = 0; k < 20; ++k) {
+      fly(ball, velocity, 0.05);
+      clearance = std::min(clearance, length(ball - place));
+    }
+    if (clearance > best_clearance + 0.05f) best_clearance = clearance, best = place;
+  }
+  return best;
+}
+
 // Where the bot wants its body now. Out of turn it keeps clear of the ball; with the turn in a
 // sport that plays by turns, the ball is its to play wherever it is.
 Vec2 Bots::decide(Bot& b, double t, std::span<const Player> players, bool whole_field) {
@@ -205,7 +224,7 @@ Vec2 Bots::decide(Bot& b, double t, std::span<const Player> players, bool whole_
   if (!b.knows_ball) return b.home;
   if (!me.turn) {
     b.plan = Plan::Home;
-    return b.home;
+    return out_of_the_way(b);
   }
   const bool mine = whole_field || (b.ball.x - mid_x_) * b.attack_x < 0;
   const float toward_me = -b.attack_x * b.ball_v.x;

@@ -65,6 +65,7 @@ class Bots {
   Vec2 decide(Bot& b, double t, std::span<const Player> players, bool whole_field);
   Vec2 target(const Bot& b, const Aim& aim) const;
   Vec2 goal_target(const Bot& b, const Goal& goal) const;
+  Vec2 out_of_the_way(const Bot& b) const;
   float guarded(const Bot& b, float y) const;
   Vec2 clamp_to_reach(const Bot& b, Vec2 p, bool whole_field) const;
 

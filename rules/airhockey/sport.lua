@@ -4,7 +4,8 @@ local sport = {
   name = "Quantum air hockey",
   field = "field.lua",
   particles = 1000,
-  -- The puck first drops in Blue's half, in front of Blue's goal (as in the paper).
+  -- The puck first drops in Blue's half, in front of Blue's goal (as in the paper). The first to
+  -- seven goals wins; after a goal the puck drops again in a second and a half.
   match = { seconds = 180, first_to = 7, respawn_delay = 1.5, start = "blue" },
 
   -- The paper's fate factors: goals and mallet contacts are made likelier, own goals rarer.
@@ -21,6 +22,9 @@ local sport = {
     sounds = { shot = "hit.wav", intercept = "hit.wav", bounce = "wall.wav", goal = "goal.wav", drop = "whistle.wav" },
   },
 
+  -- How the announcer names the teams (also in the power-ups' phrases).
+  teams = { blue = "Blue", red = "Red" },
+
   phrases = {
     drop = "The puck was dropped {spot}",
     shot = "{team} shoots",
@@ -34,12 +38,11 @@ local sport = {
   },
 }
 
-local names = { blue = "Blue", red = "Red" }
-local other = { blue = "red", red = "blue" }
+local two_teams = require "two_teams"  -- rules/lib/two_teams.lua
 
-local function score_line(game)
-  local s = game.score()
-  return { blue = s.blue, red = s.red }
+-- A goal for the team that did not defend it; the puck drops again in front of the conceding goal.
+local function goal_for(game, scorer, conceding)
+  two_teams.goal(game, scorer, "score", sport.match.first_to, conceding, sport.match.respawn_delay)
 end
 
 sport.on = {
@@ -48,50 +51,37 @@ sport.on = {
   end,
 
   shot = function(game, e)
-    game.say("shot", { team = names[e.team] })
+    game.say("shot", { team = game.team_name(e.team) })
   end,
 
   intercept = function(game, e)
-    game.say("intercept", { team = names[e.team] })
+    game.say("intercept", { team = game.team_name(e.team) })
   end,
 
   -- e.team defends the goal the puck went into; the other team scores.
   goal = function(game, e)
-    local scorer = other[e.team]
-    game.award(scorer)
-    game.say("goal", { team = names[scorer] })
-    game.say("score", score_line(game))
-    if game.score()[scorer] >= sport.match.first_to then
-      game.finish(scorer)
-    else
-      game.respawn(e.team, sport.match.respawn_delay)  -- dropped in front of the conceding goal
-    end
+    local scorer = two_teams.other(game, e.team)
+    game.say("goal", { team = game.team_name(scorer) })
+    goal_for(game, scorer, e.team)
   end,
 
   own_goal = function(game, e)
-    local scorer = other[e.team]
-    game.award(scorer)
-    game.say("own_goal", { team = names[e.team] })
-    game.say("score", score_line(game))
-    if game.score()[scorer] >= sport.match.first_to then
-      game.finish(scorer)
-    else
-      game.respawn(e.team, sport.match.respawn_delay)
-    end
+    game.say("own_goal", { team = game.team_name(e.team) })
+    goal_for(game, two_teams.other(game, e.team), e.team)
   end,
 
   out = function(game, e)
     game.say("out")
     -- The side that did not shoot it off gets the puck.
-    game.respawn(other[e.by_team] or "blue", sport.match.respawn_delay)
+    game.respawn(two_teams.other(game, e.by_team) or "blue", sport.match.respawn_delay)
   end,
 
   match_end = function(game, e)
-    local s = score_line(game)
+    local s = game.score()
     if e.team == "" then
       game.say("draw", s)
     else
-      s.winner = names[e.team]
+      s.winner = game.team_name(e.team)
       game.say("match_end", s)
     end
   end,

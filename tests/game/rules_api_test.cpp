@@ -1,0 +1,287 @@
+// The rules API that sports written from the docs asked for: strict reading of sport.lua and
+// power-ups (unknown keys named with the nearest known one), phrases checked at load and when
+// said, a factor that zeroes every fate named, modules, each event's own phrases in the log,
+// and hints that make simulated players take turns and aim where the sport says.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "session.h"
+#include "sport.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A sport folder holding the air hockey table, the given sport.lua and any other files.
+std::string sport_with(const std::string& name, const std::string& sport,
+                       const std::map<std::string, std::string>& files = {}) {
+  const fs::path dir = fs::temp_directory_path() / ("quantum_rules_api_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", dir / "field.lua");
+  std::ofstream(dir / "sport.lua") << sport;
+  for (const auto& [file, text] : files) {
+    fs::create_directories((dir / file).parent_path());
+    std::ofstream(dir / file) << text;
+  }
+  return dir.string();
+}
+
+std::string load_error(const std::string& name, const std::string& sport,
+                       const std::map<std::string, std::string>& files = {}) {
+  try {
+    lua::Sport s(sport_with(name, sport, files));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Plays `seconds` of the sport between simulated players; returns the rule errors reported.
+std::string rule_errors(const std::string& folder, double seconds = 3, uint64_t seed = 1) {
+  runtime::SessionOptions o;
+  o.sport = folder;
+  o.seconds = seconds;
+  o.seed = seed;
+  o.particles = 300;
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors);
+  session.run();
+  return errors.str();
+}
+
+#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
+TEST(SportFile, UnknownKeysAreNamedWithTheNearestKnownOne) {
+  EXPECT_HAS(load_error("top", "return { phrase = {} }"), "sport.lua: unknown key 'phrase' (did you mean 'phrases'?");
+  EXPECT_HAS(load_error("factor", "return { factors = { goals = 2 } }"),
+             "sport.lua: factors: unknown key 'goals' (did you mean 'goal'?");
+  EXPECT_HAS(load_error("handicap", "return { handicaps = { [\"Blue mallet\"] = 2 } }"),
+             "handicaps: unknown key 'Blue mallet' (did you mean 'Blue's mallet'?");
+  EXPECT_HAS(load_error("sound", "return { audio = { sounds = { gaol = 'goal.wav' } } }"),
+             "audio.sounds: unknown key 'gaol' (did you mean 'goal'?");
+  EXPECT_HAS(load_error("team", "return { teams = { bleu = 'Blue' } }"), "teams: unknown key 'bleu' (did you mean 'blue'?");
+  // The match table may hold the sport's own settings, but not a slip of the engine's.
+  EXPECT_HAS(load_error("match", "return { match = { secnds = 10 } }"), "match: unknown key 'secnds' (did you mean 'seconds'?");
+  EXPECT_EQ(load_error("own", "return { match = { seconds = 10, first_to = 3 } }"), "");
+}
+
+TEST(SportFile, AMetatableOnTheSportTableRunsNothing) {
+  // Read raw: an __index that errors (or loops) is never called while the engine reads.
+  EXPECT_EQ(load_error("meta", "return setmetatable({ name = 'x' }, { __index = function() error('boom') end })"), "");
+}
+
+TEST(SportFile, PhrasesAreCheckedWhenTheSportLoads) {
+  EXPECT_HAS(load_error("brace", "return { phrases = { shot = '{team shoots' } }"), "phrases.shot: '{' at character 1 is never closed");
+  EXPECT_HAS(load_error("format", "return { phrases = { speed = '{speed:%s} m/s' } }"),
+             "phrases.speed: {speed:%s}: the format must be like %d, %.1f");
+  // Phrases the engine says itself may only use what the engine fills in.
+  EXPECT_HAS(load_error("paused", "return { phrases = { paused = 'Where is {who}?' } }"),
+             "phrases.paused: unknown placeholder 'who'");
+  EXPECT_HAS(load_error("powerup", "return { phrases = { attract_start = '{playr} attracts it' } }"),
+             "phrases.attract_start: unknown placeholder 'playr' (did you mean 'player'? known: player, team)");
+  EXPECT_HAS(load_error("recorded", "return { phrases = { goal = 'Goal!' }, audio = { recorded = { gaol = 'x.ogg' } } }"),
+             "audio.recorded: unknown key 'gaol' (did you mean 'goal'?");
+}
+
+TEST(SportFile, PowerUpScriptsAreReadStrictly) {
+  const std::string folder = sport_with("strict_powerup", "return { on = { drop = function(game, e) game.grant(\"Red's mallet\", 'spin') end } }",
+                                        {{"powerups/spin.lua", "return { duration = 5, factr = function() return 2 end }"}});
+  const std::string errors = rule_errors(folder, 0.1);
+  EXPECT_HAS(errors, "powerups/spin.lua: unknown key 'factr' (did you mean 'factor'?");
+  EXPECT_HAS(errors, "game.grant");
+}
+
+TEST(SportRules, AnUnknownPhraseKeyOrAMissingValueIsAnErrorAtItsLine) {
+  const std::string errors = rule_errors(sport_with("say", R"(return {
+  phrases = { goal = "Goal for {team}!", drop = "Dropped {spot}" },
+  on = {
+    drop = function(game, e)
+      game.say("drop", { spot = e.actor })
+      game.say("gaol")
+    end,
+    shot = function(game, e) game.say("goal", { tema = "Blue" }) end,
+  },
+})"), 10);
+  EXPECT_HAS(errors, "sport.lua:6: game.say: no phrase 'gaol'");
+  EXPECT_HAS(errors, "(did you mean 'goal'?");
+  EXPECT_HAS(errors, "sport.lua:8: game.say: phrase 'goal': no value for {team}");
+}
+
+TEST(SportRules, AFactorThatZeroesEveryFateIsNamed) {
+  const std::string errors =
+      rule_errors(sport_with("zero", "return { modifiers = { function(fate, game) return 1 end, function(fate, game) return 0 end } }"), 0.5);
+  EXPECT_HAS(errors, "sport.lua: modifiers[2] gives every fate a factor of 0");
+  EXPECT_EQ(errors.find("modifiers[1]"), std::string::npos) << errors;
+  const std::string powerup = rule_errors(
+      sport_with("zero_powerup", "return { on = { drop = function(game, e) game.grant(\"Red's mallet\", 'nothing') end } }",
+                 {{"powerups/nothing.lua", "return { duration = 5, factor = function() return 0 end }"}}),
+      0.5);
+  EXPECT_HAS(powerup, "power-up nothing (");
+  EXPECT_HAS(powerup, "powerups/nothing.lua) gives every fate a factor of 0");
+}
+
+TEST(SportRules, FactorsMayNotActEvenWhileAHandlerActs) {
+  // The handler opens a wormhole, which predicts the fates again: the modifier runs inside the
+  // handler's action, and still may only compute.
+  const std::string errors = rule_errors(sport_with("modifier_acts", R"(return {
+  modifiers = { function(fate, game) game.award("red") end },
+  on = { drop = function(game, e) game.wormhole(-0.3, 0.3, 0.6, 0) end },
+})"), 0.1);
+  EXPECT_HAS(errors, "game.award: only event handlers (on.*), timers and a power-up's start and stop may act");
+}
+
+TEST(SportRules, ASportSplitsItsLuaIntoModules) {
+  const std::string folder = sport_with("modules", R"(
+local names = require "lib.names"
+local two_teams = require "two_teams"
+return { on = { drop = function(game, e) game.say(names.greeting .. " " .. two_teams.other(game, "blue")) end } })",
+                                        {{"lib/names.lua", "return { greeting = 'Hello' }"}});
+  runtime::SessionOptions o;
+  o.sport = folder;
+  o.seconds = 0.1;
+  std::ostringstream out, errors;
+  runtime::Session session(o, &out, errors);
+  session.run();
+  EXPECT_EQ(errors.str(), "");
+  EXPECT_HAS(out.str(), "Hello red");
+  EXPECT_HAS(load_error("escape", "return require '..secret'"), "'..secret' is not a module name");
+  const std::string missing = load_error("missing", "return require 'socket'");
+  EXPECT_HAS(missing, "no module 'socket': the sandbox loads only the sport's own Lua modules");
+  EXPECT_HAS(load_error("broken", "return require 'bad'", {{"bad.lua", "return {\n  x = ,\n}"}}), "bad.lua:2:");
+}
+
+TEST(EventLog, EachEventKeepsItsOwnPhrases) {
+  // The drop handler ends the match: match_end is told inside it, and says its own phrase.
+  const std::string folder = sport_with("own_phrases", R"(return {
+  on = {
+    drop = function(game, e)
+      game.say("Dropped")
+      game.finish("blue")
+      game.say("After the end")
+    end,
+    match_end = function(game, e) game.say("Over") end,
+  },
+})");
+  runtime::SessionOptions o;
+  o.sport = folder;
+  o.events = (fs::temp_directory_path() / "quantum_own_phrases.jsonl").string();
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors);
+  session.run();
+  std::ifstream log(o.events);
+  std::vector<nlohmann::json> lines;
+  for (std::string line; std::getline(log, line);) lines.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0]["type"], "drop");
+  EXPECT_EQ(lines[0]["said"], nlohmann::json({"Dropped", "After the end"}));
+  EXPECT_EQ(lines[1]["type"], "match_end");
+  EXPECT_EQ(lines[1]["said"], nlohmann::json({"Over"}));
+}
+
+// Two proportions differ: z of the difference under the pooled proportion.
+double z_score(int a, int n, int b, int m) {
+  const double p = double(a + b) / (n + m);
+  return (double(a) / n - double(b) / m) / std::sqrt(p * (1 - p) * (1.0 / n + 1.0 / m));
+}
+
+struct Faults {
+  int out_of_turn = 0, points = 0;
+};
+
+// Simulated players in the wall game (tests/sports/wall), with or without its game.turn calls.
+Faults wall_games(bool with_turns) {
+  std::string folder = QUANTUM_SOURCE_DIR "/tests/sports/wall";
+  if (!with_turns) {
+    const fs::path copy = fs::temp_directory_path() / "quantum_wall_without_turns";
+    fs::remove_all(copy);
+    fs::copy(folder, copy, fs::copy_options::recursive);
+    std::ifstream in(copy / "sport.lua");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    for (size_t at; (at = s.find("game.turn(turn)")) != std::string::npos;) s.replace(at, 15, "");
+    std::ofstream(copy / "sport.lua") << s;
+    folder = copy.string();
+  }
+  Faults f;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    runtime::SessionOptions o;
+    o.sport = folder;
+    o.seconds = 120;
+    o.seed = seed;
+    std::ostringstream errors;
+    runtime::Session session(o, nullptr, errors);
+    session.watch([&](const runtime::News& news) {
+      for (const game::Said& s : news.said) {
+        f.points += s.text.rfind("Point ", 0) == 0;
+        f.out_of_turn += s.text.find("out of turn") != std::string::npos;
+      }
+    });
+    session.run();
+    EXPECT_EQ(errors.str(), "");
+  }
+  return f;
+}
+
+TEST(Hints, SimulatedPlayersTakeTheirTurns) {
+  const Faults with = wall_games(true), without = wall_games(false);
+  std::cout << "points lost out of turn: " << with.out_of_turn << " of " << with.points << " with game.turn, "
+            << without.out_of_turn << " of " << without.points << " without\n";
+  ASSERT_GT(with.points, 20);
+  ASSERT_GT(without.points, 20);
+  // One-sided two-proportion z-test at p < 0.001: the turns make fewer faults.
+  EXPECT_GT(z_score(without.out_of_turn, without.points, with.out_of_turn, with.points), 3.09);
+}
+
+// Blue's shots in a minute of air hockey; `aim` a handler line that sets Blue's aim, or none.
+std::pair<int, int> blue_shots_leftward(const std::string& aim) {
+  std::ifstream in(QUANTUM_SOURCE_DIR "/rules/airhockey/sport.lua");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  s.replace(s.find("game.say(\"drop\", { spot = e.actor })"), 0, aim + "\n    ");
+  const fs::path dir = fs::temp_directory_path() / ("quantum_aim_" + std::to_string(aim.size()));
+  fs::remove_all(dir);
+  fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", dir, fs::copy_options::recursive);
+  std::ofstream(dir / "sport.lua") << s;
+  int left = 0, shots = 0;
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    runtime::SessionOptions o;
+    o.sport = dir.string();
+    o.seconds = 60;
+    o.seed = seed;
+    std::ostringstream errors;
+    runtime::Session session(o, nullptr, errors);
+    session.watch([&](const runtime::News& news) {
+      for (const game::GameEvent& e : news.events) {
+        if (e.type != game::EventKind::Shot || e.actor != "Blue's mallet") continue;
+        ++shots;
+        left += e.velocity.y > std::fabs(e.velocity.x);  // toward the left wall more than down the table
+      }
+    });
+    session.run();
+    EXPECT_EQ(errors.str(), "");
+  }
+  return {left, shots};
+}
+
+TEST(Hints, SimulatedPlayersAimWhereTheSportSays) {
+  const auto [left_aimed, aimed] = blue_shots_leftward("game.aim(\"Blue's mallet\", \"left wall\")");
+  const auto [left_free, free] = blue_shots_leftward("");
+  std::cout << "Blue's shots toward the left wall: " << left_aimed << " of " << aimed << " aimed there, " << left_free
+            << " of " << free << " at the goal\n";
+  ASSERT_GT(aimed, 30);
+  ASSERT_GT(free, 30);
+  EXPECT_GT(z_score(left_aimed, aimed, left_free, free), 3.09);  // one-sided, p < 0.001
+}
+
+}  // namespace
+}  // namespace quantum
