@@ -6,7 +6,7 @@ local x, y, m = L / 2, W / 2, mouth / 2
 return {
   name = "Practice half table",
   ball = { radius = 0.0315, wall_restitution = 0.9, body_restitution = 0.8 },
-  brownian = 0.05,
+  brownian = 0.05,   -- how fast the players' idea of the ball blurs, m/sqrt(s)
   walls = {
     { name = "left wall",  points = { { -x, y }, { x, y } } },
     { name = "right wall", points = { { -x, -y }, { x, -y } } },

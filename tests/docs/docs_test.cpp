@@ -1,0 +1,173 @@
+// The docs' examples are what the engine does: every Lua example in README.md and docs/*.md is
+// either a shipped file (its first line names it; the example must stand in that file as it is,
+// parts elided with a "-- ..." line) or a complete sport.lua that loads and plays on the air
+// hockey table with no rule error; every C++ example quotes a shipped file the same way; every
+// `build/quantum` command line in a shell example uses only options that command has.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "session.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Example {
+  std::string doc, language, text;
+  int line;  // where the example starts in its doc
+};
+
+std::vector<Example> examples() {
+  std::vector<fs::path> docs = {fs::path(QUANTUM_SOURCE_DIR) / "README.md"};
+  for (const auto& entry : fs::directory_iterator(fs::path(QUANTUM_SOURCE_DIR) / "docs"))
+    if (entry.path().extension() == ".md") docs.push_back(entry.path());
+  std::vector<Example> out;
+  for (const fs::path& doc : docs) {
+    std::ifstream in(doc);
+    std::string line;
+    int n = 0;
+    Example* open = nullptr;
+    while (std::getline(in, line)) {
+      ++n;
+      if (line.rfind("```", 0) == 0) {
+        if (open) {
+          open = nullptr;
+        } else {
+          out.push_back({fs::relative(doc, QUANTUM_SOURCE_DIR).string(), line.substr(3), "", n + 1});
+          open = &out.back();
+        }
+        continue;
+      }
+      if (open) open->text += line + "\n";
+    }
+  }
+  return out;
+}
+
+std::string read(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The shipped file an example names in its first line ("-- rules/practice/sport.lua" in Lua,
+// "// tools/play.cpp" in C++), if any.
+std::string shipped_file(const std::string& text) {
+  std::smatch m;
+  const std::string first = text.substr(0, text.find('\n'));
+  if (std::regex_match(first, m, std::regex(R"((?:--|//) ([a-z]+/[A-Za-z0-9_./-]+\.(lua|cpp|h)))")) &&
+      fs::exists(fs::path(QUANTUM_SOURCE_DIR) / m[1].str()))
+    return m[1].str();
+  return "";
+}
+
+// Whether every part of `example` (split at "-- ..." lines) stands in `file`, in order.
+std::string missing_part(const std::string& example, const std::string& file) {
+  std::vector<std::string> parts(1);
+  std::istringstream lines(example.substr(example.find('\n') + 1));
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find_first_not_of(' ') != std::string::npos && line.substr(line.find_first_not_of(' ')) == "-- ...")
+      parts.emplace_back();
+    else
+      parts.back() += line + "\n";
+  }
+  size_t from = 0;
+  for (const std::string& part : parts) {
+    const size_t at = file.find(part, from);
+    if (at == std::string::npos) return part;
+    from = at + part.size();
+  }
+  return "";
+}
+
+// Plays the example as a sport on the air hockey table for three seconds; returns what went wrong.
+std::string play_as_sport(const Example& e) {
+  const fs::path dir = fs::temp_directory_path() / ("quantum_doc_example_" + std::to_string(std::hash<std::string>()(e.text)));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", dir / "field.lua");
+  std::ofstream(dir / "sport.lua") << e.text;
+  runtime::SessionOptions o;
+  o.sport = dir.string();
+  o.seconds = 3;
+  o.particles = 300;
+  std::ostringstream errors;
+  try {
+    runtime::Session session(o, nullptr, errors);
+    session.run();
+  } catch (const std::exception& x) {
+    return x.what();
+  }
+  return errors.str();
+}
+
+TEST(Docs, EveryLuaExampleIsAShippedFileOrAPlayableSport) {
+  int shipped = 0, played = 0;
+  for (const Example& e : examples()) {
+    if (e.language != "lua") continue;
+    const std::string where = e.doc + ":" + std::to_string(e.line);
+    if (const std::string file = shipped_file(e.text); !file.empty()) {
+      const std::string part = missing_part(e.text, read(fs::path(QUANTUM_SOURCE_DIR) / file));
+      EXPECT_EQ(part, "") << where << ": not as it stands in " << file;
+      ++shipped;
+    } else {
+      EXPECT_EQ(play_as_sport(e), "") << where << ": this example does not play as a sport.lua";
+      ++played;
+    }
+  }
+  std::cout << shipped << " examples quote shipped files, " << played << " play as sports\n";
+  EXPECT_GT(shipped, 5);
+  EXPECT_GT(played, 5);
+}
+
+TEST(Docs, EveryCppExampleQuotesAShippedFile) {
+  int quoted = 0;
+  for (const Example& e : examples()) {
+    if (e.language != "cpp") continue;
+    const std::string where = e.doc + ":" + std::to_string(e.line);
+    const std::string file = shipped_file(e.text);
+    ASSERT_NE(file, "") << where << ": a C++ example names the file it comes from in its first line";
+    EXPECT_EQ(missing_part(e.text, read(fs::path(QUANTUM_SOURCE_DIR) / file)), "") << where << ": not as it stands in " << file;
+    ++quoted;
+  }
+  EXPECT_GT(quoted, 0);
+}
+
+std::string help_of(const std::string& command) {
+  std::string out;
+  FILE* p = popen((QUANTUM_BINARY " " + command + " --help 2>&1").c_str(), "r");
+  if (!p) return out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  pclose(p);
+  return out;
+}
+
+TEST(Docs, EveryQuantumCommandLineUsesOptionsItHas) {
+  int checked = 0;
+  const std::regex command(R"((?:^|\s)build/quantum\s+(simulate|play|test|track|balance)\b([^\n#]*))");
+  const std::regex option(R"(\s(--[a-z][a-z-]*))");
+  for (const Example& e : examples()) {
+    if (e.language != "sh") continue;
+    for (auto m = std::sregex_iterator(e.text.begin(), e.text.end(), command); m != std::sregex_iterator(); ++m) {
+      const std::string sub = (*m)[1], args = (*m)[2];
+      const std::string help = help_of(sub);
+      for (auto o = std::sregex_iterator(args.begin(), args.end(), option); o != std::sregex_iterator(); ++o)
+        EXPECT_NE(help.find((*o)[1].str()), std::string::npos)
+            << e.doc << ":" << e.line << ": `quantum " << sub << "` has no option " << (*o)[1];
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 5);
+}
+
+}  // namespace
+}  // namespace quantum
