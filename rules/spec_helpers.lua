@@ -1,6 +1,23 @@
--- Helpers for rule specs (loaded by them, not a spec itself):
---   local helpers = dofile(<path of this file>)
+-- Helpers for rule specs (loaded by them, not a spec itself): `quantum test` puts the engine's
+-- rules folder on the specs' require path, so any spec may
+--   local helpers = require "spec_helpers"
 local helpers = {}
+
+-- The first event of type `kind` in a list of events, or nil.
+function helpers.first(events, kind)
+  for _, e in ipairs(events) do
+    if e.type == kind then return e end
+  end
+end
+
+-- How many events of type `kind` a list holds.
+function helpers.count(events, kind)
+  local n = 0
+  for _, e in ipairs(events) do
+    if e.type == kind then n = n + 1 end
+  end
+  return n
+end
 
 -- The first event that ends the ball's flight: anything but a bounce off a wall on the way, or a
 -- power-up starting or ending.

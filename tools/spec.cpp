@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "sport.h"
 #include "wrap_scenario.h"
 
 namespace quantum::tools {
@@ -21,6 +22,14 @@ int run_specs(const std::vector<std::string>& given) {
   if (!L) throw std::runtime_error("cannot create a Lua state");
   luaL_openlibs(L);
   lua::open_scenario(L);
+  // Specs anywhere on disk may require the engine's spec helpers (rules/spec_helpers.lua).
+  lua_getglobal(L, "package");
+  lua_getfield(L, -1, "path");
+  const std::string path = (lua::engine_rules_folder() / "?.lua").string() + ";" + lua_tostring(L, -1);
+  lua_pop(L, 1);
+  lua_pushstring(L, path.c_str());
+  lua_setfield(L, -2, "path");
+  lua_pop(L, 1);
   // busted reads its command line from the global `arg`.
   lua_createtable(L, int(paths.size()) + 2, 1);
   lua_pushstring(L, "quantum test");

@@ -2,14 +2,8 @@
 -- Field coordinates: Blue defends x = -1, Red defends x = +1; the table is 2 m x 1 m.
 local SPORT = "rules/airhockey"
 
--- The first event of `kind` in a list, or nil.
-local function first(events, kind)
-  for _, e in ipairs(events) do
-    if e.type == kind then return e end
-  end
-end
-
-local helpers = dofile((debug.getinfo(1, "S").source:sub(2):gsub("airhockey/spec/[^/]*$", "")) .. "spec_helpers.lua")
+local helpers = require "spec_helpers"
+local first = helpers.first
 local outcome = helpers.outcome
 
 describe("Quantum air hockey", function()

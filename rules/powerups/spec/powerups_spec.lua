@@ -2,7 +2,7 @@
 -- on the tweaked probabilities, and realized frequencies that follow them (chi-square, 400
 -- seeded runs, rejected only below p = 0.001; see rules/spec_helpers.lua).
 local SPORT = "rules/airhockey"
-local helpers = dofile((debug.getinfo(1, "S").source:sub(2):gsub("powerups/spec/[^/]*$", "")) .. "spec_helpers.lua")
+local helpers = require "spec_helpers"
 
 -- A shot at Red's goal with Red's mallet half in the way; `before` moves or grants first.
 local function half_blocked(before)

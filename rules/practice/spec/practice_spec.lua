@@ -1,13 +1,7 @@
 -- Rule specs for shooting practice: run with `build/quantum test rules/practice`.
 local SPORT = "rules/practice"
 
-local function count(events, kind)
-  local n = 0
-  for _, e in ipairs(events) do
-    if e.type == kind then n = n + 1 end
-  end
-  return n
-end
+local count = require("spec_helpers").count
 
 describe("Shooting practice", function()
   it("counts a strike through the puck as a shot, and a shot into the goal as a goal", function()

@@ -3,11 +3,7 @@
 -- event with its own phrases, and the sport's own Lua module.
 local SPORT = "tests/sports/doubles"
 
-local function first(events, kind)
-  for _, e in ipairs(events) do
-    if e.type == kind then return e end
-  end
-end
+local first = require("spec_helpers").first
 
 describe("Doubles air hockey", function()
   it("calls a pass between teammates and gives the receiver the engine's attract power-up", function()

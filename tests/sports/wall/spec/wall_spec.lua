@@ -9,11 +9,7 @@ local function types(events)
   return table.concat(out, " ")
 end
 
-local function first(events, kind)
-  for _, e in ipairs(events) do
-    if e.type == kind then return e end
-  end
-end
+local first = require("spec_helpers").first
 
 -- Blue serves: a strike through the dropped ball toward the front wall. Returns the shot.
 local function serve(s)
