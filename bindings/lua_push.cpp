@@ -142,6 +142,15 @@ void push_players(lua_State* L, const game::Match& match) {
 }
 
 void fill_powerup(lua_State* L, const game::Match& match, const game::ActivePowerup& p) {
+  // A pooled table may have held another power-up's numbers: none of them may linger. (Setting
+  // a field to nil while traversing is allowed, and the key's slot stays for the next fill.)
+  lua_pushnil(L);
+  while (lua_next(L, -2)) {
+    lua_pop(L, 1);
+    lua_pushvalue(L, -1);
+    lua_pushnil(L);
+    lua_rawset(L, -4);
+  }
   for (const auto& [key, value] : p.params) set(L, key.c_str(), value);
   set(L, "name", p.name);
   set(L, "player", match.players()[size_t(p.player)].name);

@@ -59,6 +59,12 @@ std::vector<std::string> PhraseTemplate::placeholders() const {
   return out;
 }
 
+bool PhraseTemplate::numeric(const std::string& name) const {
+  for (const Piece& p : pieces_)
+    if (p.name == name && !p.text.empty()) return true;
+  return false;
+}
+
 void PhraseTemplate::missing(const std::string& name) {
   throw std::invalid_argument("no value for {" + name + "}");
 }

@@ -28,6 +28,8 @@ class PhraseTemplate {
 
   // The names of its placeholders, in order.
   std::vector<std::string> placeholders() const;
+  // Whether placeholder `name` carries a number format ({speed:%.1f}).
+  bool numeric(const std::string& name) const;
 
   // Appends the filled text to `out`. lookup(name) gives a placeholder's value, or nothing when
   // it has none (then this throws std::invalid_argument naming the placeholder).

@@ -46,11 +46,14 @@ std::vector<std::string> handler_names() {
   return out;
 }
 
-// Checks that every placeholder of `text` is one of `allowed` (what the engine fills in).
-void check_placeholders(const std::string& place, const std::string& text, std::span<const std::string> allowed) {
-  for (const std::string& name : PhraseTemplate(text).placeholders())
+// Checks a phrase the engine says itself: every placeholder is one of `allowed` (what the
+// engine fills in, always text), none with a number format.
+void check_engine_phrase(const std::string& place, const PhraseTemplate& phrase, std::span<const std::string> allowed) {
+  for (const std::string& name : phrase.placeholders()) {
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
-      throw ReadError(place, unknown_key(name, allowed, "placeholder"));
+      throw ReadError(place, unknown_key(name, allowed, "placeholder") + ": the engine says this phrase");
+    if (phrase.numeric(name)) throw ReadError(place, "{" + name + "} is text: it takes no number format");
+  }
 }
 
 // Pushes t[key] of the table at `index` without running metamethods.
@@ -242,10 +245,7 @@ void Sport::check_phrases() const {
       for (const fs::path& f : powerup_folders_) engine_said |= fs::exists(f / (name + ".lua"));
       if (engine_said) allowed = kPowerupVars;
     }
-    if (!engine_said) continue;
-    for (const std::string& name : phrases_.find(key)->placeholders())
-      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
-        throw ReadError("phrases." + key, unknown_key(name, allowed, "placeholder") + ": the engine says this phrase");
+    if (engine_said) check_engine_phrase("phrases." + key, *phrases_.find(key), allowed);
   }
 }
 
@@ -418,7 +418,9 @@ void Sport::report_zeroing(std::span<const game::FateView> fates, game::Match& m
   std::string who;
   for (int c : culprits) {
     std::string name;
-    if (c == kKindFactor) {
+    if (c == kNotZeroed) {
+      name = file_ + ": factors too small to tell from 0 (their product underflows)";
+    } else if (c == kKindFactor) {
       name = file_ + ": factors";
       std::string kinds;
       for (const game::FateView& f : fates)
@@ -440,7 +442,15 @@ void Sport::report_zeroing(std::span<const game::FateView> fates, game::Match& m
 void Sport::on_event(const game::GameEvent& e, game::Match& match) {
   lua_State* L = sandbox_.L();
   const Acting acting(*this, match, true);
-  if (e.type == game::EventKind::Powerup || e.type == game::EventKind::PowerupEnd) announce_powerup(e, match);
+  if (e.type == game::EventKind::Powerup || e.type == game::EventKind::PowerupEnd) {
+    const int before = lua_gettop(L);
+    try {
+      announce_powerup(e, match);
+    } catch (const std::exception& x) {
+      lua_settop(L, before);
+      match.report_error(std::string(x.what()) + " (announcing power-up " + e.powerup + ")");
+    }
+  }
   const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   raw_field(L, -1, "on");
@@ -508,6 +518,7 @@ int Sport::powerup(const std::string& name) {
   }
   if (file.empty()) throw ScriptError("no power-up '" + name + "' (looked for " + looked + ")");
   lua_State* L = sandbox_.L();
+  const int base = lua_gettop(L);
   sandbox_.run_file(file.string());
   const std::string where = file.string() + ": ";
   const Reader r(L);
@@ -535,7 +546,7 @@ int Sport::powerup(const std::string& name) {
       r.map(-1, "phrases", [&](const std::string&, const std::string& place) {
         r.expect(LUA_TSTRING, place);
         try {
-          check_placeholders(place, lua_tostring(L, -1), kPowerupVars);
+          check_engine_phrase(place, PhraseTemplate(lua_tostring(L, -1)), kPowerupVars);
         } catch (const std::invalid_argument& e) {
           r.fail(place, e.what());
         }
@@ -543,7 +554,7 @@ int Sport::powerup(const std::string& name) {
       lua_pop(L, 1);
     }
   } catch (const ReadError& e) {
-    lua_pop(L, 1);
+    lua_settop(L, base);
     throw ScriptError(where + e.what());
   }
   powerup_files_[name] = file.string();
@@ -565,6 +576,10 @@ void Sport::grant(game::Match& match, int player, const std::string& name, std::
   double seconds = lua_tonumber(L, -1);
   lua_pop(L, 1);
   if (const auto it = params.find("seconds"); it != params.end()) seconds = it->second, params.erase(it);
+  if (!(seconds > 0 && seconds <= 3600)) {
+    lua_settop(L, top);
+    throw std::invalid_argument("power-up " + name + ": seconds must be in (0, 3600], got " + std::to_string(seconds));
+  }
   // start(holder, game, p) may note what the power-up needs later (black ice: the velocity to keep).
   raw_field(L, t, "start");
   if (lua_isfunction(L, -1)) {
@@ -731,7 +746,7 @@ void Sport::take_over(Sport& old, game::Match& match) {
     const Acting acting(*this, match, true);
     std::string error;
     if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
-  } else {
+  } else if (!lua_isnil(L, -2)) {  // nothing to carry: the new version's own state stays
     lua_pop(L, 1);
     lua_pushstring(L, "state");
     lua_insert(L, -2);

@@ -1,6 +1,7 @@
 // The `game` module a sport's handlers, timers, modifiers and power-ups receive: the match's
 // actions and what the rules may read. Fates, players and the score; never particle positions.
 // Called with a dot (game.say(...)); see lua_wrap.h and docs/lua-api.md.
+#include <algorithm>
 #include <cmath>
 
 #include "lua_push.h"
@@ -124,13 +125,9 @@ int cancel(lua_State* L) {
 int turn(lua_State* L) {
   game::Match& m = acting(L);
   const std::optional<std::string> who = opt_string(L, 1);
-  bool any = !who;
-  for (size_t k = 0; k < m.players().size(); ++k) {
-    const bool mine = !who || m.players()[k].name == *who || m.players()[k].team == *who;
-    m.set_turn(int(k), mine);
-    any |= mine;
-  }
-  if (!any) player_index(m, *who);  // names the nearest player
+  auto has_turn = [&](const game::Player& p) { return !who || p.name == *who || p.team == *who; };
+  if (std::none_of(m.players().begin(), m.players().end(), has_turn)) player_index(m, *who);  // names the nearest
+  for (size_t k = 0; k < m.players().size(); ++k) m.set_turn(int(k), has_turn(m.players()[k]));
   return 0;
 }
 

@@ -300,12 +300,17 @@ void Match::handle(const Event& e) {
 }
 
 void Match::tell_rules(size_t event) {
-  const int outer = std::exchange(handling_, int(event));
-  const char* outer_cause = std::exchange(cause_, to_string(events_[event].type));
+  // Phrases said while the rules handle it are this event's; whatever happens, the outer event
+  // is the one speaking again afterwards.
+  struct Handling {
+    Match& m;
+    int outer;
+    const char* outer_cause;
+    ~Handling() { m.handling_ = outer, m.cause_ = outer_cause; }
+  } handling{*this, std::exchange(handling_, int(event)), std::exchange(cause_, to_string(events_[event].type))};
   // A copy: the handler's own actions may add events and move the list.
   const GameEvent e = events_[event];
   rules_->on_event(e, *this);
-  handling_ = outer, cause_ = outer_cause;
 }
 
 FateView Match::view(const FateGroup& group) const {

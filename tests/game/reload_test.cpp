@@ -103,9 +103,11 @@ TEST(Reload, ABrokenEditIsReportedAndTheOldVersionGoesOn) {
   m.sport->grant(*m.match, 1, "penalty", {{"strength", 0.5}});
   m.match->step(m.still);
   const double before = m.red_intercept();
+  const int stack = lua_gettop(m.sport->L());
   r.write(r.powerups / "penalty.lua", "return {\n  duration = 10,\n  factor = function(fate\n}\n");
   std::ostringstream errors;
   poll_until_reloaded(reloader, m, errors);
+  EXPECT_EQ(lua_gettop(m.sport->L()), stack);  // a failed load leaves nothing behind
   EXPECT_NE(errors.str().find("reload failed: "), std::string::npos) << errors.str();
   EXPECT_NE(errors.str().find("penalty.lua:4:"), std::string::npos) << errors.str();
   EXPECT_NE(errors.str().find("the previous version goes on"), std::string::npos) << errors.str();
@@ -118,6 +120,27 @@ TEST(Reload, ABrokenEditIsReportedAndTheOldVersionGoesOn) {
   EXPECT_EQ(poll_until_reloaded(reloader, m, later), 1) << later.str();
   m.match->step(m.still);
   EXPECT_EQ(m.red_intercept(), 0.0);
+}
+
+TEST(Reload, ANewVersionKeepsItsOwnStateWhenTheOldHadNone) {
+  const Rules r("fresh_state");
+  Running m(r);
+  lua::Reloader reloader(*m.sport);
+  std::ifstream in(r.sport / "sport.lua");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  s.replace(s.rfind("return sport"), 12,
+            "sport.state = { greeting = 'Hello there' }\n"
+            "sport.on.intercept = function(game, e) game.say(sport.state.greeting) end\n"
+            "return sport");
+  r.write(r.sport / "sport.lua", s);
+  std::ostringstream errors;
+  ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
+  for (int frame = 0; frame < 120 && m.match->said().empty(); ++frame) m.match->step(m.still);
+  ASSERT_FALSE(m.match->said().empty()) << (m.match->errors().empty() ? "" : m.match->errors()[0]);
+  EXPECT_EQ(m.match->said().back().text, "Hello there");
+  EXPECT_TRUE(m.match->errors().empty()) << m.match->errors()[0];
 }
 
 TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {

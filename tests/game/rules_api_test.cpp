@@ -87,6 +87,9 @@ TEST(SportFile, PhrasesAreCheckedWhenTheSportLoads) {
              "phrases.paused: unknown placeholder 'who'");
   EXPECT_HAS(load_error("powerup", "return { phrases = { attract_start = '{playr} attracts it' } }"),
              "phrases.attract_start: unknown placeholder 'playr' (did you mean 'player'? known: player, team)");
+  // {player} and {team} are always text: a number format there could only fail when said.
+  EXPECT_HAS(load_error("text_format", "return { phrases = { attract_over = '{team:%.1f} is free' } }"),
+             "phrases.attract_over: {team} is text: it takes no number format");
   EXPECT_HAS(load_error("recorded", "return { phrases = { goal = 'Goal!' }, audio = { recorded = { gaol = 'x.ogg' } } }"),
              "audio.recorded: unknown key 'gaol' (did you mean 'goal'?");
 }
@@ -97,6 +100,37 @@ TEST(SportFile, PowerUpScriptsAreReadStrictly) {
   const std::string errors = rule_errors(folder, 0.1);
   EXPECT_HAS(errors, "powerups/spin.lua: unknown key 'factr' (did you mean 'factor'?");
   EXPECT_HAS(errors, "game.grant");
+  const std::string formatted = rule_errors(
+      sport_with("powerup_format", "return { on = { drop = function(game, e) game.grant(\"Red's mallet\", 'spin') end } }",
+                 {{"powerups/spin.lua", "return { duration = 5, factor = function() end, phrases = { over = '{player:%d} is free' } }"}}),
+      0.1);
+  EXPECT_HAS(formatted, "powerups/spin.lua: phrases.over: {player} is text: it takes no number format");
+}
+
+TEST(SportRules, AGrantTooLongIsRefusedBeforeThePowerUpStarts) {
+  lua::Sport sport(sport_with("long_grant", "return {}"));
+  game::MatchConfig config;
+  config.particles = 100;
+  game::Match match(sport.field(), config, sport);
+  EXPECT_THROW(sport.grant(match, 0, "wormhole", {{"seconds", 5000}}), std::invalid_argument);
+  EXPECT_TRUE(match.world().wormholes().empty());  // its start never ran
+  EXPECT_TRUE(match.powerups().empty());
+}
+
+TEST(SportRules, AnUnknownPlayerLeavesTheTurnsAsTheyWere) {
+  const std::string folder = sport_with("turn", R"(return { on = { drop = function(game, e)
+  game.turn("red")
+  game.turn("bleu")
+end } })");
+  runtime::SessionOptions o;
+  o.sport = folder;
+  o.seconds = 0.1;
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors);
+  session.run();
+  EXPECT_HAS(errors.str(), "game.turn: unknown player 'bleu'");
+  EXPECT_FALSE(session.match().players()[0].turn);  // as game.turn("red") left it
+  EXPECT_TRUE(session.match().players()[1].turn);
 }
 
 TEST(SportRules, AnUnknownPhraseKeyOrAMissingValueIsAnErrorAtItsLine) {
