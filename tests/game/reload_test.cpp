@@ -28,6 +28,15 @@ struct Rules {
     fs::copy(QUANTUM_SOURCE_DIR "/rules/powerups", powerups, fs::copy_options::recursive);
   }
   ~Rules() { fs::remove_all(root); }
+  // The sport's sport.lua with `lines` run just before it returns its table.
+  std::string sport_ending_with(const std::string& lines) const {
+    std::ifstream in(sport / "sport.lua");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    s.replace(s.rfind("return sport"), 12, lines + "return sport");
+    return s;
+  }
   void write(const fs::path& file, const std::string& text) const {
     // As an editor saves: a new file renamed over the old one.
     const fs::path tmp = file.string() + ".tmp";
@@ -126,15 +135,8 @@ TEST(Reload, ANewVersionKeepsItsOwnStateWhenTheOldHadNone) {
   const Rules r("fresh_state");
   Running m(r);
   lua::Reloader reloader(*m.sport);
-  std::ifstream in(r.sport / "sport.lua");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  s.replace(s.rfind("return sport"), 12,
-            "sport.state = { greeting = 'Hello there' }\n"
-            "sport.on.intercept = function(game, e) game.say(sport.state.greeting) end\n"
-            "return sport");
-  r.write(r.sport / "sport.lua", s);
+  r.write(r.sport / "sport.lua", r.sport_ending_with("sport.state = { greeting = 'Hello there' }\n"
+                                                     "sport.on.intercept = function(game, e) game.say(sport.state.greeting) end\n"));
   std::ostringstream errors;
   ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
   for (int frame = 0; frame < 120 && m.match->said().empty(); ++frame) m.match->step(m.still);
@@ -150,18 +152,13 @@ TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
   m.match->award("red", 2);
   m.sport->grant(*m.match, 0, "attract", {});
   // The new version changes a phrase and takes its state over in on_reload.
-  std::ifstream in(r.sport / "sport.lua");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  s.replace(s.rfind("return sport"), 12,
-            "sport.state = { reloads = 0 }\n"
-            "sport.on_reload = function(game, old)\n"
-            "  sport.state = { reloads = ((old and old.reloads) or 0) + 1 }\n"
-            "  sport.state.self = sport.state\n"
-            "  game.say('reloaded ' .. sport.state.reloads .. ' times' .. (old and old.self == old and ', cycle kept' or ''))\n"
-            "end\n"
-            "return sport");
+  const std::string s = r.sport_ending_with(
+      "sport.state = { reloads = 0 }\n"
+      "sport.on_reload = function(game, old)\n"
+      "  sport.state = { reloads = ((old and old.reloads) or 0) + 1 }\n"
+      "  sport.state.self = sport.state\n"
+      "  game.say('reloaded ' .. sport.state.reloads .. ' times' .. (old and old.self == old and ', cycle kept' or ''))\n"
+      "end\n");
   r.write(r.sport / "sport.lua", s);
   std::ostringstream errors;
   ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
