@@ -8,6 +8,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 namespace quantum::lua {
 namespace fs = std::filesystem;
@@ -48,25 +49,17 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   const std::set<fs::path> files = std::exchange(changed_, {});
   int reloaded = 0;
   bool sport_changed = false;
+  std::vector<std::string> powerups;
   for (const fs::path& file : files) {
     if (file.extension() != ".lua") continue;
     const fs::path dir = file.parent_path();
-    if (dir == folder_ && file.filename() == "field.lua") {
+    if (dir == folder_ && file.filename() == "field.lua")
       errors << "quantum: " << file.string() << " changed: a field takes effect in the next match\n";
-    } else if (module_folders_.count(dir)) {
-      sport_changed = true;  // sport.lua, or a module it may require
-    } else if (powerup_folders_.count(dir)) {
-      const std::string name = file.stem().string();
-      if (!sport->has_powerup(name)) continue;  // not in use: it loads as it is when granted
-      try {
-        sport->reload_powerup(name);
-        ++reloaded;
-      } catch (const std::exception& e) {
-        errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
-      }
-    }
+    else if (module_folders_.count(dir)) sport_changed = true;  // sport.lua, or a module it may require
+    else if (powerup_folders_.count(dir) && sport->has_powerup(file.stem().string())) powerups.push_back(file.stem().string());
   }
   if (sport_changed) {
+    // A new sport loads the power-ups in use afresh when it first needs them.
     try {
       auto fresh = std::make_unique<Sport>(folder_.string());
       for (const auto& [kind, value] : factors_) fresh->set_factor(kind, value);
@@ -74,9 +67,17 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
       match.set_rules(*fresh);
       fresh->take_over(*sport, match);
       sport = std::move(fresh);
-      ++reloaded;
+      return 1 + int(powerups.size());
     } catch (const std::exception& e) {
       match.set_rules(*sport);
+      errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
+    }
+  }
+  for (const std::string& name : powerups) {  // power-ups not in use load as they are when granted
+    try {
+      sport->reload_powerup(name);
+      ++reloaded;
+    } catch (const std::exception& e) {
       errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
     }
   }
