@@ -138,6 +138,7 @@ bool Sandbox::call(int nargs, int nresults, std::string& error) {
 
 void Sandbox::run_file(const std::string& file) {
   if (!std::filesystem::exists(file)) throw ScriptError(file + ": no such file");
+  files_.push_back(file);
   const int status = luaL_loadfilex(L_, file.c_str(), "t");
   if (status != 0) {
     std::string m = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "not enough memory";

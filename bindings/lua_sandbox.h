@@ -48,6 +48,9 @@ class Sandbox {
   // makes.
   size_t allocations() const { return budget_.calls; }
 
+  // Every file run so far (run_file, and the modules require loaded), in order.
+  const std::vector<std::string>& files() const { return files_; }
+
  private:
   struct Budget {
     size_t used = 0, limit = 0, calls = 0;
@@ -62,6 +65,7 @@ class Sandbox {
   int depth_ = 0;  // calls in progress (a handler's game.grant calls into the script again)
   std::vector<std::filesystem::path> module_folders_;
   int modules_ = LUA_NOREF;  // name -> result of every module loaded
+  std::vector<std::string> files_;
 };
 
 }  // namespace quantum::lua

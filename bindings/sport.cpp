@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 
 #include "field_loader.h"
 #include "lua_reader.h"
@@ -104,6 +105,7 @@ Sport::Sport(const std::string& folder)
   } catch (const ReadError& e) {
     throw ScriptError(file_ + ": " + e.what());
   }
+  check_said_keys();
   sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   push_game_api(L, this);
   game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
@@ -230,6 +232,31 @@ void Sport::read_match(const Reader& r, int t) {
     if (first_spot_ < 0) r.fail("match.start", "no spot or team '" + where + "' in the field");
   }
   lua_pop(L, 1);
+}
+
+// game.say("gaol") in the sport's own files: a phrase key the sport does not have is an error
+// now, not when (if ever) the handler runs. Keys made at run time are checked when said.
+void Sport::check_said_keys() const {
+  const std::string engine = engine_rules_folder().lexically_normal().string();
+  for (const std::string& file : sandbox_.files()) {
+    if (fs::path(file).lexically_normal().string().rfind(engine, 0) == 0) continue;  // the engine's helpers
+    std::ifstream in(file);
+    int number = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++number;
+      const std::string code = line.substr(0, line.find("--"));
+      for (size_t at = code.find("game.say("); at != std::string::npos; at = code.find("game.say(", at + 1)) {
+        size_t open = code.find_first_not_of(' ', at + 9);
+        if (open == std::string::npos || (code[open] != '"' && code[open] != '\'')) continue;
+        const size_t close = code.find(code[open], open + 1);
+        const std::string key = code.substr(open + 1, close == std::string::npos ? 0 : close - open - 1);
+        if (close == std::string::npos || !Phrases::looks_like_key(key) || phrases_.find(key)) continue;
+        throw ScriptError(file + ":" + std::to_string(number) + ": game.say(\"" + key + "\"): " +
+                          unknown_key(key, phrases_.keys(), "phrase key") +
+                          " (text to speak as it is starts with a capital or has a space)");
+      }
+    }
+  }
 }
 
 // The engine says some phrases itself: a paused and resumed match, and power-ups starting and

@@ -131,6 +131,7 @@ class Sport final : public game::Rules {
   void read_match(const class Reader& r, int table);
   void read_audio(const class Reader& r, int table);
   void check_phrases() const;
+  void check_said_keys() const;
   [[noreturn]] void unknown_phrase(std::string_view key) const;
   int powerup(const std::string& name);  // loads it on first use; its table's registry reference
   // Which factor made a fate 0: none, the sport's factors by kind, modifiers[i], or the j-th

@@ -139,14 +139,23 @@ TEST(SportRules, AnUnknownPhraseKeyOrAMissingValueIsAnErrorAtItsLine) {
   on = {
     drop = function(game, e)
       game.say("drop", { spot = e.actor })
-      game.say("gaol")
+      local key = "gaol"  -- made at run time: checked when said
+      game.say(key)
     end,
     shot = function(game, e) game.say("goal", { tema = "Blue" }) end,
   },
 })"), 10);
-  EXPECT_HAS(errors, "sport.lua:6: game.say: no phrase 'gaol'");
+  EXPECT_HAS(errors, "sport.lua:7: game.say: no phrase 'gaol'");
   EXPECT_HAS(errors, "(did you mean 'goal'?");
-  EXPECT_HAS(errors, "sport.lua:8: game.say: phrase 'goal': no value for {team}");
+  EXPECT_HAS(errors, "sport.lua:9: game.say: phrase 'goal': no value for {team}");
+}
+
+TEST(SportFile, ALiteralPhraseKeyIsCheckedWhenTheSportLoads) {
+  const std::string e = load_error("literal_key", "local names = require 'lib.names'\nreturn { phrases = { goal = 'Goal!' } }",
+                                   {{"lib/names.lua", "-- game.say('in a comment') is not code\n"
+                                                      "return { f = function(game) game.say('gaol') end }"}});
+  EXPECT_HAS(e, "lib/names.lua:2: game.say(\"gaol\"): unknown phrase key 'gaol' (did you mean 'goal'?");
+  EXPECT_EQ(load_error("literal_text", "return { on = { drop = function(game) game.say('Well played!') end } }"), "");
 }
 
 TEST(SportRules, AFactorThatZeroesEveryFateIsNamed) {
