@@ -4,7 +4,6 @@
 #include "lua_sandbox.h"
 
 #include <filesystem>
-#include <set>
 #include <string>
 
 namespace quantum::lua {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace quantum::lua {
 namespace {
@@ -86,23 +85,11 @@ void TablePool::push(lua_State* L, size_t k) {
   lua_remove(L, -2);
 }
 
-void TablePool::release(lua_State* L) {
-  luaL_unref(L, LUA_REGISTRYINDEX, ref_);
-  ref_ = LUA_NOREF;
-}
-
 void fill_fate(lua_State* L, const game::FateView& f, const Field& field) {
   set(L, "kind", f.kind()), set(L, "actor", f.actor), set(L, "team", f.team), set(L, "favours", f.favours);
-  // "via left wall, Red's end", built on the stack: Lua interns the text, and a text seen before
-  // costs nothing.
+  // Built on the stack: Lua interns the text, and a text seen before costs nothing.
   char via[256];
-  size_t n = 0;
-  for (int i = 0; i < f.fate.path_len || (f.fate.path_more && i == f.fate.path_len); ++i) {
-    const char* wall = i < f.fate.path_len ? field.wall_names[f.fate.path[i]].c_str() : "...";
-    const int wrote = std::snprintf(via + n, sizeof via - n, "%s%s", i == 0 ? "via " : ", ", wall);
-    n = std::min(sizeof via - 1, n + size_t(std::max(wrote, 0)));
-  }
-  set(L, "via", std::string_view(via, n));
+  set(L, "via", std::string_view(via, write_via(f.fate, field, via, sizeof via)));
   set(L, "mass", f.mass), set(L, "tweaked", f.tweaked), set(L, "count", double(f.count));
   subtable(L, "path");
   refill_list(L, f.fate.path_len, [&](size_t i) {

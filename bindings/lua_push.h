@@ -34,7 +34,6 @@ std::map<std::string, double> numbers_of(lua_State* L, int index);
 class TablePool {
  public:
   void push(lua_State* L, size_t k);
-  void release(lua_State* L);  // before the state closes, or to start afresh
 
  private:
   int ref_ = LUA_NOREF;

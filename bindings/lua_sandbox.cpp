@@ -83,6 +83,17 @@ Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules,
   env_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 
+std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders, const std::filesystem::path& relative,
+                              std::string& looked) {
+  for (const std::filesystem::path& folder : folders) {
+    const std::filesystem::path file = folder / relative;
+    if (!looked.empty()) looked += ", ";
+    looked += file.string();
+    if (std::filesystem::is_regular_file(file)) return file;
+  }
+  return {};
+}
+
 void Sandbox::require_module(const std::string& name) {
   namespace fs = std::filesystem;
   bool valid = !name.empty() && name.front() != '.' && name.back() != '.' && name.find("..") == std::string::npos;
@@ -100,10 +111,7 @@ void Sandbox::require_module(const std::string& name) {
   std::replace(relative.begin(), relative.end(), '.', '/');
   relative += ".lua";
   std::string looked;
-  for (const fs::path& folder : module_folders_) {
-    const fs::path file = folder / relative;
-    looked += (looked.empty() ? "" : ", ") + file.string();
-    if (!fs::is_regular_file(file)) continue;
+  if (const fs::path file = find_in(module_folders_, relative, looked); !file.empty()) {
     run_file(file.string());
     if (lua_isnil(L_, -1)) {  // a module that returns nothing is loaded all the same
       lua_pop(L_, 1);

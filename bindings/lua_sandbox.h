@@ -16,6 +16,11 @@ struct ScriptError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The first of `folders` holding `relative` (a file), or an empty path when none does. `looked`
+// gets every place tried, for an error message.
+std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders, const std::filesystem::path& relative,
+                              std::string& looked);
+
 class Sandbox {
  public:
   // `libraries`: which of Lua's own go into the scripts' environment besides the base

@@ -15,7 +15,6 @@ namespace {
 constexpr size_t kMemoryBudget = 64u << 20;
 constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops forever is skipped
 
-const std::vector<std::string> kFateKinds = {"goal", "own_goal", "body", "out", "field"};
 const std::vector<std::string> kSportKeys = {"name",  "field",  "particles", "match",     "factors",
                                              "handicaps", "balance", "teams", "phrases", "audio",
                                              "modifiers", "on", "state", "on_reload"};
@@ -150,8 +149,9 @@ void Sport::read_sport(int t) {
   if (r.field(t, "factors")) {
     r.expect(LUA_TTABLE, "factors");
     const int f = lua_gettop(L);
-    r.only_keys(f, "factors", kFateKinds);
-    for (const std::string& kind : kFateKinds) {
+    const std::vector<std::string> kinds = fate_kind_names();
+    r.only_keys(f, "factors", kinds);
+    for (const std::string& kind : kinds) {
       const double v = r.number(f, kind.c_str(), "factors", 1, false);
       if (!(v >= 0 && std::isfinite(v))) r.fail("factors." + kind, "must be a number >= 0");
     }
@@ -159,12 +159,7 @@ void Sport::read_sport(int t) {
   }
   if (r.field(t, "teams")) {
     r.expect(LUA_TTABLE, "teams");
-    std::vector<std::string> teams;
-    for (const BodySpec& b : field_.bodies)
-      if (std::find(teams.begin(), teams.end(), b.team) == teams.end()) teams.push_back(b.team);
-    for (const Goal& g : field_.goals)
-      if (std::find(teams.begin(), teams.end(), g.team) == teams.end()) teams.push_back(g.team);
-    r.only_keys(-1, "teams", teams);
+    r.only_keys(-1, "teams", field_.teams());
     r.map(-1, "teams", [&](const std::string& team, const std::string& place) {
       r.expect(LUA_TSTRING, place, "the team's name as the announcer says it");
       team_names_[team] = lua_tostring(L, -1);
@@ -225,10 +220,7 @@ void Sport::read_match(const Reader& r, int t) {
     r.expect(LUA_TSTRING, "match.start");
     const std::string where = lua_tostring(L, -1);
     lua_pop(L, 1);
-    first_spot_ = -1;
-    for (size_t s = 0; s < field_.spots.size() && first_spot_ < 0; ++s)
-      if (field_.spots[s].name == where) first_spot_ = int(s);
-    if (first_spot_ < 0) first_spot_ = field_.spot_of_team(where);
+    first_spot_ = field_.spot_of(where);
     if (first_spot_ < 0) r.fail("match.start", "no spot or team '" + where + "' in the field");
   }
   lua_pop(L, 1);
@@ -268,8 +260,8 @@ void Sport::check_phrases() const {
     bool engine_said = key == "paused" || key == "resumed";
     for (const char* suffix : {"_start", "_over"}) {
       if (!key.ends_with(suffix)) continue;
-      const std::string name = key.substr(0, key.size() - std::string(suffix).size());
-      for (const fs::path& f : powerup_folders_) engine_said |= fs::exists(f / (name + ".lua"));
+      std::string looked;
+      engine_said |= !find_in(powerup_folders_, key.substr(0, key.size() - std::string(suffix).size()) + ".lua", looked).empty();
       if (engine_said) allowed = kPowerupVars;
     }
     if (engine_said) check_engine_phrase("phrases." + key, *phrases_.find(key), allowed);
@@ -348,8 +340,9 @@ void Sport::say_host(game::Match& match, const std::string& key, const std::stri
 }
 
 void Sport::set_factor(const std::string& kind, double value) {
-  if (std::find(kFateKinds.begin(), kFateKinds.end(), kind) == kFateKinds.end())
-    throw std::invalid_argument("no fate kind '" + kind + "' (known: goal, own_goal, body, out, field)");
+  const std::vector<std::string> kinds = fate_kind_names();
+  if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
+    throw std::invalid_argument(unknown_key(kind, kinds, "fate kind"));
   if (!(std::isfinite(value) && value >= 0)) throw std::invalid_argument("factor for " + kind + " must be a number >= 0");
   lua_State* L = sandbox_.L();
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
@@ -376,8 +369,7 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
   double by_kind[5] = {1, 1, 1, 1, 1};  // in FateKind's order
   raw_field(L, sport, "factors");
   if (lua_istable(L, -1)) {
-    const FateKind kinds[] = {FateKind::Goal, FateKind::OwnGoal, FateKind::Body, FateKind::Out, FateKind::Field};
-    for (FateKind k : kinds) {
+    for (FateKind k : kFateKinds) {
       raw_field(L, -1, to_string(k));
       if (lua_isnumber(L, -1)) by_kind[int(k)] = lua_tonumber(L, -1);
       lua_pop(L, 1);
@@ -537,12 +529,8 @@ int Sport::powerup(const std::string& name) {
   if (const auto it = powerups_.find(name); it != powerups_.end()) return it->second;
   if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
     throw std::invalid_argument("power-up '" + name + "': names are lower-case letters, digits and _");
-  fs::path file;
   std::string looked;
-  for (const fs::path& folder : powerup_folders_) {
-    looked += (looked.empty() ? "" : ", ") + (folder / (name + ".lua")).string();
-    if (file.empty() && fs::exists(folder / (name + ".lua"))) file = folder / (name + ".lua");
-  }
+  const fs::path file = find_in(powerup_folders_, name + ".lua", looked);
   if (file.empty()) throw ScriptError("no power-up '" + name + "' (looked for " + looked + ")");
   lua_State* L = sandbox_.L();
   const int base = lua_gettop(L);

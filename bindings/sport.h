@@ -170,4 +170,7 @@ class Sport final : public game::Rules {
 // Builds the `game` table the handlers receive (wrap_game.cpp).
 void push_game_api(lua_State* L, Sport* sport);
 
+// The player (body index) of that name; throws ArgError naming the nearest one otherwise.
+int player_index(const game::Match& match, const std::string& name);
+
 }  // namespace quantum::lua

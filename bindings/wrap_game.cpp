@@ -14,7 +14,8 @@ namespace {
 
 Sport& sport_of(lua_State* L) { return upvalue_self<Sport>(L); }
 
-// Actions change the match: only event handlers and timers may take them, never the factors.
+// Actions change the match: only handlers, timers, on_reload and a power-up's start and stop may
+// take them; factors only compute, so a fate's odds never depend on when they were computed.
 game::Match& acting(lua_State* L) {
   game::Match* m = sport_of(L).match();
   if (!m) throw std::logic_error("only event handlers (on.*), timers and a power-up's start and stop may act on the "
@@ -26,14 +27,6 @@ const game::Match& reading(lua_State* L) {
   const game::Match* m = sport_of(L).reading();
   if (!m) throw std::logic_error("no match is running");
   return *m;
-}
-
-int player_index(const game::Match& m, const std::string& name) {
-  for (size_t k = 0; k < m.players().size(); ++k)
-    if (m.players()[k].name == name) return int(k);
-  std::vector<std::string> names;
-  for (const game::Player& p : m.players()) names.push_back(p.name);
-  throw ArgError(unknown_key(name, names, "player"));
 }
 
 // game.say(key_or_text [, vars]): a phrase of the sport (or text to speak) with {placeholders}.
@@ -55,7 +48,7 @@ int award(lua_State* L) {
 int respawn(lua_State* L) {
   game::Match& m = acting(L);
   const std::string where = check_string(L, 1);
-  const int spot = m.spot_of(where);
+  const int spot = m.field().spot_of(where);
   if (spot < 0) throw ArgError("no spot or team '" + where + "' in this field");
   m.respawn(spot, opt_number(L, 2, 1.0));
   return 0;
@@ -217,6 +210,14 @@ int last_touch(lua_State* L) {
 }
 
 }  // namespace
+
+int player_index(const game::Match& m, const std::string& name) {
+  for (size_t k = 0; k < m.players().size(); ++k)
+    if (m.players()[k].name == name) return int(k);
+  std::vector<std::string> names;
+  for (const game::Player& p : m.players()) names.push_back(p.name);
+  throw ArgError(unknown_key(name, names, "player"));
+}
 
 void push_game_api(lua_State* L, Sport* sport) {
   push_module(L, "game",

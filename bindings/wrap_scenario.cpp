@@ -10,7 +10,6 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
-#include <utility>
 
 #include "lua_push.h"
 #include "lua_reader.h"
@@ -94,18 +93,10 @@ Scenario& self(lua_State* L) {
   return *s;
 }
 
-int body_index(Scenario& s, const std::string& name) {
-  const Field& f = s.match().field();
-  std::vector<std::string> names;
-  for (size_t k = 0; k < f.bodies.size(); ++k) {
-    if (f.bodies[k].name == name) return int(k);
-    names.push_back(f.bodies[k].name);
-  }
-  throw ArgError(unknown_key(name, names, "player") + " in " + s.session->sport().name());
-}
+int body_index(Scenario& s, const std::string& name) { return player_index(s.match(), name); }
 
-// Reads the options table at `index` strictly: only `known` keys, each a number (or for
-// handicaps, a table).
+// Fails on a key of the options table at `index` that is not in `known` (option() then checks
+// each value's type).
 void check_options(lua_State* L, int index, std::initializer_list<const char*> known, const char* what) {
   if (lua_isnoneornil(L, index)) return;
   check_table(L, index);
@@ -277,7 +268,7 @@ int run(lua_State* L) {
   }
   s.stopped = false;
   // What was told since the last run (a grant, say) belongs to this one.
-  const size_t first = std::exchange(s.run_from, s.events.size());
+  const size_t first = s.run_from;
   const double end = s.match().time() + seconds - 1e-9;
   while (s.match().time() < end && !s.stopped && s.session->frame()) {
   }

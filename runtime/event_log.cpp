@@ -35,7 +35,7 @@ void write_events(std::ostream& out, std::span<const game::GameEvent> events, st
     write_said(line, said, int(k));
     line.end();
   }
-  // Phrases of no event: a timer's, one line per timer call.
+  // Phrases of no event (a timer's, on_reload's): those said at one moment share a line.
   for (size_t i = 0; i < said.size(); ++i) {
     if (said[i].event >= 0 || (i > 0 && said[i - 1].event < 0 && said[i - 1].t == said[i].t)) continue;
     JsonLine line(out);

@@ -8,10 +8,11 @@
 
 namespace quantum::runtime {
 
-// One JSON object per event: {"t", "type", "actor", "team", "by", "previous", "p", "p_newtonian",
-// "particles", "x", "y", "said"}, where "said" lists the phrases that event's own handlers said
-// (an event set off by another's handler keeps its own). Phrases said outside any event (a
-// timer) get a line of their own, {"t", "type": "timer", "said"}.
+// One JSON object per event: {"t", "type", "actor", "team", "by", "previous", "powerup", "p",
+// "p_newtonian", "particles", "x", "y", "said"}, where "said" lists the phrases that event's own
+// handlers said (an event set off by another's handler keeps its own). Phrases said outside any
+// event at one moment share a line of their own, {"t", "type", "said"}, whose type says who
+// spoke: "timer", or "said" (on_reload).
 void write_events(std::ostream& out, std::span<const game::GameEvent> events, std::span<const game::Said> said);
 
 // "   0:03.42  Blue shoots", one line per phrase.

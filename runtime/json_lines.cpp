@@ -7,7 +7,11 @@
 
 namespace quantum::runtime {
 
+namespace {
+
 double rounded(double v) { return std::round(v * 1e6) / 1e6; }
+
+}  // namespace
 
 JsonLine::JsonLine(std::ostream& out) : out_(out) {
   out_ << '{';

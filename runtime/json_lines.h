@@ -11,8 +11,6 @@
 
 namespace quantum::runtime {
 
-double rounded(double v);
-
 // One line: JsonLine(out).field("t", 1.5).array("said").item("Goal!").close().end().
 class JsonLine {
  public:

@@ -32,7 +32,7 @@ std::vector<double> per_player(const std::vector<double>& given, const std::vect
 
 Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream& errors,
                  std::unique_ptr<PlayerSource> players)
-    : options_(o), transcript_(transcript), errors_(errors), players_(std::move(players)) {
+    : transcript_(transcript), errors_(errors), players_(std::move(players)) {
   if (!(o.seconds >= 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
   sport_ = std::make_unique<lua::Sport>(o.sport);
   for (const auto& [kind, value] : o.factors) sport_->set_factor(kind, value);

@@ -88,7 +88,6 @@ class Session {
   lua::Sport& sport() { return *sport_; }
   PlayerSource& players() { return *players_; }
   bool over() const { return over_; }
-  bool real_time() const { return real_time_; }
   int rule_errors() const { return rule_errors_; }
   // Takes `file` as saved: the next frame reloads it as if inotify had seen it (benchmarks).
   void reload(const std::string& file);
@@ -96,7 +95,6 @@ class Session {
  private:
   void pause_or_resume(bool lost);
 
-  SessionOptions options_;
   std::ostream* transcript_;
   std::ostream& errors_;
   std::unique_ptr<lua::Sport> sport_;

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "play.h"
+#include "quantum/fate.h"
 #include "simulate.h"
 #include "spec.h"
 #include "track.h"
@@ -11,6 +12,8 @@
 int main(int argc, char** argv) {
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
   app.require_subcommand(1);
+  // The last of a repeated option counts: `tools/play.sh --seconds 5` overrides the script's own.
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 
   quantum::tools::SimulateOptions sim;
   CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets and report every event");
@@ -94,7 +97,7 @@ int main(int argc, char** argv) {
       if (!study_skills.empty()) study.skills = quantum::tools::parse_list(study_skills, "--skill");
       if (!study_handicaps.empty()) study.handicaps = quantum::tools::parse_list(study_handicaps, "--handicap");
       if (study_factors == "flat")
-        for (const char* kind : {"goal", "own_goal", "body", "out", "field"}) study.factors[kind] = 1;
+        for (const std::string& kind : quantum::fate_kind_names()) study.factors[kind] = 1;
       const quantum::tools::BalanceResult r = quantum::tools::balance(study, matches);
       std::cout << r.matches << " matches of " << study.sport << " (seeds " << study.seed << " to "
                 << study.seed + uint64_t(matches) - 1 << ", skills " << (study_skills.empty() ? "0.6 each" : study_skills)

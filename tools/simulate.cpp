@@ -1,6 +1,5 @@
 #include "simulate.h"
 
-#include <fstream>
 #include <iostream>
 #include <map>
 
@@ -13,22 +12,6 @@
 
 namespace quantum::tools {
 namespace {
-
-struct Actor {
-  std::string_view name, team;
-};
-
-Actor actor_of(const Event& e, const Field& f) {
-  switch (e.type) {
-    case EventType::Drop: return {f.spots[e.actor].name, f.spots[e.actor].team};
-    case EventType::Hit: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
-    case EventType::Bounce: return {f.wall_names[e.actor], ""};
-    case EventType::Goal:
-    case EventType::OwnGoal: return {f.goals[e.actor].name, f.goals[e.actor].team};
-    case EventType::Out: return {"out", ""};
-  }
-  return {};
-}
 
 constexpr double kRespawnDelay = 1.0;     // s between a goal and the next drop
 constexpr double kRepredictEvery = 0.5;   // s: fates drift as the cloud spreads and mallets move
@@ -58,9 +41,9 @@ int respawn_spot(const Field& f, const Event& e) {
 }  // namespace
 
 void write_event(std::ostream& out, const Event& e, const Field& f) {
-  const Actor a = actor_of(e, f);
+  const EventActor a = actor_of(e, f);
   runtime::JsonLine line(out);
-  line.field("t", e.t).field("type", to_string(e.type)).field("actor", a.name);
+  line.field("t", e.t).field("type", to_string(e.type)).field("actor", e.type == EventType::Out ? "out" : a.name);
   if (!a.team.empty()) line.field("team", a.team);
   line.field("p", e.p).field("p_newtonian", e.p_newtonian).field("particles", uint64_t(e.particles));
   line.field("x", double(e.at.x)).field("y", double(e.at.y));

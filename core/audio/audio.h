@@ -157,7 +157,8 @@ class Announcer {
   void update(double now);
 
   const std::string& speaking() const { return current_text_; }
-  // Stale phrases dropped since the last clear_dropped(), for the log.
+  // Stale phrases dropped since the last clear_dropped(): what a phrase's fate was, for whoever
+  // reports it (the tests now; the event log is to say it).
   std::span<const std::string> dropped() const { return {dropped_.data(), n_dropped_}; }
   void clear_dropped() { n_dropped_ = 0; }
 

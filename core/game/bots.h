@@ -33,7 +33,7 @@ class Bots {
   // An announced event; the bots act on it after their reaction time.
   void hear(const GameEvent& e);
   // Where every body goes this frame, and its velocity. `players` carries the sport's hints
-  // (whose turn it is, where to aim: game.turn, game.aim) and where the others are.
+  // (whose turn it is, where to aim: game.turn, game.aim).
   const std::vector<BodyInput>& move(double t, double dt, std::span<const Player> players);
 
  private:

@@ -46,24 +46,13 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
     if (!(std::isfinite(h) && h > 0)) throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be > 0");
     players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}});
   }
-  auto add = [&](const std::string& t) {
-    if (!t.empty() && std::find(teams_.begin(), teams_.end(), t) == teams_.end()) teams_.push_back(t);
-  };
-  for (const BodySpec& b : f.bodies) add(b.team);
-  for (const Goal& g : f.goals) add(g.team);
+  teams_ = f.teams();
   for (const std::string& team : teams_) score_[team] = 0;
   // A frame rarely tells more than a few events and phrases; room for more than that keeps the
   // first busy frames from allocating.
   events_.reserve(64);
   said_.reserve(64);
   respawn(config.first_spot, 0);
-}
-
-int Match::spot_of(const std::string& key) const {
-  const std::vector<Spot>& spots = field().spots;
-  for (size_t s = 0; s < spots.size(); ++s)
-    if (spots[s].name == key) return int(s);
-  return field().spot_of_team(key);
 }
 
 void Match::say(std::string_view text, std::string_view recording) {
@@ -117,12 +106,8 @@ GameEvent& Match::new_event(EventKind type) {
 void Match::dead_ball() {
   if (!world_.live()) return;
   world_.remove_ball();
-  ++stats_.rallies;
-  stats_.contacts += rally_contacts_;
-  GameEvent& e = new_event(EventKind::Dead);
-  if (last_toucher_ >= 0) e.by = players_[size_t(last_toucher_)].name, e.by_team = players_[size_t(last_toucher_)].team;
-  if (previous_toucher_ >= 0)
-    e.previous = players_[size_t(previous_toucher_)].name, e.previous_team = players_[size_t(previous_toucher_)].team;
+  end_rally(false);
+  name_touchers(new_event(EventKind::Dead));
   tell_rules(events_.size() - 1);
 }
 
@@ -278,25 +263,24 @@ void Match::handle(const Event& e) {
   GameEvent& g = new_event(type);
   g.t = e.t, g.p = e.p, g.p_newtonian = e.p_newtonian, g.particles = e.particles, g.at = e.at;
   g.velocity = e.velocity, g.actor_index = e.actor;
-  switch (e.type) {
-    case EventType::Drop: g.actor = f.spots[e.actor].name, g.team = f.spots[e.actor].team; break;
-    case EventType::Hit: g.actor = f.bodies[e.actor].name, g.team = f.bodies[e.actor].team; break;
-    case EventType::Bounce: g.actor = f.wall_names[e.actor]; break;
-    case EventType::Goal:
-    case EventType::OwnGoal: g.actor = f.goals[e.actor].name, g.team = f.goals[e.actor].team; break;
-    case EventType::Out: break;
-  }
-  if (type != EventKind::Drop) {
-    if (last_toucher_ >= 0) g.by = f.bodies[last_toucher_].name, g.by_team = f.bodies[last_toucher_].team;
-    if (previous_toucher_ >= 0)
-      g.previous = f.bodies[previous_toucher_].name, g.previous_team = f.bodies[previous_toucher_].team;
-  }
-  if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out) {
-    ++stats_.rallies;
-    stats_.contacts += rally_contacts_;
-    stats_.goals += e.type == EventType::Out ? 0 : 1;
-  }
+  const EventActor actor = actor_of(e, f);
+  g.actor = actor.name, g.team = actor.team;
+  if (type != EventKind::Drop) name_touchers(g);
+  if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out)
+    end_rally(e.type != EventType::Out);
   tell_rules(events_.size() - 1);
+}
+
+void Match::name_touchers(GameEvent& e) const {
+  if (last_toucher_ >= 0) e.by = players_[size_t(last_toucher_)].name, e.by_team = players_[size_t(last_toucher_)].team;
+  if (previous_toucher_ >= 0)
+    e.previous = players_[size_t(previous_toucher_)].name, e.previous_team = players_[size_t(previous_toucher_)].team;
+}
+
+void Match::end_rally(bool goal) {
+  ++stats_.rallies;
+  stats_.contacts += rally_contacts_;
+  stats_.goals += goal ? 1 : 0;
 }
 
 void Match::tell_rules(size_t event) {

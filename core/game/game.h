@@ -196,7 +196,6 @@ class Match {
   // Player k's handicap as it applies now: its own, times the automatic balance's boost while
   // its team trails.
   double handicap_now(int k) const;
-  int spot_of(const std::string& team_or_name) const;  // -1 when there is none
 
   // What happened since the last clear_news(), in order: events, phrases (each naming its
   // event), rule errors ("rules/x/sport.lua:12: ... (on goal skipped)"). The spans stay valid
@@ -221,6 +220,8 @@ class Match {
   void expire_powerups();
   void powerup_event(EventKind type, int player, const std::string& name);
   GameEvent& new_event(EventKind type);
+  void name_touchers(GameEvent& e) const;  // by and previous, from the rally's touches
+  void end_rally(bool goal);               // the statistics of a rally that ended
   void tell_rules(size_t event);
   void retweak();
   FateView view(const FateGroup& g) const;

@@ -1,6 +1,7 @@
 #include "quantum/fate.h"
 
 #include <cmath>
+#include <cstdio>
 #include <algorithm>
 #include <stdexcept>
 
@@ -179,6 +180,22 @@ uint64_t Fate::key() const {
   return k;
 }
 
+std::vector<std::string> fate_kind_names() {
+  std::vector<std::string> out;
+  for (FateKind k : kFateKinds) out.push_back(to_string(k));
+  return out;
+}
+
+size_t write_via(const Fate& f, const Field& field, char* out, size_t size) {
+  size_t n = 0;
+  for (int i = 0; size > 0 && (i < f.path_len || (f.path_more && i == f.path_len)); ++i) {
+    const char* wall = i < f.path_len ? field.wall_names[f.path[i]].c_str() : "...";
+    const int wrote = std::snprintf(out + n, size - n, "%s%s", i == 0 ? "via " : ", ", wall);
+    n = std::min(size - 1, n + size_t(std::max(wrote, 0)));
+  }
+  return n;
+}
+
 std::string describe(const Fate& f, const Field& field) {
   std::string s;
   switch (f.kind) {
@@ -188,8 +205,8 @@ std::string describe(const Fate& f, const Field& field) {
     case FateKind::Out: s = "out"; break;
     case FateKind::Field: s = "stays in field"; break;
   }
-  for (int i = 0; i < f.path_len; ++i) s += (i == 0 ? " via " : ", ") + field.wall_names[f.path[i]];
-  if (f.path_more) s += ", ...";
+  char via[256];
+  if (const size_t n = write_via(f, field, via, sizeof via)) s += " " + std::string(via, n);
   return s;
 }
 

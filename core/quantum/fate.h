@@ -10,7 +10,9 @@
 namespace quantum {
 
 enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field };
+constexpr FateKind kFateKinds[] = {FateKind::Goal, FateKind::OwnGoal, FateKind::Body, FateKind::Out, FateKind::Field};
 const char* to_string(FateKind kind);  // "goal", "own_goal", "body", "out", "field"
+std::vector<std::string> fate_kind_names();  // every kind's name, in order
 
 constexpr int kMaxPath = 4;
 
@@ -41,6 +43,9 @@ struct FateReport {
 
 // "goal (red goal) via left wall", "blue mallet", "stays in field", ...
 std::string describe(const Fate& fate, const Field& field);
+// "via left wall, Red's end" ("" when direct) into `out`, cut to fit; returns its length. No
+// allocation: the rules read it every frame.
+size_t write_via(const Fate& fate, const Field& field, char* out, size_t size);
 
 // Per-kind fate factors, the paper's example as defaults.
 struct KindFactors {

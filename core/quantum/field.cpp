@@ -14,6 +14,22 @@ int Field::spot_of_team(const std::string& team) const {
   return -1;
 }
 
+int Field::spot_of(const std::string& key) const {
+  for (size_t i = 0; i < spots.size(); ++i)
+    if (spots[i].name == key) return int(i);
+  return spot_of_team(key);
+}
+
+std::vector<std::string> Field::teams() const {
+  std::vector<std::string> out;
+  auto add = [&](const std::string& t) {
+    if (!t.empty() && std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+  };
+  for (const BodySpec& b : bodies) add(b.team);
+  for (const Goal& g : goals) add(g.team);
+  return out;
+}
+
 namespace {
 
 // Coordinates beyond this are typos (centimetres for metres), not fields.

@@ -63,6 +63,10 @@ struct Field {
   bool has_bounds = false;      // false: derived from the geometry by finish_field()
 
   int spot_of_team(const std::string& team) const;  // -1 when the team has none
+  // The spot of that name, else the first of that team; -1 when there is none.
+  int spot_of(const std::string& name_or_team) const;
+  // Every team the field names, bodies' first, then goals' (in their order).
+  std::vector<std::string> teams() const;
 };
 
 // A field that is not usable. `place` says where, e.g. "walls[2].points[3]".

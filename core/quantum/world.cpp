@@ -20,6 +20,18 @@ const char* to_string(EventType type) {
   return "?";
 }
 
+EventActor actor_of(const Event& e, const Field& f) {
+  switch (e.type) {
+    case EventType::Drop: return {f.spots[e.actor].name, f.spots[e.actor].team};
+    case EventType::Hit: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
+    case EventType::Bounce: return {f.wall_names[e.actor], ""};
+    case EventType::Goal:
+    case EventType::OwnGoal: return {f.goals[e.actor].name, f.goals[e.actor].team};
+    case EventType::Out: break;
+  }
+  return {};
+}
+
 World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
     : field_(std::move(field)), config_(config), rng_(config.seed) {
   finish_field(field_);

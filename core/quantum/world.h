@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "quantum/backend.h"
@@ -41,6 +42,13 @@ struct Event {
   Vec2 at;              // weighted centre of those particles
   Vec2 velocity;        // hit, bounce: the ball's mean velocity afterwards (what a player makes of it); else 0
 };
+
+// Who an event is about, by the field's names: the spot (drop), the body (hit), the wall
+// (bounce) or the goal and the team defending it (goal, own goal); nothing for out.
+struct EventActor {
+  std::string_view name, team;
+};
+EventActor actor_of(const Event& e, const Field& field);
 
 struct BodyInput {
   Vec2 position, velocity;

@@ -134,6 +134,21 @@ TEST(Cli, PlayWithoutASoundCardWarnsOnceAndPlaysSilently) {
   EXPECT_NE(r.err.find("no sound device"), std::string::npos) << r.err;
 }
 
+// tools/play.sh passes its own --seconds; one given after it counts.
+TEST(Cli, TheLastOfARepeatedOptionCounts) {
+  const Outcome r = quantum("play rules/airhockey --seconds 60 --audio none --seconds 2");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find(", 2 s played"), std::string::npos) << r.out;
+}
+
+// A WAV file that cannot be written is known before the match plays.
+TEST(Cli, ABadWavPathStopsPlayBeforeItStarts) {
+  const Outcome r = quantum("play rules/airhockey --seconds 600 --audio wav:/nonexistent/dir/x.wav");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/nonexistent/dir/x.wav: cannot write WAV file"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("final score"), std::string::npos) << r.out;
+}
+
 TEST(Cli, PlayRecordsTheMatchToAWav) {
   const std::string wav = std::filesystem::temp_directory_path() / ("quantum_match_" + std::to_string(getpid()) + ".wav");
   const Outcome r = quantum("play rules/airhockey --seconds 8 --quiet --audio wav:" + wav);
