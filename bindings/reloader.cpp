@@ -13,7 +13,7 @@
 namespace quantum::lua {
 namespace fs = std::filesystem;
 
-Reloader::Reloader(const Sport& sport, std::map<std::string, double> factors)
+Reloader::Reloader(const Sport& sport, std::map<std::string, double> factors, bool watch_files)
     : folder_(fs::path(sport.folder()).lexically_normal()), factors_(std::move(factors)) {
   fd_ = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error(std::string("cannot watch the rules: ") + std::strerror(errno));
@@ -24,7 +24,7 @@ Reloader::Reloader(const Sport& sport, std::map<std::string, double> factors)
   // Editors save in place (close after write) or write a new file and rename it over the old.
   const uint32_t mask = IN_CLOSE_WRITE | IN_MOVED_TO;
   for (const fs::path& dir : folders) {
-    if (!fs::is_directory(dir)) continue;
+    if (!watch_files || !fs::is_directory(dir)) continue;
     const int wd = inotify_add_watch(fd_, dir.c_str(), mask);
     if (wd >= 0) watches_[wd] = dir;
   }
@@ -36,7 +36,8 @@ Reloader::~Reloader() {
 
 void Reloader::changed(const fs::path& file) { changed_.insert(file.lexically_normal()); }
 
-int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors) {
+int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors,
+                   std::vector<fs::path>* acted_on) {
   alignas(inotify_event) char buf[8192];
   for (ssize_t n; (n = read(fd_, buf, sizeof buf)) > 0;) {
     for (char* p = buf; p < buf + n;) {
@@ -53,20 +54,27 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   for (const fs::path& file : files) {
     if (file.extension() != ".lua") continue;
     const fs::path dir = file.parent_path();
-    if (dir == folder_ && file.filename() == "field.lua")
+    if (dir == folder_ && file.filename() == "field.lua") {
       errors << "quantum: " << file.string() << " changed: a field takes effect in the next match\n";
-    else if (module_folders_.count(dir)) sport_changed = true;  // sport.lua, or a module it may require
-    else if (powerup_folders_.count(dir) && sport->has_powerup(file.stem().string())) powerups.push_back(file.stem().string());
+      continue;
+    }
+    const bool module = module_folders_.count(dir) > 0;  // sport.lua, or a module it may require
+    const bool powerup = !module && powerup_folders_.count(dir) && sport->has_powerup(file.stem().string());
+    if (!module && !powerup) continue;
+    sport_changed |= module;
+    if (powerup) powerups.push_back(file.stem().string());
+    if (acted_on) acted_on->push_back(file);
   }
   if (sport_changed) {
     // A new sport loads the power-ups in use afresh when it first needs them.
     try {
-      auto fresh = std::make_unique<Sport>(folder_.string());
+      auto fresh = std::make_unique<Sport>(folder_.string(), sport->engine());
       for (const auto& [kind, value] : factors_) fresh->set_factor(kind, value);
       // The new rules hear whatever on_reload sets off; the old ones are still there to read.
       match.set_rules(*fresh);
       fresh->take_over(*sport, match);
       sport = std::move(fresh);
+      errors << "quantum: reloaded " << (folder_ / "sport.lua").string() << '\n';
       return 1 + int(powerups.size());
     } catch (const std::exception& e) {
       match.set_rules(*sport);
@@ -76,6 +84,7 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   for (const std::string& name : powerups) {  // power-ups not in use load as they are when granted
     try {
       sport->reload_powerup(name);
+      errors << "quantum: reloaded power-up " << name << '\n';
       ++reloaded;
     } catch (const std::exception& e) {
       errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";

@@ -10,6 +10,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "game/game.h"
 #include "sport.h"
@@ -19,8 +20,10 @@ namespace quantum::lua {
 class Reloader {
  public:
   // Watches what `sport` loads from. `factors`: overrides of the sport's factors, applied to
-  // every reloaded version too. Throws std::runtime_error when the folders cannot be watched.
-  Reloader(const Sport& sport, std::map<std::string, double> factors = {});
+  // every reloaded version too. Without `watch_files` only changed() counts (a replay applies
+  // the changes it recorded, nothing else). Throws std::runtime_error when the folders cannot be
+  // watched.
+  Reloader(const Sport& sport, std::map<std::string, double> factors = {}, bool watch_files = true);
   ~Reloader();
   Reloader(const Reloader&) = delete;
   Reloader& operator=(const Reloader&) = delete;
@@ -30,9 +33,11 @@ class Reloader {
 
   // Reloads whatever changed since the last call. A new sport takes over from `sport` (state
   // carried, see Sport::take_over) and becomes the match's rules; `sport` then owns it. Each
-  // failure is one line on `errors`, "quantum: reload failed: FILE:LINE: ...". Returns the
-  // number of files reloaded.
-  int poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors);
+  // reload is one line on `errors`: "quantum: reloaded FILE" (or "power-up NAME"), or
+  // "quantum: reload failed: FILE:LINE: ...". Returns the number of files reloaded.
+  // `acted_on`, when given, gets every file the poll loaded (or failed to): what a recording keeps.
+  int poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors,
+           std::vector<std::filesystem::path>* acted_on = nullptr);
 
  private:
   std::filesystem::path folder_;

@@ -29,9 +29,9 @@ fs::path normal_folder(const std::string& folder) {
   return p;
 }
 
-std::vector<fs::path> powerup_folders_of(const fs::path& sport) {
+std::vector<fs::path> powerup_folders_of(const fs::path& sport, const fs::path& engine) {
   std::vector<fs::path> out;
-  for (const fs::path& f : {sport / "powerups", sport.parent_path() / "powerups", engine_rules_folder() / "powerups"}) {
+  for (const fs::path& f : {sport / "powerups", sport.parent_path() / "powerups", engine / "powerups"}) {
     const fs::path normal = f.lexically_normal();
     if (std::find(out.begin(), out.end(), normal) == out.end()) out.push_back(normal);
   }
@@ -89,11 +89,12 @@ class Sport::Acting {
   const game::Match* outer_reading_;
 };
 
-Sport::Sport(const std::string& folder)
+Sport::Sport(const std::string& folder, const fs::path& engine)
     : folder_(normal_folder(folder).string()),
       file_((fs::path(folder_) / "sport.lua").string()),
-      powerup_folders_(powerup_folders_of(folder_)),
-      module_folders_({fs::path(folder_), engine_rules_folder() / "lib"}),
+      engine_(engine),
+      powerup_folders_(powerup_folders_of(folder_, engine)),
+      module_folders_({fs::path(folder_), engine / "lib"}),
       sandbox_(kMemoryBudget, kInstructionBudget, true, module_folders_) {
   if (!fs::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
   lua_State* L = sandbox_.L();
@@ -229,7 +230,7 @@ void Sport::read_match(const Reader& r, int t) {
 // game.say("gaol") in the sport's own files: a phrase key the sport does not have is an error
 // now, not when (if ever) the handler runs. Keys made at run time are checked when said.
 void Sport::check_said_keys() const {
-  const std::string engine = engine_rules_folder().lexically_normal().string();
+  const std::string engine = engine_.lexically_normal().string();
   for (const std::string& file : sandbox_.files()) {
     if (fs::path(file).lexically_normal().string().rfind(engine, 0) == 0) continue;  // the engine's helpers
     std::ifstream in(file);

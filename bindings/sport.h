@@ -33,13 +33,15 @@ std::filesystem::path engine_rules_folder();
 
 class Sport final : public game::Rules {
  public:
-  // `folder` holds sport.lua. Throws ScriptError naming the file (and line, or the place in
-  // the returned table) for a script that does not load, and FieldError for a bad field.
-  explicit Sport(const std::string& folder);
+  // `folder` holds sport.lua; `engine` is where the engine's own power-ups and helpers are
+  // (a replay uses the copy it recorded). Throws ScriptError naming the file (and line, or the
+  // place in the returned table) for a script that does not load, and FieldError for a bad field.
+  explicit Sport(const std::string& folder, const std::filesystem::path& engine = engine_rules_folder());
   ~Sport() override;
 
   const std::string& name() const { return name_; }
   const std::string& folder() const { return folder_; }
+  const std::filesystem::path& engine() const { return engine_; }
   const Field& field() const { return field_; }
   uint32_t particles() const { return particles_; }
   double seconds() const { return seconds_; }
@@ -144,6 +146,7 @@ class Sport final : public game::Rules {
   void report_zeroing(std::span<const game::FateView> fates, game::Match& match);
 
   std::string folder_, file_, name_;
+  std::filesystem::path engine_;
   std::vector<std::filesystem::path> powerup_folders_, module_folders_;
   Sandbox sandbox_;
   int sport_ref_ = LUA_NOREF, game_ref_ = LUA_NOREF;

@@ -15,6 +15,11 @@ namespace quantum::runtime {
 // spoke: "timer", or "said" (on_reload).
 void write_events(std::ostream& out, std::span<const game::GameEvent> events, std::span<const game::Said> said);
 
+// One JSON object per draw the engine made (docs/decisions.md): {"t", "draw": [{"kind", "actor",
+// "p", "p_newtonian", "particles"}, ...], "outcome", "fates": [{"kind", "actor", "via", "mass",
+// "tweaked", "particles"}, ...]}. `fates` are the groups the draw's chances were tweaked from.
+void write_decision(std::ostream& out, const Decision& d, std::span<const FateGroup> fates, const Field& field);
+
 // "   0:03.42  Blue shoots", one line per phrase.
 void write_transcript(std::ostream& out, std::span<const game::Said> said);
 

@@ -3,6 +3,7 @@
 // source once a frame and hands it the frame's events.
 #pragma once
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <span>
@@ -33,6 +34,9 @@ class PlayerSource {
   virtual bool live() const { return false; }
   // After a pause the source's clock went on without the match's.
   virtual void resync() {}
+  // Scripts to load again before the next frame: a replay's source brings the reloads its
+  // recording made, at the frames they were made.
+  virtual std::vector<std::filesystem::path> files_to_reload() { return {}; }
 };
 
 // Simulated players, one skill each (0 to 1).

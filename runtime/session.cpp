@@ -1,6 +1,7 @@
 #include "session.h"
 
 #include <chrono>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 #include <thread>
@@ -8,6 +9,7 @@
 #include "event_log.h"
 #include "json_lines.h"
 #include "match_audio.h"
+#include "recording.h"
 #include "reloader.h"
 
 namespace quantum::runtime {
@@ -32,19 +34,30 @@ std::vector<double> per_player(const std::vector<double>& given, const std::vect
 
 Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream& errors,
                  std::unique_ptr<PlayerSource> players)
-    : transcript_(transcript), errors_(errors), players_(std::move(players)) {
+    : transcript_(transcript), errors_(errors), players_(std::move(players)), until_(o.until) {
   if (!(o.seconds >= 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
-  sport_ = std::make_unique<lua::Sport>(o.sport);
-  for (const auto& [kind, value] : o.factors) sport_->set_factor(kind, value);
-  const std::vector<double> handicaps = per_player(o.handicaps, sport_->handicaps(), *sport_, "--handicap", "handicaps");
+  // A replay plays what was recorded: its copy of the sport, its seed and settings.
+  SessionOptions settings = o;
+  std::optional<Replay> replay;
+  if (!o.replay.empty()) {
+    replay = open_replay(o.replay);
+    for (const std::string& d : replay->differences) errors_ << "quantum: replay: " << d << '\n';
+    settings.sport = replay->sport.string();
+    settings.seed = replay->seed, settings.seconds = replay->seconds, settings.particles = replay->particles;
+    settings.handicaps = replay->handicaps, settings.auto_balance = replay->auto_balance, settings.factors = replay->factors;
+  }
+  sport_ = std::make_unique<lua::Sport>(settings.sport, replay ? replay->engine : lua::engine_rules_folder());
+  for (const auto& [kind, value] : settings.factors) sport_->set_factor(kind, value);
+  const std::vector<double> handicaps = per_player(settings.handicaps, sport_->handicaps(), *sport_, "--handicap", "handicaps");
   game::MatchConfig config;
-  config.particles = o.particles ? o.particles : sport_->particles();
-  config.seed = o.seed;
-  config.seconds = o.seconds > 0 ? o.seconds : sport_->seconds();
+  config.particles = settings.particles ? settings.particles : sport_->particles();
+  config.seed = settings.seed;
+  config.seconds = settings.seconds > 0 ? settings.seconds : sport_->seconds();
   config.first_spot = sport_->first_spot();
-  config.balance_per_goal = o.auto_balance >= 0 ? o.auto_balance : sport_->balance_per_goal();
+  config.balance_per_goal = settings.auto_balance >= 0 ? settings.auto_balance : sport_->balance_per_goal();
   config.balance_most = sport_->balance_most();
   match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
+  if (!players_ && replay) players_ = std::make_unique<RecordedPlayers>(o.replay, replay->work, sport_->field().bodies.size());
   if (!players_) {
     if (o.input == "bots") {
       const std::vector<double> skills(sport_->field().bodies.size(), 0.6);
@@ -54,12 +67,15 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
       players_ = std::make_unique<TrackedPlayers>(o.input, match_->field());
     }
   }
-  if (o.watch) reloader_ = std::make_unique<lua::Reloader>(*sport_, o.factors);
+  // A replay reloads what its recording reloaded, when it did, and nothing else.
+  if (o.watch || replay) reloader_ = std::make_unique<lua::Reloader>(*sport_, settings.factors, !replay);
+  if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_);
   log_ = std::make_unique<LineFile>(o.events);
+  decisions_ = std::make_unique<LineFile>(o.decisions);
   audio_ = std::make_unique<MatchAudio>(o.audio, sport_->audio(), errors_);
-  // People are listening, or playing: then the match runs in real time.
+  // People are listening, playing or watching: then the match runs in real time.
   real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
-               (o.pacing == SessionOptions::Pacing::Automatic && (audio_->on_device() || players_->live()));
+               (o.pacing == SessionOptions::Pacing::Automatic && (audio_->on_device() || players_->live() || o.watched));
   wall_start_ = clock_seconds();
   if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << o.seed << '\n';
 }
@@ -77,7 +93,9 @@ void Session::tell() {
   players_->hear(news.events);
   for (const game::GameEvent& e : news.events) audio_->event(e);
   for (const game::Said& s : news.said) audio_->said(s);
-  for (const std::string& e : news.errors) errors_ << "quantum: rules error: " << e << '\n';
+  // A rule that fails every frame is one line, not thousands: each error once, counted.
+  for (const std::string& e : news.errors)
+    if (++errors_seen_[e] == 1) errors_ << "quantum: rules error: " << e << '\n';
   rule_errors_ += int(news.errors.size());
   if (transcript_) write_transcript(*transcript_, news.said);
   if (log_->stream()) write_events(*log_->stream(), news.events, news.said);
@@ -94,7 +112,7 @@ void Session::pause_or_resume(bool lost) {
   match_->set_cause("");
   if (!lost) {
     players_->resync();
-    wall_start_ = clock_seconds() - match_->time();
+    resync();
   }
 }
 
@@ -102,9 +120,15 @@ bool Session::frame() {
   if (over_) return false;
   game::Match& m = *match_;
   tell();  // what happened between frames (a spec's grant, a scene set up)
-  if (reloader_ && reloader_->poll(sport_, m, errors_) > 0) audio_->set_sport(sport_->audio());
+  if (reloader_) {
+    for (const std::filesystem::path& file : players_->files_to_reload()) reloader_->changed(file);
+    std::vector<std::filesystem::path> reloaded;
+    if (reloader_->poll(sport_, m, errors_, recorder_ ? &reloaded : nullptr) > 0) audio_->set_sport(sport_->audio());
+    if (recorder_ && !reloaded.empty()) recorder_->reloaded(reloaded);
+  }
   const double dt = 1.0 / m.fps();
   const PlayerSource::Status status = players_->advance(m.time() + dt, m, paused_);
+  if (recorder_) recorder_->frame(status, players_->bodies());
   if (status == PlayerSource::Status::Ended) {
     if (transcript_) {
       const game::Said end{m.time(), "(the recording is over)", -1, "", ""};
@@ -114,16 +138,27 @@ bool Session::frame() {
   } else {
     const bool lost = status == PlayerSource::Status::Lost;
     if (lost != paused_) pause_or_resume(lost);
-    if (!paused_) m.step(players_->bodies());
+    if (!paused_) {
+      m.step(players_->bodies());
+      if (decisions_->stream() && m.decision()) write_decision(*decisions_->stream(), *m.decision(), m.decision_fates(), m.field());
+    }
   }
   tell();
   audio_->frame(m.time());
-  over_ = over_ || m.finished();
+  over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9);
   // A camera is asked again while paused, not spun on.
-  if (paused_) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  else if (real_time_) std::this_thread::sleep_for(std::chrono::duration<double>(wall_start_ + m.time() - clock_seconds()));
+  if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  else if (real_time_) std::this_thread::sleep_for(std::chrono::duration<double>(wall_start_ + m.time() / speed_ - clock_seconds()));
   return !over_;
 }
+
+void Session::set_speed(double speed) {
+  if (!(speed > 0 && speed <= 100)) throw std::invalid_argument("speed must be in (0, 100]");
+  speed_ = speed;
+  resync();
+}
+
+void Session::resync() { wall_start_ = clock_seconds() - match_->time() / speed_; }
 
 void Session::run() {
   while (frame()) {
@@ -135,8 +170,12 @@ void Session::finish() {
   if (finished_) return;
   finished_ = true;
   tell();
+  for (const auto& [error, count] : errors_seen_)
+    if (count > 1) errors_ << "quantum: rules error, " << count << " times in all: " << error << '\n';
   audio_->finish(match_->time());
   log_->close();
+  decisions_->close();
+  if (recorder_) recorder_->close();
 }
 
 }  // namespace quantum::runtime

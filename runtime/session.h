@@ -25,6 +25,7 @@ namespace quantum::runtime {
 
 class MatchAudio;
 class LineFile;
+class Recorder;
 
 struct SessionOptions {
   std::string sport = "rules/airhockey";
@@ -38,10 +39,16 @@ struct SessionOptions {
   std::map<std::string, double> factors;  // overrides of the sport's factors by fate kind
   std::string audio = "none";   // "" the sound card, "none", "wav:FILE" (see MatchAudio)
   std::string events;           // JSON lines: "" none, "-" stdout, or a file
+  std::string decisions;        // every draw as a JSON line (docs/decisions.md): "" none, "-" stdout, or a file
   bool watch = false;           // reload the sport's and power-ups' scripts when they change
+  std::string record;           // a folder to record the match into, for `quantum replay` ("" none)
+  std::string replay;           // a recording to play again: its players, files and reloads ("" none)
+  double until = 0;             // stop the session at this match time (> 0), whatever the match's limit
   // Real time: each frame waits for the clock. Automatic: real time when someone listens (a sound
-  // card) or plays (a live tracking source), as fast as possible otherwise.
+  // card), plays (a live tracking source) or watches (a front end says so: see watched), as fast
+  // as possible otherwise.
   enum class Pacing { Automatic, RealTime, Fast } pacing = Pacing::Automatic;
+  bool watched = false;         // a person watches the match (a live view): automatic pacing is real time
 };
 
 // What a frame told, for whoever watches the session (a rule spec, a test, a view).
@@ -55,8 +62,10 @@ class Session {
  public:
   // Loads the sport and opens the outputs: the transcript to `transcript` (null for none), rule
   // errors and warnings to `errors`. Players come from `players`, or when null from
-  // options.input. Throws on bad options, a sport that does not load, a bad field, an event
-  // log or WAV file that cannot be written, or a tracking source that cannot be opened.
+  // options.replay (a recording's: then the sport, the seed and the match's settings are the
+  // recording's too) or options.input. Throws on bad options, a sport that does not load, a bad
+  // field, an event log, WAV file or recording that cannot be written, or a tracking source or
+  // recording that cannot be opened.
   Session(const SessionOptions& options, std::ostream* transcript, std::ostream& errors,
           std::unique_ptr<PlayerSource> players = nullptr);
   ~Session();
@@ -75,6 +84,11 @@ class Session {
   // Lets the last phrase ring out and closes the sound and the event log (once). Throws when the
   // event log could not be written completely.
   void finish();
+
+  // Real-time pacing: `speed` match seconds per wall second (0.25 is slow motion). resync()
+  // takes the clock up from now, after a pause or a single step.
+  void set_speed(double speed);
+  void resync();
 
   // Called with each frame's news, and with news made between frames (a spec's grant), before
   // it is forgotten.
@@ -101,10 +115,14 @@ class Session {
   std::unique_ptr<game::Match> match_;
   std::unique_ptr<PlayerSource> players_;
   std::unique_ptr<lua::Reloader> reloader_;
+  std::unique_ptr<Recorder> recorder_;
   std::unique_ptr<MatchAudio> audio_;
-  std::unique_ptr<LineFile> log_;
+  std::unique_ptr<LineFile> log_, decisions_;
+  std::map<std::string, int> errors_seen_;  // each rule error once, with how often it came
   std::function<void(const News&)> watcher_;
-  double wall_start_ = 0;  // the steady clock's seconds at match time 0
+  double wall_start_ = 0;  // the steady clock's seconds at match time 0 (at this speed)
+  double speed_ = 1;
+  double until_;
   bool real_time_ = false, paused_ = false, over_ = false, finished_ = false;
   int rule_errors_ = 0;
 };

@@ -10,6 +10,12 @@
 
 namespace quantum::tools {
 
+runtime::SessionOptions::Pacing pacing(const std::string& pace) {
+  if (pace == "realtime") return runtime::SessionOptions::Pacing::RealTime;
+  if (pace == "fast") return runtime::SessionOptions::Pacing::Fast;
+  throw std::invalid_argument("--pace must be realtime or fast, not '" + pace + "'");
+}
+
 std::vector<double> parse_list(const std::string& text, const std::string& option) {
   std::vector<double> out;
   std::stringstream in(text);

@@ -36,6 +36,9 @@ struct BalanceResult {
 // transcripts, sound or logs. The result depends only on the options, not on the number of cores.
 BalanceResult balance(const runtime::SessionOptions& options, int matches);
 
+// "realtime" or "fast", as --pace says it.
+runtime::SessionOptions::Pacing pacing(const std::string& pace);
+
 // "0.3,0.9" -> {0.3, 0.9}; throws naming the option for anything else.
 std::vector<double> parse_list(const std::string& text, const std::string& option);
 

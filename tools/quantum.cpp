@@ -50,6 +50,27 @@ int main(int argc, char** argv) {
   game.audio = "";  // the command plays sound by default
   play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)");
   play->add_flag("--quiet", quiet, "no transcript");
+  std::string pace;
+  play->add_option("--pace", pace, "realtime (the match waits for the clock) or fast (as fast as it goes); default: "
+                                   "realtime with a view, a sound card or a live input, else fast")
+      ->check(CLI::IsMember({"realtime", "fast"}));
+  play->add_option("--decisions", game.decisions, "write every draw the engine makes as a JSON line to FILE "
+                                                  "(- for stdout; docs/decisions.md)");
+  play->add_option("--record", game.record, "record the match into a new folder DIR, for quantum replay");
+
+  quantum::runtime::SessionOptions again;
+  bool replay_quiet = false;
+  CLI::App* replay = app.add_subcommand("replay", "play a recorded match again (quantum play --record DIR)");
+  replay->add_option("DIR", again.replay, "the recording's folder")->required();
+  replay->add_option("--until", again.until, "stop at this match time, in seconds")->check(CLI::PositiveNumber);
+  replay->add_option("--events", again.events, "write one JSON object per event to FILE (- for stdout)");
+  replay->add_option("--decisions", again.decisions, "write every draw as a JSON line to FILE (- for stdout)");
+  replay->add_option("--audio", again.audio, "none (the default), or wav:FILE to render the match's sound")
+      ->capture_default_str();
+  std::string replay_pace = "fast";
+  replay->add_option("--pace", replay_pace, "fast (the default) or realtime")->check(CLI::IsMember({"realtime", "fast"}))
+      ->capture_default_str();
+  replay->add_flag("--quiet", replay_quiet, "no transcript");
 
   quantum::runtime::SessionOptions study;
   std::string study_skills, study_handicaps, study_factors = "sport";
@@ -113,7 +134,12 @@ int main(int argc, char** argv) {
       if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");
       if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");
       game.watch = true;  // a designer's saved script takes effect between two frames
+      if (!pace.empty()) game.pacing = quantum::tools::pacing(pace);
       quantum::tools::play(game, game.events == "-" ? std::cerr : std::cout, std::cerr, !quiet);
+    }
+    if (replay->parsed()) {
+      again.pacing = quantum::tools::pacing(replay_pace);
+      quantum::tools::play(again, again.events == "-" ? std::cerr : std::cout, std::cerr, !replay_quiet);
     }
     if (simulate->parsed()) {
       // With events on stdout the summary moves to stderr, keeping stdout pure JSON lines.

@@ -203,8 +203,11 @@ void Match::step(std::span<const BodyInput> input) {
   if (respawn_at_ >= 0 && time() >= respawn_at_ - 1e-9) {
     respawn_at_ = -1;
     world_.drop(respawn_spot_, core_events_);
+    report_.groups.clear();  // the new ball has no prediction yet
   }
   world_.step(dt, input, core_events_);
+  decision_fates_.clear();
+  if (world_.decision()) decision_fates_.assign(report_.groups.begin(), report_.groups.end());
   for (size_t k = 0; k < players_.size(); ++k)
     players_[k].position = input[k].position, players_[k].velocity = input[k].velocity;
   stats_.seconds = time();

@@ -215,6 +215,14 @@ class Match {
   // The current fates as the rules see them (fresh prediction; empty when no ball is live).
   std::vector<FateView> fates() const;
 
+  // The last frame's draw (null when nothing met anything), and the fates its chances came
+  // from: the prediction and tweak of the frame before (none right after a drop).
+  const Decision* decision() const { return world_.decision(); }
+  std::span<const FateGroup> decision_fates() const { return decision_fates_; }
+  // The prediction this frame's tweak made: the groups, and each live particle's group (views
+  // and pictures colour the cloud by fate with it).
+  const FateReport& report() const { return report_; }
+
  private:
   void handle(const Event& e);
   void expire_powerups();
@@ -240,6 +248,7 @@ class Match {
   std::vector<Event> core_events_;
   FateReport report_;              // this frame's prediction, refilled in place
   std::vector<FateView> views_;
+  std::vector<FateGroup> decision_fates_;
   std::vector<double> factors_;
   RallyStats stats_;
   double respawn_at_ = -1;

@@ -43,6 +43,7 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
   internals_ = std::make_unique<WorldInternals>(field_);
   internals_->targets = {int(field_.bodies.size()), int(field_.goals.size()), int(field_.wall_names.size())};
   internals_->tally.resize(size_t(internals_->targets.size()));
+  decision_.options.reserve(internals_->tally.size());
   internals_->resting.resize(field_.bodies.size());
   backend_ = backend ? std::move(backend) : make_fast_backend(field_);
   const size_t nb = field_.bodies.size();
@@ -249,6 +250,17 @@ void World::decide(float dt, std::vector<Event>& events) {
       for (int k = n_targets; k-- > 0 && realized < 0;)
         if (tally[k].count > 0) realized = k;
   }
+  // What the draw was about, for whoever asks why (the decision log, a view).
+  decision_.t = time_;
+  decision_.options.clear();
+  decision_.realized = -1;
+  for (int k = 0; k < n_targets && total > 0; ++k) {
+    if (tally[k].count == 0) continue;
+    if (k == realized) decision_.realized = int(decision_.options.size());
+    decision_.options.push_back({targets.at(k), tally[k].tweaked / total,
+                                 total_newtonian > 0 ? tally[k].newtonian / total_newtonian : 0, tally[k].count});
+  }
+  decided_step_ = step_;
   if (realized < 0) {
     cloud_.remove_sorted(removed_);
     if (cloud_.empty()) {

@@ -43,6 +43,20 @@ struct Event {
   Vec2 velocity;        // hit, bounce: the ball's mean velocity afterwards (what a player makes of it); else 0
 };
 
+// One step's draw: what the particles met, each with the chance that the ball met it, and what
+// was realized. Chances are over the mass the draw was made against (the live cloud; when
+// nothing was left in the field, the contacts alone), tweaked and Newtonian.
+struct Decision {
+  struct Option {
+    Target target;
+    double chance, chance_newtonian;
+    uint32_t particles;
+  };
+  double t = 0;
+  std::vector<Option> options;  // in the order the draw adds them up
+  int realized = -1;            // index into options; -1: nothing happened, the ball flies on
+};
+
 // Who an event is about, by the field's names: the spot (drop), the body (hit), the wall
 // (bounce) or the goal and the team defending it (goal, own goal); nothing for out.
 struct EventActor {
@@ -121,6 +135,8 @@ class World {
   uint64_t steps() const { return step_; }
   bool live() const { return live_; }
   int last_touch() const { return last_touch_; }  // body of the last realized hit, -1 after a drop
+  // The last step's draw, or null when no particle met anything in it.
+  const Decision* decision() const { return decided_step_ == step_ && step_ > 0 ? &decision_ : nullptr; }
   const std::vector<Vec2>& body_positions() const { return body_pos_; }
   const std::vector<Vec2>& body_velocities() const { return body_vel_; }
   size_t purgatory_size(int body) const;
@@ -150,6 +166,8 @@ class World {
   std::vector<Contact> contacts_;
   std::vector<uint32_t> removed_;
   DecisionRng rng_;
+  Decision decision_;
+  uint64_t decided_step_ = 0;
   double time_ = 0;
   float last_dt_ = 1.0f / 60;  // the next step is taken to be as long as the last
   uint64_t step_ = 0;

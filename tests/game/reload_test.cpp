@@ -102,7 +102,7 @@ TEST(Reload, AnEditedPowerUpActsFromTheNextFrame) {
   m.match->step(m.still);
   EXPECT_EQ(m.red_intercept(), 0.0) << "the new penalty acts at once";
   EXPECT_EQ(m.match->powerups().size(), 1u);  // still held, with its time
-  EXPECT_EQ(errors.str(), "");
+  EXPECT_EQ(errors.str(), "quantum: reloaded power-up penalty\n");  // one line, as a failure has
 }
 
 TEST(Reload, ABrokenEditIsReportedAndTheOldVersionGoesOn) {

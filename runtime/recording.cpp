@@ -1,0 +1,204 @@
+#include "recording.h"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cstdio>
+#include <stdexcept>
+#include <unistd.h>
+
+#include "session.h"
+#include "sport.h"
+
+namespace quantum::runtime {
+namespace fs = std::filesystem;
+
+const char* engine_version() { return QUANTUM_VERSION; }
+
+namespace {
+
+constexpr char kMagic[] = "QGFRAMES1\n";
+
+// FNV-1a of a file's bytes: enough to tell a changed file from the recorded one.
+std::string fingerprint(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  uint64_t h = 1469598103934665603ull;
+  for (char c; in.get(c);) h = (h ^ uint8_t(c)) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+// Copies every file under `from` (but the specs) to `to`; returns the copies, relative to `root`.
+std::vector<std::pair<fs::path, fs::path>> copy_tree(const fs::path& from, const fs::path& to) {
+  std::vector<std::pair<fs::path, fs::path>> out;  // original, copy
+  if (!fs::is_directory(from)) return out;
+  for (auto it = fs::recursive_directory_iterator(from); it != fs::recursive_directory_iterator(); ++it) {
+    if (it->is_directory() && it->path().filename() == "spec") {
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (!it->is_regular_file()) continue;
+    const fs::path copy = to / fs::relative(it->path(), from);
+    fs::create_directories(copy.parent_path());
+    fs::copy_file(it->path(), copy, fs::copy_options::overwrite_existing);
+    out.push_back({it->path(), copy});
+  }
+  return out;
+}
+
+void write_json(const fs::path& file, const nlohmann::json& j) {
+  std::ofstream out(file);
+  out << j.dump(2) << '\n';
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+}
+
+}  // namespace
+
+Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Sport& sport) : dir_(dir) {
+  if (fs::exists(dir) && !(fs::is_directory(dir) && fs::is_empty(dir)))
+    throw std::runtime_error("--record " + dir.string() + ": exists already (a recording goes into a new folder)");
+  fs::create_directories(dir);
+  const fs::path folder = fs::absolute(sport.folder()).lexically_normal();
+  const fs::path engine = fs::absolute(sport.engine()).lexically_normal();
+  places_[folder] = dir / "sport" / folder.filename();
+  places_[engine / "powerups"] = dir / "engine" / "powerups";
+  places_[engine / "lib"] = dir / "engine" / "lib";
+  if (!places_.count(folder.parent_path() / "powerups")) places_[folder.parent_path() / "powerups"] = dir / "sport" / "powerups";
+  nlohmann::json files = nlohmann::json::array();
+  for (const auto& [original, copy] : places_)
+    for (const auto& [from, to] : copy_tree(original, copy))
+      files.push_back({{"copy", fs::relative(to, dir).string()}, {"original", from.string()}, {"fnv1a", fingerprint(from)}});
+  nlohmann::json handicaps = o.handicaps, factors = o.factors;
+  write_json(dir / "recording.json",
+             {{"engine", engine_version()},
+              {"sport", folder.string()},
+              {"sport_copy", fs::relative(places_[folder], dir).string()},
+              {"seed", o.seed},
+              {"seconds", o.seconds},
+              {"particles", o.particles},
+              {"handicaps", handicaps},
+              {"auto_balance", o.auto_balance},
+              {"factors", factors},
+              {"files", files},
+              {"frames", 0}});
+  frames_.open(dir / "frames.bin", std::ios::binary);
+  frames_.write(kMagic, sizeof kMagic - 1);
+  if (!frames_) throw std::runtime_error("cannot write " + (dir / "frames.bin").string());
+}
+
+Recorder::~Recorder() {
+  try {
+    close();
+  } catch (...) {
+  }
+}
+
+void Recorder::frame(PlayerSource::Status status, std::span<const BodyInput> bodies) {
+  const uint8_t code = uint8_t(status);
+  const uint32_t n = uint32_t(bodies.size());
+  frames_.write(reinterpret_cast<const char*>(&code), 1);
+  frames_.write(reinterpret_cast<const char*>(&n), sizeof n);
+  for (const BodyInput& b : bodies) {
+    const float v[4] = {b.position.x, b.position.y, b.velocity.x, b.velocity.y};
+    frames_.write(reinterpret_cast<const char*>(v), sizeof v);
+  }
+  ++count_;
+}
+
+void Recorder::reloaded(const std::vector<fs::path>& files) {
+  const fs::path to = dir_ / "reloads" / std::to_string(count_);
+  for (const fs::path& file : files) {
+    const fs::path original = fs::absolute(file).lexically_normal();
+    const auto place = places_.find(original.parent_path());
+    if (place == places_.end()) continue;
+    const fs::path copy = to / fs::relative(place->second / original.filename(), dir_);
+    fs::create_directories(copy.parent_path());
+    if (fs::exists(original)) fs::copy_file(original, copy, fs::copy_options::overwrite_existing);
+  }
+}
+
+void Recorder::close() {
+  if (closed_) return;
+  closed_ = true;
+  frames_.close();
+  std::ifstream in(dir_ / "recording.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["frames"] = count_;
+  write_json(dir_ / "recording.json", j);
+  if (!frames_) throw std::runtime_error("could not write every frame to " + (dir_ / "frames.bin").string());
+}
+
+Replay open_replay(const fs::path& dir) {
+  std::ifstream in(dir / "recording.json");
+  if (!in) throw std::runtime_error(dir.string() + ": no recording here (no recording.json)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw std::runtime_error((dir / "recording.json").string() + ": " + e.what());
+  }
+  // Replays change their files as the recording's reloads come: they play in a copy of their own.
+  static std::atomic<int> replays{0};
+  const fs::path work = fs::temp_directory_path() / ("quantum_replay_" + std::to_string(getpid()) + "_" + std::to_string(replays++));
+  fs::remove_all(work);
+  Replay r;
+  r.work = work;
+  try {
+    for (const char* part : {"sport", "engine"}) copy_tree(dir / part, work / part);
+    r.sport = work / j.at("sport_copy").get<std::string>();
+    r.engine = work / "engine";
+    r.seed = j.at("seed");
+    r.seconds = j.at("seconds");
+    r.particles = j.at("particles");
+    r.handicaps = j.at("handicaps").get<std::vector<double>>();
+    r.auto_balance = j.at("auto_balance");
+    r.factors = j.at("factors").get<std::map<std::string, double>>();
+    r.version = j.at("engine");
+    for (const nlohmann::json& f : j.at("files")) {
+      const fs::path original = f.at("original").get<std::string>();
+      if (!fs::exists(original)) r.differences.push_back(original.string() + " is gone since the recording");
+      else if (fingerprint(original) != f.at("fnv1a").get<std::string>())
+        r.differences.push_back(original.string() + " changed since the recording");
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error((dir / "recording.json").string() + ": " + e.what());
+  }
+  if (r.version != engine_version())
+    r.differences.insert(r.differences.begin(), std::string("recorded with engine ") + r.version + ", this is " + engine_version());
+  return r;
+}
+
+RecordedPlayers::RecordedPlayers(const fs::path& dir, const fs::path& work, size_t bodies)
+    : dir_(dir), work_(work), frames_(dir / "frames.bin", std::ios::binary) {
+  char magic[sizeof kMagic - 1];
+  if (!frames_.read(magic, sizeof magic) || std::string(magic, sizeof magic) != kMagic)
+    throw std::runtime_error((dir / "frames.bin").string() + ": not a recording's frames");
+  bodies_.resize(bodies);
+}
+
+PlayerSource::Status RecordedPlayers::advance(double, const game::Match&, bool) {
+  uint8_t code = 0;
+  uint32_t n = 0;
+  if (!frames_.read(reinterpret_cast<char*>(&code), 1)) return Status::Ended;
+  if (!frames_.read(reinterpret_cast<char*>(&n), sizeof n) || n != bodies_.size() || code > uint8_t(Status::Ended))
+    throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is damaged");
+  for (BodyInput& b : bodies_) {
+    float v[4];
+    if (!frames_.read(reinterpret_cast<char*>(v), sizeof v))
+      throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is cut short");
+    b = {{v[0], v[1]}, {v[2], v[3]}};
+  }
+  ++frame_;
+  return Status(code);
+}
+
+std::vector<fs::path> RecordedPlayers::files_to_reload() {
+  std::vector<fs::path> out;
+  const fs::path saved = dir_ / "reloads" / std::to_string(frame_);
+  if (!fs::is_directory(saved)) return out;
+  for (const auto& [from, to] : copy_tree(saved, work_)) out.push_back(to);
+  return out;
+}
+
+}  // namespace quantum::runtime

@@ -1,0 +1,99 @@
+// Record and replay: `quantum play --record DIR` keeps everything a match needs to happen again
+// exactly, and `quantum replay DIR` plays it again from there (docs/desk.md).
+//
+// A recording is a folder:
+//   recording.json   the engine's version, the options that shape the match (seed, particles,
+//                    time limit, handicaps, balance, factors), the sport's path and a hash of
+//                    every file copied below, and how many frames were played
+//   sport/<name>/    the sport's folder as it was (Lua, field, sounds; not its specs)
+//   sport/powerups/  the power-ups beside it, if any
+//   engine/          the engine's own rules/powerups and rules/lib
+//   frames.bin       every frame's players, as the match got them: the source's status and
+//                    each body's position and velocity (floats, bit for bit)
+//   reloads/<frame>/ the files a reload loaded before that frame, as they were then
+// The match draws from its seed, so the same players, files and options give the same events,
+// byte for byte.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "players.h"
+
+namespace quantum::lua {
+class Sport;
+}
+
+namespace quantum::runtime {
+
+struct SessionOptions;
+
+// The engine's version, as `git describe` gave it when it was built ("unknown" without git).
+const char* engine_version();
+
+class Recorder {
+ public:
+  // Creates `dir` (it must not exist, or be empty), copies the sport's files and writes
+  // recording.json. Throws std::runtime_error naming the folder when it cannot.
+  Recorder(const std::filesystem::path& dir, const SessionOptions& options, const lua::Sport& sport);
+  ~Recorder();
+  // The players a frame was played with (nothing stepped when the source was lost).
+  void frame(PlayerSource::Status status, std::span<const BodyInput> bodies);
+  // The files a reload loaded before the frame to come.
+  void reloaded(const std::vector<std::filesystem::path>& files);
+  // Completes recording.json (the frame count). Throws when anything could not be written.
+  void close();
+
+ private:
+  std::filesystem::path dir_;
+  std::map<std::filesystem::path, std::filesystem::path> places_;  // original folder -> its copy
+  std::ofstream frames_;
+  uint64_t count_ = 0;
+  bool closed_ = false;
+};
+
+// A recording opened for replay.
+struct Replay {
+  std::filesystem::path work;    // a copy of the recording's files, for this replay to change
+  std::filesystem::path sport;   // the sport's folder in it
+  std::filesystem::path engine;  // the engine's rules in it
+  uint64_t seed = 1;
+  double seconds = 0;
+  uint32_t particles = 0;
+  std::vector<double> handicaps;
+  double auto_balance = -1;
+  std::map<std::string, double> factors;
+  std::string version;           // the engine that recorded it
+  // What differs now from when it was recorded: the engine, and the sport's files at their
+  // original places ("rules/airhockey/sport.lua changed", "... is gone").
+  std::vector<std::string> differences;
+};
+
+// Reads DIR's recording.json and compares the recorded files with the ones at their original
+// places. Throws std::runtime_error naming what is missing or malformed.
+Replay open_replay(const std::filesystem::path& dir);
+
+// The players a recording played with, frame by frame; before a frame that had a reload, the
+// files it loaded are put back into the replay's copy of the sport (`work`) for the session's
+// reloader.
+class RecordedPlayers final : public PlayerSource {
+ public:
+  RecordedPlayers(const std::filesystem::path& dir, const std::filesystem::path& work, size_t bodies);
+  Status advance(double t, const game::Match& match, bool waiting) override;
+  std::span<const BodyInput> bodies() const override { return bodies_; }
+  std::vector<std::filesystem::path> files_to_reload() override;
+
+ private:
+  std::filesystem::path dir_, work_;
+  std::ifstream frames_;
+  std::vector<BodyInput> bodies_;
+  uint64_t frame_ = 0;  // frames read so far
+};
+
+}  // namespace quantum::runtime

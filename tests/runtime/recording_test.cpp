@@ -1,0 +1,192 @@
+// Record and replay: a match recorded with `--record` plays again from its folder to the same
+// event log and decision log, byte for byte, whether its players were simulated or tracked from a
+// Kinect recording, and with a script reloaded halfway; a replay says which files changed since.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "session.h"
+#include "synthetic.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("quantum_recording_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Plays (options.record set) or replays (options.replay set) to the end; returns the event log
+// and the decision log, and the warnings.
+struct Logs {
+  std::string events, decisions, warnings;
+};
+Logs run(runtime::SessionOptions o, const fs::path& out, const std::function<void(runtime::Session&, int)>& each_frame = {}) {
+  o.events = (out / "events.jsonl").string();
+  o.decisions = (out / "decisions.jsonl").string();
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  std::ostringstream warnings;
+  {
+    runtime::Session session(o, nullptr, warnings);
+    for (int frame = 0; session.frame(); ++frame)
+      if (each_frame) each_frame(session, frame);
+    session.finish();
+  }
+  return {read(o.events), read(o.decisions), warnings.str()};
+}
+
+TEST(Recording, ASimulatedMatchReplaysByteForByte) {
+  const fs::path dir = scratch("bots");
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.seconds = 20;
+  o.seed = 4;
+  o.record = (dir / "recording").string();
+  fs::create_directories(dir / "played");
+  const Logs played = run(o, dir / "played");
+  fs::create_directories(dir / "replayed");
+  runtime::SessionOptions r;
+  r.replay = o.record;
+  const Logs replayed = run(r, dir / "replayed");
+  ASSERT_GT(std::count(played.events.begin(), played.events.end(), '\n'), 20);
+  ASSERT_GT(std::count(played.decisions.begin(), played.decisions.end(), '\n'), 100);
+  EXPECT_EQ(replayed.events, played.events);
+  EXPECT_EQ(replayed.decisions, played.decisions);
+  EXPECT_EQ(replayed.warnings, "");  // nothing changed since
+}
+
+TEST(Recording, AReloadHalfwayIsReplayedWhereItHappened) {
+  const fs::path dir = scratch("reload");
+  fs::create_directories(dir / "sports");
+  fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", dir / "sports" / "airhockey", fs::copy_options::recursive);
+  const fs::path sport = dir / "sports" / "airhockey" / "sport.lua";
+  const std::string original = read(sport);
+  runtime::SessionOptions o;
+  o.sport = (dir / "sports" / "airhockey").string();
+  o.seconds = 20;
+  o.seed = 2;
+  o.watch = true;
+  o.record = (dir / "recording").string();
+  fs::create_directories(dir / "played");
+  const Logs played = run(o, dir / "played", [&](runtime::Session& s, int frame) {
+    if (frame != 300) return;
+    std::string edited = original;
+    edited.replace(edited.find("factors = { goal = 5,"), 21, "factors = { goal = 50,");  // goals much likelier
+    edited.replace(edited.find("\"{team} shoots\""), 15, "\"{team} has it\"");
+    std::ofstream(sport) << edited;
+    s.reload(sport.string());
+  });
+  EXPECT_NE(played.warnings.find("quantum: reloaded"), std::string::npos) << played.warnings;
+  EXPECT_NE(played.events.find("has it"), std::string::npos);
+  // The replay reloads at the same frame from its recorded copy, although the file is as it was.
+  std::ofstream(sport) << original;
+  fs::create_directories(dir / "replayed");
+  runtime::SessionOptions r;
+  r.replay = o.record;
+  const Logs replayed = run(r, dir / "replayed");
+  EXPECT_EQ(replayed.events, played.events);
+  EXPECT_EQ(replayed.decisions, played.decisions);
+}
+
+TEST(Recording, AReplaySaysWhatChangedSinceTheRecording) {
+  const fs::path dir = scratch("changed");
+  fs::create_directories(dir / "sports");
+  fs::copy(QUANTUM_SOURCE_DIR "/rules/practice", dir / "sports" / "practice", fs::copy_options::recursive);
+  runtime::SessionOptions o;
+  o.sport = (dir / "sports" / "practice").string();
+  o.seconds = 5;
+  o.record = (dir / "recording").string();
+  fs::create_directories(dir / "played");
+  const Logs played = run(o, dir / "played");
+  std::ofstream(dir / "sports" / "practice" / "sport.lua", std::ios::app) << "-- edited after the recording\n";
+  fs::remove(dir / "sports" / "practice" / "field.lua");
+  fs::create_directories(dir / "replayed");
+  runtime::SessionOptions r;
+  r.replay = o.record;
+  const Logs replayed = run(r, dir / "replayed");
+  EXPECT_NE(replayed.warnings.find("practice/sport.lua changed since the recording"), std::string::npos) << replayed.warnings;
+  EXPECT_NE(replayed.warnings.find("practice/field.lua is gone since the recording"), std::string::npos) << replayed.warnings;
+  EXPECT_EQ(replayed.events, played.events);  // played from the recorded copy all the same
+}
+
+TEST(Recording, AMatchTrackedFromAKinectRecordingReplaysByteForByte) {
+  const fs::path dir = scratch("kinect");
+  tools::DepthSceneOptions scene;
+  scene.frames = 240;  // 8 s of play at 30 Hz
+  tools::write_depth_recording((dir / "kinect").string(), scene);
+  // A sport on the synthetic table: air hockey's rules on a 0.9 x 0.45 m field.
+  const fs::path sport = dir / "small";
+  fs::create_directories(sport);
+  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/sport.lua", sport / "sport.lua");
+  std::ofstream(sport / "field.lua") << R"(local x, y, m = 0.45, 0.225, 0.06
+return {
+  name = "Small table",
+  ball = { radius = 0.02 },
+  brownian = 0.03,
+  walls = {
+    { name = "left wall", points = { { -x, y }, { x, y } } },
+    { name = "right wall", points = { { -x, -y }, { x, -y } } },
+    { name = "Blue's end", points = { { -x, y }, { -x, m } } },
+    { name = "Blue's end", points = { { -x, -m }, { -x, -y } } },
+    { name = "Red's end", points = { { x, y }, { x, m } } },
+    { name = "Red's end", points = { { x, -m }, { x, -y } } },
+  },
+  goals = {
+    { name = "Blue's goal", team = "blue", from = { -x, -m }, to = { -x, m } },
+    { name = "Red's goal", team = "red", from = { x, -m }, to = { x, m } },
+  },
+  spots = {
+    { name = "in front of Blue's goal", team = "blue", at = { -0.2, 0 } },
+    { name = "in front of Red's goal", team = "red", at = { 0.2, 0 } },
+  },
+  bodies = {
+    { name = "Blue's mallet", team = "blue", radius = 0.03, at = { -0.38, 0 } },
+    { name = "Red's mallet", team = "red", radius = 0.03, at = { 0.38, 0 } },
+  },
+}
+)";
+  runtime::SessionOptions o;
+  o.sport = sport.string();
+  o.input = "fakenect:" + (dir / "kinect").string();
+  o.record = (dir / "recording").string();
+  fs::create_directories(dir / "played");
+  const Logs played = run(o, dir / "played");
+  ASSERT_GT(std::count(played.decisions.begin(), played.decisions.end(), '\n'), 5) << played.warnings;
+  fs::create_directories(dir / "replayed");
+  runtime::SessionOptions r;
+  r.replay = o.record;
+  const Logs replayed = run(r, dir / "replayed");
+  EXPECT_EQ(replayed.events, played.events);
+  EXPECT_EQ(replayed.decisions, played.decisions);
+}
+
+TEST(Recording, ARecordingGoesIntoANewFolder) {
+  const fs::path dir = scratch("exists");
+  std::ofstream(dir / "something") << "x";
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/practice";
+  o.record = dir.string();
+  std::ostringstream warnings;
+  EXPECT_THROW(runtime::Session(o, nullptr, warnings), std::runtime_error);
+  EXPECT_THROW({
+    runtime::SessionOptions r;
+    r.replay = (dir / "nothing").string();
+    runtime::Session(r, nullptr, warnings);
+  }, std::runtime_error);
+}
+
+}  // namespace
+}  // namespace quantum
