@@ -95,8 +95,8 @@ void MatchAudio::said(const game::Said& s) {
 
 void MatchAudio::frame(double now) {
   if (!announcer_) return;
+  announcer_->clear_fates();
   announcer_->update(now);
-  announcer_->clear_dropped();
   if (!wav_) return;
   // Whole samples up to `now`; rounding both ends keeps the total exact over a match.
   const int frames = int(std::lround(now * mixer_->rate()) - std::lround(rendered_until_ * mixer_->rate()));
@@ -104,6 +104,14 @@ void MatchAudio::frame(double now) {
   if (frames <= 0) return;
   mixer_->render(frames, chunk_);
   wav_->write(chunk_);
+}
+
+std::span<const std::string> MatchAudio::dropped() const {
+  return announcer_ ? announcer_->dropped() : std::span<const std::string>();
+}
+
+std::span<const std::string> MatchAudio::cut() const {
+  return announcer_ ? announcer_->cut() : std::span<const std::string>();
 }
 
 void MatchAudio::finish(double now) {

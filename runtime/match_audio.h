@@ -37,6 +37,9 @@ class MatchAudio {
   void finish(double now);
 
   bool on_device() const { return mixer_ && !mixer_->loopback(); }  // the match runs in real time
+  // The phrases the last frame() dropped (stale) or cut off (outranked).
+  std::span<const std::string> dropped() const;
+  std::span<const std::string> cut() const;
 
  private:
   const audio::Clip* clip(const std::string& path);

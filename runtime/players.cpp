@@ -8,6 +8,34 @@ namespace quantum::runtime {
 using Status = PlayerSource::Status;
 using TrackingStatus = tracking::TrackingInput::Status;
 
+HandPlayers::HandPlayers(const Field& field, std::vector<double> skills, uint64_t seed, int body, const Hand& hand)
+    : bots_(field, std::move(skills), seed), field_(field), body_(body), hand_(hand) {
+  if (body < 0 || body >= int(field.bodies.size())) throw std::invalid_argument("no player " + std::to_string(body));
+}
+
+Status HandPlayers::advance(double t, const game::Match& match, bool waiting) {
+  bots_.advance(t, match, waiting);
+  const std::span<const BodyInput> bots = bots_.bodies();
+  bodies_.assign(bots.begin(), bots.end());
+  const BodySpec& b = field_.bodies[size_t(body_)];
+  const BodyInput before = match.players().empty() ? BodyInput{b.start, {0, 0}}
+                                                   : BodyInput{match.players()[size_t(body_)].position, {0, 0}};
+  Vec2 at = hand_.over ? hand_.at : before.position;
+  at.x = std::clamp(at.x, field_.bounds_min.x + b.radius, field_.bounds_max.x - b.radius);
+  at.y = std::clamp(at.y, field_.bounds_min.y + b.radius, field_.bounds_max.y - b.radius);
+  const double dt = 1.0 / match.fps();
+  Vec2 v{float((at.x - before.position.x) / dt), float((at.y - before.position.y) / dt)};
+  const double speed = std::hypot(v.x, v.y), most = 0.99 * field_.max_body_speed;
+  if (speed > most) {
+    // A hand faster than the field allows moves the body as far as it may go.
+    const float k = float(most / speed);
+    v = {v.x * k, v.y * k};
+    at = {float(before.position.x + v.x * dt), float(before.position.y + v.y * dt)};
+  }
+  bodies_[size_t(body_)] = {at, v};
+  return Status::Ready;
+}
+
 TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field)
     : field_(field), input_(spec, tracking::tracked_field(field), tracking::SourceOptions{}) {
   for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});

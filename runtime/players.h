@@ -57,6 +57,31 @@ class BotPlayers final : public PlayerSource {
   std::span<const BodyInput> moves_;
 };
 
+// Where a person's hand is (the desk's mouse over the field), in field metres; `over` is false
+// while it is off the field. The front end that reads the mouse writes it every frame.
+struct Hand {
+  Vec2 at;
+  bool over = false;
+};
+
+// Simulated players, but one of them moves where a person's hand is: a designer plays their own
+// sport at a desk. The hand's body takes the hand's velocity (from its motion), within the
+// field and its speed limit.
+class HandPlayers final : public PlayerSource {
+ public:
+  HandPlayers(const Field& field, std::vector<double> skills, uint64_t seed, int body, const Hand& hand);
+  Status advance(double t, const game::Match& match, bool waiting) override;
+  std::span<const BodyInput> bodies() const override { return bodies_; }
+  void hear(std::span<const game::GameEvent> events) override { bots_.hear(events); }
+
+ private:
+  BotPlayers bots_;
+  const Field field_;
+  int body_;
+  const Hand& hand_;
+  std::vector<BodyInput> bodies_;
+};
+
 // Players from a tracking source: each tracked id moves the body of that name. Recordings are
 // replayed in match time; live sources as their frames come.
 class TrackedPlayers final : public PlayerSource {

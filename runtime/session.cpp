@@ -152,6 +152,9 @@ bool Session::frame() {
   return !over_;
 }
 
+std::span<const std::string> Session::dropped() const { return audio_->dropped(); }
+std::span<const std::string> Session::cut() const { return audio_->cut(); }
+
 void Session::set_speed(double speed) {
   if (!(speed > 0 && speed <= 100)) throw std::invalid_argument("speed must be in (0, 100]");
   speed_ = speed;

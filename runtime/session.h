@@ -101,6 +101,9 @@ class Session {
   // The sport as it is now: a reload replaces it, so hold no reference across frames.
   lua::Sport& sport() { return *sport_; }
   PlayerSource& players() { return *players_; }
+  // The phrases the announcer dropped (stale) or cut off during the last frame.
+  std::span<const std::string> dropped() const;
+  std::span<const std::string> cut() const;
   bool over() const { return over_; }
   int rule_errors() const { return rule_errors_; }
   // Takes `file` as saved: the next frame reloads it as if inotify had seen it (benchmarks).

@@ -124,6 +124,25 @@ void BM_FrameWithReload(benchmark::State& state) {
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
+// Real-time pacing without a sound card: 2 s of a match (120 frames) paced by the session's own
+// clock, as `quantum play --pace realtime` runs it. The counter is match seconds per wall second:
+// 1 is real time.
+void BM_RealTimePacing(benchmark::State& state) {
+  double ratio = 0;
+  for (auto _ : state) {
+    runtime::SessionOptions o;
+    o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+    o.seconds = 86400;
+    o.pacing = runtime::SessionOptions::Pacing::RealTime;
+    std::ostringstream errors;
+    runtime::Session session(o, nullptr, errors);
+    const auto start = std::chrono::steady_clock::now();
+    for (int frame = 0; frame < 120; ++frame) session.frame();
+    ratio = session.match().time() / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  state.counters["match_s_per_wall_s"] = ratio;
+}
+
 // From an event's phrase to its first samples in the output buffer, for a phrase said before
 // (cached): the speech cache look-up, the announcer starting it (cutting off the one before),
 // and OpenAL mixing the first 64 frames. The sound card's own buffer comes on top of this.
@@ -181,6 +200,7 @@ BENCHMARK(BM_StepSilentWalls)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RealTimePacing)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrameWithReload)->Iterations(200)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DepthFrame)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);

@@ -1,5 +1,7 @@
 #include "play.h"
 
+#include "desk.h"
+
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -35,11 +37,17 @@ std::vector<double> parse_list(const std::string& text, const std::string& optio
   return out;
 }
 
-PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript) {
-  runtime::Session session(options, transcript ? &out : nullptr, errors);
-  session.run();
-  const game::Match& match = session.match();
-  PlayResult result{match.score(), match.winner(), match.stats(), session.rule_errors()};
+PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript,
+                const DeskOptions* desk) {
+  PlayResult result;
+  if (desk && desk->wanted()) {
+    result = play_at_desk(options, *desk, out, errors, transcript);
+  } else {
+    runtime::Session session(options, transcript ? &out : nullptr, errors);
+    session.run();
+    const game::Match& match = session.match();
+    result = {match.score(), match.winner(), match.stats(), session.rule_errors()};
+  }
   if (transcript) {
     const game::RallyStats& s = result.stats;
     out << "final score:";

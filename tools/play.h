@@ -20,10 +20,14 @@ struct PlayResult {
   int rule_errors = 0;
 };
 
-// Plays one match. The transcript and the closing summary go to `out` (none when `transcript`
-// is false), rule errors and warnings to `errors`. Throws on bad options, a sport that does not
+struct DeskOptions;
+
+// Plays one match, at the desk when `desk` asks for a view, a video, a snapshot or the mouse
+// (desk.h). The transcript and the closing summary go to `out` (none when `transcript` is
+// false), rule errors and warnings to `errors`. Throws on bad options, a sport that does not
 // load or a bad field.
-PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript = true);
+PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript = true,
+                const DeskOptions* desk = nullptr);
 
 struct BalanceResult {
   int matches = 0, draws = 0;

@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "desk.h"
 #include "play.h"
 #include "quantum/fate.h"
 #include "simulate.h"
@@ -26,6 +27,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::IsMember({"fast", "box2d"}));
   simulate->add_option("--events", sim.events, "write one JSON object per event to FILE (- for stdout)");
   simulate->add_option("--snapshot", sim.snapshot, "draw the cloud and its predicted fates to a PNG");
+  simulate->add_option("--decisions", sim.decisions, "write every draw the core makes as a JSON line to FILE "
+                                                     "(- for stdout; docs/decisions.md)");
   simulate->add_option("--fps", sim.fps, "steps per second")->capture_default_str();
   simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
       ->capture_default_str()->check(CLI::Range(1u, 600u));
@@ -35,8 +38,9 @@ int main(int argc, char** argv) {
   std::string skills, handicaps;
   CLI::App* play = app.add_subcommand("play", "play a match of a sport between simulated players");
   play->add_option("SPORT", game.sport, "sport folder")->capture_default_str();
-  play->add_option("--input", game.input, "where the players come from: bots (simulated players), or tracking: "
-                                         "fakenect:DIR, kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str();
+  play->add_option("--input", game.input, "where the players come from: bots (simulated players), mouse[:PLAYER] "
+                                         "(you, in the view, against simulated players), or tracking: fakenect:DIR, "
+                                         "kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str();
   play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str();
   play->add_option("--seconds", game.seconds, "time limit (default: the sport's)");
   play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)")
@@ -57,6 +61,19 @@ int main(int argc, char** argv) {
   play->add_option("--decisions", game.decisions, "write every draw the engine makes as a JSON line to FILE "
                                                   "(- for stdout; docs/decisions.md)");
   play->add_option("--record", game.record, "record the match into a new folder DIR, for quantum replay");
+  quantum::tools::DeskOptions desk;
+  // The desk's options, on play and on replay alike.
+  auto add_desk = [](CLI::App* command, quantum::tools::DeskOptions& d) {
+    command->add_flag("--view", d.view, "show the match in a window (keys: space pause, s step, m slow motion, "
+                                        "p paths, r restart, q quit)");
+    command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)");
+    command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str()
+        ->check(CLI::Range(1.0, 240.0));
+    command->add_option("--snapshot", d.snapshot, "draw the match to a PNG, at --snapshot-at or at the end");
+    command->add_option("--snapshot-at", d.snapshot_at, "the match time of the snapshot, in seconds")
+        ->check(CLI::NonNegativeNumber);
+  };
+  add_desk(play, desk);
 
   quantum::runtime::SessionOptions again;
   bool replay_quiet = false;
@@ -67,10 +84,12 @@ int main(int argc, char** argv) {
   replay->add_option("--decisions", again.decisions, "write every draw as a JSON line to FILE (- for stdout)");
   replay->add_option("--audio", again.audio, "none (the default), or wav:FILE to render the match's sound")
       ->capture_default_str();
-  std::string replay_pace = "fast";
-  replay->add_option("--pace", replay_pace, "fast (the default) or realtime")->check(CLI::IsMember({"realtime", "fast"}))
-      ->capture_default_str();
+  std::string replay_pace;
+  replay->add_option("--pace", replay_pace, "realtime or fast; default: realtime with a view, else fast")
+      ->check(CLI::IsMember({"realtime", "fast"}));
   replay->add_flag("--quiet", replay_quiet, "no transcript");
+  quantum::tools::DeskOptions replay_desk;
+  add_desk(replay, replay_desk);
 
   quantum::runtime::SessionOptions study;
   std::string study_skills, study_handicaps, study_factors = "sport";
@@ -135,11 +154,16 @@ int main(int argc, char** argv) {
       if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");
       game.watch = true;  // a designer's saved script takes effect between two frames
       if (!pace.empty()) game.pacing = quantum::tools::pacing(pace);
-      quantum::tools::play(game, game.events == "-" ? std::cerr : std::cout, std::cerr, !quiet);
+      if (game.input == "mouse" || game.input.rfind("mouse:", 0) == 0) {
+        desk.hand = true;
+        desk.hand_player = game.input.size() > 6 ? game.input.substr(6) : "";
+        game.input = "bots";
+      }
+      quantum::tools::play(game, game.events == "-" ? std::cerr : std::cout, std::cerr, !quiet, &desk);
     }
     if (replay->parsed()) {
-      again.pacing = quantum::tools::pacing(replay_pace);
-      quantum::tools::play(again, again.events == "-" ? std::cerr : std::cout, std::cerr, !replay_quiet);
+      if (!replay_pace.empty()) again.pacing = quantum::tools::pacing(replay_pace);
+      quantum::tools::play(again, again.events == "-" ? std::cerr : std::cout, std::cerr, !replay_quiet, &replay_desk);
     }
     if (simulate->parsed()) {
       // With events on stdout the summary moves to stderr, keeping stdout pure JSON lines.

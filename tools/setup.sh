@@ -14,6 +14,8 @@ packages=(
   libluajit-5.1-dev            # field files and rules
   lua-busted                   # rule specs (quantum test)
   libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips
+  ffmpeg                       # the desk's videos (--video); ffprobe checks them in the tests
+  xvfb xauth imagemagick       # the tests open the desk's window on a virtual display and photograph it
   libcli11-dev nlohmann-json3-dev
   libboost-math-dev            # chi-square distribution for the statistical tests
   libgtest-dev libgmock-dev libbenchmark-dev

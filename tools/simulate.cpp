@@ -1,5 +1,7 @@
 #include "simulate.h"
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <iostream>
 #include <map>
 
@@ -8,7 +10,8 @@
 #include "field_loader.h"
 #include "quantum/world.h"
 #include "scenes.h"
-#include "snapshot.h"
+#include "event_log.h"
+#include "picture.h"
 
 namespace quantum::tools {
 namespace {
@@ -16,10 +19,11 @@ namespace {
 constexpr double kRespawnDelay = 1.0;     // s between a goal and the next drop
 constexpr double kRepredictEvery = 0.5;   // s: fates drift as the cloud spreads and mallets move
 
-// Fates of the current cloud, tweaked with the options' factors.
-void retweak(World& world, const KindFactors& factors) {
+// Fates of the current cloud, tweaked with the options' factors, into `report`.
+void retweak(World& world, const KindFactors& factors, FateReport& report) {
+  report.groups.clear();
   if (!world.live() || world.cloud().empty()) return;
-  FateReport report = world.predict();
+  world.predict(report);
   world.tweak(report, factors_by_kind(report, factors));
 }
 
@@ -65,7 +69,10 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   config.purgatory_frames = o.purgatory;
   World world(field, config, o.backend == "box2d" ? make_box2d_backend(field) : nullptr);
 
-  runtime::LineFile log(o.events);
+  runtime::LineFile log(o.events), decisions(o.decisions);
+  FateReport report;  // the fates the draws are tweaked by
+  runtime::Picture picture(world.field());
+  cv::Mat image;
 
   std::vector<Event> events;
   std::map<std::string, int> counts, conceded;
@@ -94,6 +101,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       respawn_at = -1;
     }
     world.step(dt, scripted_mallets(world.field(), world.time() + dt), events);
+    if (decisions.stream() && world.decision()) runtime::write_decision(*decisions.stream(), *world.decision(), report.groups, world.field());
     const bool decided = !events.empty();
     flush();
     if (!world.live() && respawn_at < 0) {  // every particle crushed: the ball is lost, restart it
@@ -101,7 +109,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       respawn_to = 0;
     }
     if (decided || world.time() >= next_tweak) {
-      retweak(world, o.factors);
+      retweak(world, o.factors, report);
       next_tweak = world.time() + kRepredictEvery;
     }
     // The picture is taken right after the last realized hit: a fresh shot fanning out.
@@ -109,12 +117,14 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       bool hit = false;
       for (const Event& e : events) hit |= e.type == EventType::Hit;
       if (hit || (!have_snapshot_moment && s + 1 == steps)) {
-        write_snapshot(world, o.snapshot);
+        picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr}, image);
+        if (!cv::imwrite(o.snapshot, image)) throw std::runtime_error("cannot write snapshot " + o.snapshot);
         have_snapshot_moment = true;
       }
     }
   }
   log.close();
+  decisions.close();
 
   summary << "simulated " << o.seconds << " s of " << world.field().name << " (" << o.backend << " backend, "
           << o.particles << " particles, seed " << o.seed << ")\n";

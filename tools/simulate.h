@@ -19,6 +19,7 @@ struct SimulateOptions {
   std::string backend = "fast";  // fast | box2d
   std::string events;          // JSON-lines file, "-" for stdout, empty for none
   std::string snapshot;        // PNG, empty for none
+  std::string decisions;       // every draw as a JSON line (docs/decisions.md), "-" for stdout, empty for none
   double fps = 60;
   uint32_t purgatory = 3;
   KindFactors factors;

@@ -9,6 +9,7 @@ namespace quantum::audio {
 Announcer::Announcer(Mixer& mixer, double stale_after) : mixer_(mixer), stale_after_(stale_after) {
   queue_.resize(16);
   dropped_.resize(16);
+  cut_.resize(16);
 }
 
 void Announcer::say(const Clip& clip, int priority, double now, std::string_view text) {
@@ -43,7 +44,11 @@ void Announcer::update(double now) {
   });
   const bool busy = current_ && mixer_.playing(current_);
   if (busy && next->priority <= current_priority_) return;
-  if (busy) mixer_.stop(current_);  // outranked: cut off mid-phrase
+  if (busy) {  // outranked: cut off mid-phrase
+    mixer_.stop(current_);
+    if (n_cut_ == cut_.size()) cut_.emplace_back();
+    cut_[n_cut_++].assign(current_text_);
+  }
   current_ = mixer_.play_at_listener(*next->clip);
   current_priority_ = next->priority;
   current_text_.assign(next->text);

@@ -157,10 +157,11 @@ class Announcer {
   void update(double now);
 
   const std::string& speaking() const { return current_text_; }
-  // Stale phrases dropped since the last clear_dropped(): what a phrase's fate was, for whoever
-  // reports it (the tests now; the event log is to say it).
+  // Since the last clear_fates(): phrases dropped stale, never spoken, and phrases cut off by a
+  // more urgent one, for whoever shows what became of them (the desk's ticker).
   std::span<const std::string> dropped() const { return {dropped_.data(), n_dropped_}; }
-  void clear_dropped() { n_dropped_ = 0; }
+  std::span<const std::string> cut() const { return {cut_.data(), n_cut_}; }
+  void clear_fates() { n_dropped_ = n_cut_ = 0; }
 
  private:
   struct Waiting {
@@ -174,8 +175,8 @@ class Announcer {
   // The first n_waiting_ are queued; the others keep their text's room for the next phrases.
   std::vector<Waiting> queue_;
   size_t n_waiting_ = 0;
-  std::vector<std::string> dropped_;
-  size_t n_dropped_ = 0;
+  std::vector<std::string> dropped_, cut_;
+  size_t n_dropped_ = 0, n_cut_ = 0;
   int current_ = 0, current_priority_ = 0;
   std::string current_text_;
 };

@@ -1,0 +1,260 @@
+#include "picture.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "session.h"
+
+namespace quantum::runtime {
+namespace {
+
+constexpr int kLine = 20;  // pixels between text lines
+const cv::Scalar kBackground(28, 28, 28), kText(235, 235, 235), kDim(150, 150, 150), kWall(230, 230, 230);
+const cv::Scalar kGoal(40, 215, 255), kOwnGoal(0, 140, 255), kOut(210, 90, 210), kStays(165, 165, 165);
+const cv::Scalar kWarning(60, 170, 255);  // cut or dropped phrases
+// Teams in the order the field names them: blue and red first, as the shipped sports use them.
+const cv::Scalar kTeams[] = {{235, 140, 45}, {70, 70, 235}, {90, 200, 90}, {50, 200, 230}, {200, 110, 200}};
+
+void text(cv::Mat& img, const std::string& s, cv::Point at, const cv::Scalar& colour, double size = 0.5) {
+  cv::putText(img, s, at, cv::FONT_HERSHEY_SIMPLEX, size, colour, 1, cv::LINE_AA);
+}
+
+std::string clock(double t) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%d:%05.2f", int(t / 60), std::fmod(t, 60.0));
+  return buf;
+}
+
+}  // namespace
+
+void Ticker::hear(const News& news) {
+  for (const game::Said& s : news.said) {
+    shown_.push_back({s.t, s.text, Line::Fate::Said});
+    if (shown_.size() > lines_) shown_.pop_front();
+  }
+}
+
+void Ticker::mark(std::span<const std::string> texts, Line::Fate fate) {
+  for (const std::string& text : texts)
+    for (auto it = shown_.rbegin(); it != shown_.rend(); ++it)
+      if (it->text == text && it->fate == Line::Fate::Said) {
+        it->fate = fate;
+        break;
+      }
+}
+
+void Ticker::mark(std::span<const std::string> dropped, std::span<const std::string> cut) {
+  mark(dropped, Line::Fate::Dropped);
+  mark(cut, Line::Fate::Cut);
+}
+
+Picture::Picture(const Field& field, PictureOptions options) : field_(field), options_(options) {
+  const float w = field_.bounds_max.x - field_.bounds_min.x, h = field_.bounds_max.y - field_.bounds_min.y;
+  scale_ = double(options_.width - 2 * margin_) / w;
+  field_height_ = int(h * scale_) + 2 * margin_;
+  size_t k = 0;
+  for (const std::string& team : field_.teams()) team_colours_[team] = kTeams[k++ % std::size(kTeams)];
+}
+
+cv::Point Picture::px(Vec2 p) const {
+  // Field y points to the left of a player facing +x; image rows go down.
+  return {margin_ + int((p.x - field_.bounds_min.x) * scale_), margin_ + int((field_.bounds_max.y - p.y) * scale_)};
+}
+
+Vec2 Picture::to_field(int x, int y) const {
+  return {float(field_.bounds_min.x + (x - margin_) / scale_), float(field_.bounds_max.y - (y - margin_) / scale_)};
+}
+
+cv::Scalar Picture::team_colour(const std::string& team) const {
+  const auto it = team_colours_.find(team);
+  return it == team_colours_.end() ? kStays : it->second;
+}
+
+// A fate's colour: its kind's (a body's is its team's); the likelier of two fates of one kind
+// is the brighter, so "via the left wall" and "direct" stay apart.
+cv::Scalar Picture::fate_colour(const Fate& f, size_t rank) const {
+  cv::Scalar c;
+  switch (f.kind) {
+    case FateKind::Goal: c = kGoal; break;
+    case FateKind::OwnGoal: c = kOwnGoal; break;
+    case FateKind::Body: c = team_colour(field_.bodies[f.target].team); break;
+    case FateKind::Out: c = kOut; break;
+    case FateKind::Field: c = kStays; break;
+  }
+  return c * (1.0 - 0.12 * double(std::min<size_t>(rank, 4)));
+}
+
+void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& img) {
+  const Cloud& cloud = world.cloud();
+  // The report describes this cloud only when it has a group for every particle.
+  const bool fated = world.live() && report.group_of.size() == cloud.size();
+  ranked_.resize(fated ? report.groups.size() : 0);
+  for (size_t g = 0; g < ranked_.size(); ++g) ranked_[g] = g;
+  std::sort(ranked_.begin(), ranked_.end(),
+            [&](size_t a, size_t b) { return report.groups[a].tweaked_mass > report.groups[b].tweaked_mass; });
+  std::vector<size_t> rank(ranked_.size());
+  for (size_t r = 0; r < ranked_.size(); ++r) rank[ranked_[r]] = r;
+  // Ranks among fates of one kind (and body), for their shades.
+  std::vector<size_t> shade(ranked_.size());
+  std::map<std::pair<int, int>, size_t> seen;
+  for (size_t g : ranked_) shade[g] = seen[{int(report.groups[g].fate.kind), report.groups[g].fate.target}]++;
+
+  // The cloud: every particle's weight and fate colour gathered per pixel, so that a million
+  // particles cost one pass, and drawn with an alpha that grows with the weight there. A lone
+  // particle still shows, as a dot of three pixels.
+  density_.create(img.rows, img.cols, CV_32F);
+  tint_.create(img.rows, img.cols, CV_32FC3);
+  density_.setTo(0);
+  tint_.setTo(cv::Scalar::all(0));
+  float most = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const cv::Point p = px({cloud.x[i], cloud.y[i]});
+    if (p.x < 0 || p.y < 0 || p.x >= img.cols || p.y >= img.rows) continue;
+    const float w = float(cloud.weight(i));
+    const size_t g = fated ? report.group_of[i] : 0;
+    const cv::Scalar c = fated ? fate_colour(report.groups[g].fate, shade[g]) : kStays;
+    float& d = density_.at<float>(p);
+    d += w;
+    most = std::max(most, d);
+    cv::Vec3f& t = tint_.at<cv::Vec3f>(p);
+    t += cv::Vec3f(float(c[0]), float(c[1]), float(c[2])) * w;
+  }
+  if (most > 0) {
+    cv::Mat spread, colour;
+    cv::dilate(density_, spread, cv::Mat::ones(3, 3, CV_8U));
+    cv::dilate(tint_, colour, cv::Mat::ones(3, 3, CV_8U));
+    for (int y = 0; y < img.rows; ++y)
+      for (int x = 0; x < img.cols; ++x) {
+        const float d = spread.at<float>(y, x);
+        if (d <= 0) continue;
+        const cv::Vec3f c = colour.at<cv::Vec3f>(y, x) / d;
+        const float alpha = 0.35f + 0.65f * std::sqrt(std::min(1.0f, d / most));
+        cv::Vec3b& out = img.at<cv::Vec3b>(y, x);
+        for (int k = 0; k < 3; ++k) out[k] = cv::saturate_cast<uint8_t>(out[k] * (1 - alpha) + c[k] * alpha);
+      }
+  }
+  // The likeliest fates' ways: each one's heaviest particle's path, the likeliest three bold.
+  // Staying in the field is drawn faint: it is where the ball goes when nothing happens.
+  if (options_.paths && fated) {
+    for (size_t r = ranked_.size() < size_t(options_.top_fates) ? ranked_.size() : size_t(options_.top_fates); r-- > 0;) {
+      const size_t g = ranked_[r];
+      const bool stays = report.groups[g].fate.kind == FateKind::Field;
+      const cv::Scalar c = fate_colour(report.groups[g].fate, shade[g]) * (stays ? 0.6 : 1.0);
+      const std::vector<Vec2> path = world.predict_path(report.groups[g].representative, report.horizon);
+      for (size_t k = 1; k < path.size(); ++k)
+        cv::line(img, px(path[k - 1]), px(path[k]), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
+    }
+  }
+  for (const Segment& s : field_.segments) cv::line(img, px(s.a), px(s.b), kWall, 3, cv::LINE_AA);
+  for (const Goal& g : field_.goals) cv::line(img, px(g.a), px(g.b), team_colour(g.team), 5, cv::LINE_AA);
+  for (const Spot& s : field_.spots) cv::drawMarker(img, px(s.at), kDim, cv::MARKER_CROSS, 12, 1);
+  for (const Wormhole& w : world.wormholes())
+    for (Vec2 m : {w.a, w.b}) cv::circle(img, px(m), int(w.radius * scale_), kOut, 2, cv::LINE_AA);
+  for (size_t k = 0; k < field_.bodies.size(); ++k) {
+    const BodySpec& b = field_.bodies[k];
+    const cv::Point at = px(world.body_positions()[k]);
+    const cv::Scalar c = team_colour(b.team);
+    cv::circle(img, at, std::max(4, int(b.radius * scale_)), c, cv::FILLED, cv::LINE_AA);
+    cv::circle(img, at, std::max(4, int(b.radius * scale_)), kText, 1, cv::LINE_AA);
+    text(img, b.name, at + cv::Point(int(b.radius * scale_) + 4, -4), c * 0.5 + kText * 0.5, 0.45);
+  }
+}
+
+void Picture::header(cv::Mat& image, const std::string& s, const cv::Scalar& colour) {
+  int baseline = 0;
+  const cv::Size size = cv::getTextSize(s, cv::FONT_HERSHEY_SIMPLEX, 0.6, 1, &baseline);
+  text(image, s, {header_x_, field_height_ + 22}, colour, 0.6);
+  header_x_ += size.width + 24;
+}
+
+void Picture::draw(const game::Match& match, const Overlay& overlay, cv::Mat& image) {
+  draw(match.world(), match.report(), overlay, image);
+  // The score and the power-ups go on in the header line.
+  for (const auto& [team, goals] : match.score()) header(image, team + " " + std::to_string(goals), team_colour(team));
+  for (const game::ActivePowerup& p : match.powerups()) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%s: %s %.1f s", match.players()[size_t(p.player)].name.c_str(), p.name.c_str(),
+                  std::max(0.0, p.until - match.time()));
+    header(image, buf, kOut);
+  }
+}
+
+void Picture::draw(const World& world, const FateReport& report, const Overlay& overlay, cv::Mat& image) {
+  const size_t ticker = overlay.ticker ? 6 : 0;
+  const int rows = int(std::max<size_t>(size_t(options_.top_fates) + 3, ticker + 1)) + 3;
+  image.create(field_height_ + rows * kLine + 10, options_.width, CV_8UC3);
+  image.setTo(kBackground);
+  cv::Mat field_area = image(cv::Rect(0, 0, image.cols, field_height_));
+  draw_field(world, report, field_area);
+
+  int y = field_height_ + 22;
+  header_x_ = margin_;
+  header(image, overlay.title, kText);
+  header(image, clock(world.time()), kText);
+  // The likeliest fates, with the colour each is drawn in.
+  y += kLine + 6;
+  text(image, "Newtonian  tweaked   fate", {margin_ + 22, y}, kDim, 0.45);
+  const bool fated = !ranked_.empty();
+  double rest_mass = 0, rest_tweaked = 0;
+  for (size_t r = 0; r < ranked_.size(); ++r) {
+    const FateGroup& g = report.groups[ranked_[r]];
+    if (r >= size_t(options_.top_fates)) {
+      rest_mass += g.mass, rest_tweaked += g.tweaked_mass;
+      continue;
+    }
+    y += kLine;
+    size_t shade = 0;
+    for (size_t q = 0; q < r; ++q)
+      shade += report.groups[ranked_[q]].fate.kind == g.fate.kind && report.groups[ranked_[q]].fate.target == g.fate.target;
+    cv::rectangle(image, cv::Rect(margin_, y - 11, 14, 12), fate_colour(g.fate, shade), cv::FILLED);
+    std::string name = describe(g.fate, world.field());
+    if (name.size() > 44) name = name.substr(0, 43) + "...";
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%6.1f%%   %6.1f%%   %s", 100 * g.mass, 100 * g.tweaked_mass, name.c_str());
+    text(image, buf, {margin_ + 22, y}, kText, 0.45);
+  }
+  if (ranked_.size() > size_t(options_.top_fates)) {
+    y += kLine;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%6.1f%%   %6.1f%%   %zu rarer fates together", 100 * rest_mass, 100 * rest_tweaked,
+                  ranked_.size() - size_t(options_.top_fates));
+    text(image, buf, {margin_ + 22, y}, kDim, 0.45);
+  }
+  if (!fated) text(image, world.live() ? "(no prediction yet)" : "(no ball in play)", {margin_ + 22, y + kLine}, kDim, 0.45);
+  // Every colour the picture uses, the rarer fates' included.
+  int x = margin_;
+  const int key_y = field_height_ + 22 + kLine * (options_.top_fates + 3) + 6;
+  auto key = [&](const std::string& name, const cv::Scalar& c) {
+    cv::rectangle(image, cv::Rect(x, key_y - 11, 14, 12), c, cv::FILLED);
+    text(image, name, {x + 20, key_y}, kDim, 0.45);
+    int baseline = 0;
+    x += 20 + cv::getTextSize(name, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, &baseline).width + 18;
+  };
+  for (const auto& [team, colour] : team_colours_) key(team + " player", colour);
+  key("goal", kGoal);
+  key("own goal", kOwnGoal);
+  key("out", kOut);
+  key("stays in field", kStays);
+  // The announcer's last phrases, and what became of them.
+  if (overlay.ticker) {
+    const int x = image.cols / 2 + 40;
+    int ty = field_height_ + 22 + kLine + 6;
+    text(image, "announcer", {x, ty}, kDim, 0.45);
+    for (const Ticker::Line& line : overlay.ticker->lines()) {
+      ty += kLine;
+      const bool lost = line.fate != Ticker::Line::Fate::Said;
+      std::string s = clock(line.t) + "  " + line.text;
+      if (line.fate == Ticker::Line::Fate::Cut) s += "  (cut)";
+      if (line.fate == Ticker::Line::Fate::Dropped) s += "  (dropped)";
+      text(image, s, {x, ty}, lost ? kWarning : kText, 0.45);
+    }
+  }
+  const int bottom = image.rows - 10;
+  if (!overlay.status.empty()) text(image, overlay.status, {margin_, bottom}, kWarning, 0.5);
+  if (!overlay.help.empty()) text(image, overlay.help, {image.cols / 2 + 40, bottom}, kDim, 0.4);
+}
+
+}  // namespace quantum::runtime

@@ -1,0 +1,167 @@
+// The designer's desk: the live view opens a window that shows the field and the players (on a
+// virtual display, photographed); a video has the frames, the length and the sound it should;
+// a snapshot is a readable picture; the mouse moves a player; the decision log lets anyone
+// check that realized outcomes follow the tweaked chances.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <array>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "players.h"
+#include "session.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string output_of(const std::string& command) {
+  std::string out;
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
+  if (!p) return out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  pclose(p);
+  return out;
+}
+
+// Pixels of `image` within 12 of colour (B, G, R) on every channel.
+int pixels_of(const cv::Mat& image, cv::Vec3b colour) {
+  int n = 0;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x) {
+      const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
+      n += std::abs(p[0] - colour[0]) < 12 && std::abs(p[1] - colour[1]) < 12 && std::abs(p[2] - colour[2]) < 12;
+    }
+  return n;
+}
+
+const cv::Vec3b kWall(230, 230, 230), kBlue(235, 140, 45), kRed(70, 70, 235);
+
+TEST(Desk, TheLiveViewShowsTheFieldAndThePlayers) {
+  const fs::path shot = fs::temp_directory_path() / "quantum_view.png";
+  fs::remove(shot);
+  // A virtual display; the window is photographed from the screen itself, as a person sees it.
+  const std::string out = output_of("timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' sh -c '" QUANTUM_BINARY
+                                    " play " QUANTUM_SOURCE_DIR "/rules/airhockey --view --seconds 30 --audio none --quiet "
+                                    "& p=$!; sleep 5; import -window root " + shot.string() + "; kill $p'");
+  const cv::Mat image = cv::imread(shot.string());
+  ASSERT_FALSE(image.empty()) << out;
+  EXPECT_GT(pixels_of(image, kWall), 3000) << "the walls";   // 2 m + 1 m of wall, 3 px thick
+  EXPECT_GT(pixels_of(image, kBlue), 600) << "Blue's mallet";
+  EXPECT_GT(pixels_of(image, kRed), 600) << "Red's mallet";
+}
+
+TEST(Desk, TheViewNeedsADisplayAndSaysSo) {
+  const std::string out = output_of("env -u DISPLAY " QUANTUM_BINARY " play --view --seconds 1 --audio none");
+  EXPECT_NE(out.find("--view needs a display"), std::string::npos) << out;
+}
+
+TEST(Desk, AVideoHasItsFramesItsLengthAndItsSound) {
+  const fs::path dir = fs::temp_directory_path() / "quantum_video";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string video = (dir / "match.mp4").string();
+  const std::string run = output_of(QUANTUM_BINARY " play " QUANTUM_SOURCE_DIR "/rules/airhockey --seconds 4 --quiet "
+                                    "--audio wav:" + (dir / "match.wav").string() + " --video " + video);
+  const std::string probe = output_of("ffprobe -v error -count_frames -show_entries stream=codec_type,nb_read_frames,duration "
+                                      "-of compact " + video);
+  EXPECT_NE(probe.find("codec_type=video|duration=4.000000|nb_read_frames=120"), std::string::npos) << probe << run;
+  EXPECT_NE(probe.find("codec_type=audio"), std::string::npos) << probe;  // the match's sound, muxed in
+}
+
+TEST(Desk, ASnapshotIsAReadablePictureOfThatMoment) {
+  const fs::path png = fs::temp_directory_path() / "quantum_snapshot.png";
+  fs::remove(png);
+  const std::string run = output_of(QUANTUM_BINARY " play " QUANTUM_SOURCE_DIR "/rules/airhockey --seconds 6 --quiet "
+                                    "--audio none --snapshot " + png.string() + " --snapshot-at 2.5");
+  const cv::Mat image = cv::imread(png.string());
+  ASSERT_FALSE(image.empty()) << run;
+  EXPECT_GE(image.cols, 1000);
+  EXPECT_GT(pixels_of(image, kWall), 3000);
+  EXPECT_GT(pixels_of(image, kBlue), 600);
+  EXPECT_GT(pixels_of(image, kRed), 600);
+}
+
+TEST(Desk, TheHandMovesItsPlayerWithinTheFieldAndItsSpeed) {
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.seconds = 5;
+  runtime::Hand hand;
+  std::ostringstream errors;
+  const Field field = lua::Sport(o.sport).field();
+  runtime::Session session(o, nullptr, errors,
+                           std::make_unique<runtime::HandPlayers>(field, std::vector<double>{0.6, 0.6}, 1, 0, hand));
+  hand.over = true;
+  hand.at = {-0.5f, 0.3f};
+  for (int frame = 0; frame < 30; ++frame) session.frame();
+  const game::Player& blue = session.match().players()[0];
+  EXPECT_NEAR(blue.position.x, -0.5, 1e-5);
+  EXPECT_NEAR(blue.position.y, 0.3, 1e-5);
+  hand.at = {-0.4f, 0.3f};  // 10 cm in one frame: 6 m/s
+  session.frame();
+  EXPECT_NEAR(session.match().players()[0].velocity.x, 6.0, 0.01);
+  hand.at = {-5.0f, 9.0f};  // off the table: the mallet stops at its edge
+  for (int frame = 0; frame < 60; ++frame) session.frame();
+  EXPECT_NEAR(session.match().players()[0].position.y, field.bounds_max.y - field.bodies[0].radius, 1e-5);
+  EXPECT_EQ(errors.str(), "");
+}
+
+// Every draw of a long match, from its decision log alone: the number of times each kind of
+// outcome was realized against the number its chances predict. Pearson's chi-square over the
+// kinds (body, goal, wall, out, nothing), rejected below p = 0.001.
+TEST(Desk, TheDecisionLogShowsOutcomesFollowTheTweakedChances) {
+  std::map<std::string, double> expected, seen;
+  int draws = 0;
+  for (uint64_t seed = 9; seed < 13; ++seed) {
+    const fs::path log = fs::temp_directory_path() / ("quantum_decisions_" + std::to_string(seed) + ".jsonl");
+    runtime::SessionOptions o;
+    o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+    o.seconds = 180;
+    o.seed = seed;
+    o.decisions = log.string();
+    std::ostringstream errors;
+    runtime::Session(o, nullptr, errors).run();
+    std::ifstream in(log);
+    for (std::string line; std::getline(in, line); ++draws) {
+      const nlohmann::json d = nlohmann::json::parse(line);
+      ASSERT_TRUE(d.contains("fates"));
+      double none = 1;
+      std::string kind = "none";
+      for (const nlohmann::json& option : d.at("draw")) {
+        expected[option.at("kind")] += option.at("p").get<double>();
+        none -= option.at("p").get<double>();
+        if (option.at("actor") == d.at("outcome")) kind = option.at("kind");
+      }
+      expected["none"] += std::max(0.0, none);
+      seen[kind] += 1;
+    }
+  }
+  ASSERT_GT(draws, 3000);
+  double chi2 = 0;
+  int cells = 0;
+  std::ostringstream report;
+  for (const auto& [kind, e] : expected) {
+    report << kind << ": expected " << e << ", seen " << seen[kind] << "; ";
+    if (e < 5) continue;
+    chi2 += (seen[kind] - e) * (seen[kind] - e) / e;
+    ++cells;
+  }
+  const double p = boost::math::cdf(boost::math::complement(boost::math::chi_squared(cells - 1), chi2));
+  std::cout << report.str() << "chi2 " << chi2 << ", p " << p << '\n';
+  ASSERT_GE(cells, 3) << report.str();
+  EXPECT_GT(seen["body"] + seen["goal"] + seen["wall"], 50) << report.str();  // outcomes happened, not only "nothing"
+  EXPECT_GT(p, 0.001) << report.str();
+}
+
+}  // namespace
+}  // namespace quantum

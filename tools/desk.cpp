@@ -1,0 +1,103 @@
+#include "desk.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <memory>
+#include <optional>
+#include <ostream>
+
+#include "picture.h"
+#include "video.h"
+#include "window.h"
+
+namespace quantum::tools {
+namespace {
+
+constexpr const char* kHelp = "space pause   s step   m slow motion   p paths   r restart   q quit";
+
+// Keys of the live view. highgui gives the character's code (or -1).
+enum Key : int { kPause = ' ', kStep = 's', kSlow = 'm', kPaths = 'p', kRestart = 'r', kQuit = 'q', kEscape = 27 };
+
+// The player a person plays with the mouse: `name`, or the first when "".
+int hand_body(const Field& field, const std::string& name) {
+  for (size_t k = 0; k < field.bodies.size(); ++k)
+    if (name.empty() || field.bodies[k].name == name) return int(k);
+  throw std::invalid_argument("--input mouse:" + name + ": no such player in the field");
+}
+
+}  // namespace
+
+PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std::ostream& out, std::ostream& errors,
+                        bool transcript) {
+  if (desk.hand && !desk.view) throw std::invalid_argument("--input mouse needs --view: the mouse moves over the view");
+  // Someone watches: the match runs in real time unless asked otherwise.
+  o.watched = desk.view;
+  std::optional<runtime::Window> window;
+  if (desk.view) window.emplace("Quantum games: " + o.sport);
+  runtime::Hand hand;
+  const std::string wav = o.audio.rfind("wav:", 0) == 0 ? o.audio.substr(4) : "";
+  bool quit = false;
+  PlayResult result;
+  // Restart (the r key) plays the match again from the start, as a new session.
+  for (bool again = true; again && !quit;) {
+    again = false;
+    std::unique_ptr<runtime::PlayerSource> players;
+    if (desk.hand) {
+      const Field field = lua::Sport(o.sport).field();
+      std::vector<double> skills = o.skills.empty() ? std::vector<double>(field.bodies.size(), 0.6) : o.skills;
+      players = std::make_unique<runtime::HandPlayers>(field, skills, o.seed, hand_body(field, desk.hand_player), hand);
+    }
+    runtime::Session session(o, transcript ? &out : nullptr, errors, std::move(players));
+    runtime::Picture picture(session.match().field());
+    runtime::Ticker ticker;
+    session.watch([&](const runtime::News& news) { ticker.hear(news); });
+    runtime::Overlay overlay{session.sport().name(), "", desk.view ? kHelp : "", &ticker};
+    cv::Mat image;
+    picture.draw(session.match(), overlay, image);
+    std::optional<runtime::VideoFile> video;
+    if (!desk.video.empty()) video.emplace(desk.video, image.cols, image.rows, desk.video_fps);
+    bool paused = false, slow = false, step = false, snapped = false;
+    double next_video_frame = 0;
+    for (bool playing = true; playing && !quit;) {
+      if (window) {
+        const int key = window->show(image, paused ? 30 : 1);
+        if (window->closed() || key == kQuit || key == kEscape) quit = true;
+        if (key == kPause) paused = !paused, session.resync();
+        if (key == kStep) paused = true, step = true;
+        if (key == kSlow) slow = !slow, session.set_speed(slow ? 0.25 : 1.0);
+        if (key == kPaths) picture.set_paths(!picture.options().paths);
+        if (key == kRestart && o.record.empty()) again = true, playing = false;
+        const runtime::Window::Mouse m = window->mouse();
+        hand.over = m.over && m.y < image.rows;
+        if (hand.over) hand.at = picture.to_field(m.x, m.y);
+      }
+      if (!paused || step) {
+        playing = playing && session.frame();
+        ticker.mark(session.dropped(), session.cut());
+        step = false;
+        if (paused) session.resync();
+      }
+      overlay.status = paused ? "paused" : slow ? "slow motion (1/4)" : "";
+      if (window || video || !snapped) picture.draw(session.match(), overlay, image);
+      // The video takes the picture of every moment it has a frame for, in match time; the
+      // moment the match ends closes it (a 4 s match at 30 frames a second is 120 frames).
+      while (video && playing && session.match().time() + 1e-9 >= next_video_frame) {
+        video->add(image);
+        next_video_frame = video->frames() / video->fps();
+      }
+      if (!desk.snapshot.empty() && !snapped && desk.snapshot_at >= 0 && session.match().time() + 1e-9 >= desk.snapshot_at) {
+        if (!cv::imwrite(desk.snapshot, image)) throw std::runtime_error("cannot write snapshot " + desk.snapshot);
+        snapped = true;
+      }
+    }
+    session.finish();
+    if (!desk.snapshot.empty() && !snapped && !cv::imwrite(desk.snapshot, image))
+      throw std::runtime_error("cannot write snapshot " + desk.snapshot);
+    if (video) video->finish(wav);
+    const game::Match& match = session.match();
+    result = {match.score(), match.winner(), match.stats(), session.rule_errors()};
+  }
+  return result;
+}
+
+}  // namespace quantum::tools

@@ -1,0 +1,31 @@
+// The designer's desk: `quantum play` and `quantum replay` with a live view (--view), a video
+// (--video FILE.mp4), a picture of one moment (--snapshot FILE.png, --snapshot-at T) and play by
+// mouse (--input mouse[:PLAYER]). docs/desk.md shows it.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "play.h"
+#include "session.h"
+
+namespace quantum::tools {
+
+struct DeskOptions {
+  bool view = false;         // a window, at 60 Hz, with keys
+  std::string video;         // an MP4 file, rendered at `video_fps`, headless
+  double video_fps = 30;
+  std::string snapshot;      // a PNG of the moment `snapshot_at` (< 0: the end)
+  double snapshot_at = -1;
+  bool hand = false;         // a person moves a player with the mouse (needs the view)...
+  std::string hand_player;   // ...this one ("": the first)
+
+  bool wanted() const { return view || !video.empty() || !snapshot.empty() || hand; }
+};
+
+// Plays the session's match at the desk: frames as the view (if any) lets them run, each one
+// drawn for the window, the video and the snapshot. Returns the match's result.
+PlayResult play_at_desk(runtime::SessionOptions options, const DeskOptions& desk, std::ostream& out,
+                        std::ostream& errors, bool transcript);
+
+}  // namespace quantum::tools
