@@ -30,6 +30,26 @@ std::string clock(double t) {
 
 }  // namespace
 
+std::string describe_draw(const Decision& d, const Field& f) {
+  std::string s = clock(d.t) + "  last draw:";
+  double rest = 1;
+  for (size_t k = 0; k < d.options.size(); ++k) {
+    const Target t = d.options[k].target;
+    const std::string& name = t.kind == TargetKind::Body   ? f.bodies[t.index].name
+                              : t.kind == TargetKind::Goal ? f.goals[t.index].name
+                              : t.kind == TargetKind::Wall ? f.wall_names[t.index]
+                                                           : std::string("out");
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s %s %.1f%%%s", k == 0 ? "" : ",", name.c_str(), 100 * d.options[k].chance,
+                  int(k) == d.realized ? " (realized)" : "");
+    s += buf;
+    rest -= d.options[k].chance;
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, ", nothing %.1f%%%s", 100 * std::max(0.0, rest), d.realized < 0 ? " (realized)" : "");
+  return s + buf;
+}
+
 void Ticker::hear(const News& news) {
   for (const game::Said& s : news.said) {
     shown_.push_back({s.t, s.text, Line::Fate::Said});
@@ -184,7 +204,7 @@ void Picture::draw(const game::Match& match, const Overlay& overlay, cv::Mat& im
 
 void Picture::draw(const World& world, const FateReport& report, const Overlay& overlay, cv::Mat& image) {
   const size_t ticker = overlay.ticker ? 6 : 0;
-  const int rows = int(std::max<size_t>(size_t(options_.top_fates) + 3, ticker + 1)) + 3;
+  const int rows = int(std::max<size_t>(size_t(options_.top_fates) + 3, ticker + 1)) + 4;
   image.create(field_height_ + rows * kLine + 10, options_.width, CV_8UC3);
   image.setTo(kBackground);
   cv::Mat field_area = image(cv::Rect(0, 0, image.cols, field_height_));
@@ -253,6 +273,7 @@ void Picture::draw(const World& world, const FateReport& report, const Overlay& 
     }
   }
   const int bottom = image.rows - 10;
+  if (!overlay.last_draw.empty()) text(image, overlay.last_draw, {margin_, bottom - kLine}, kDim, 0.45);
   if (!overlay.status.empty()) text(image, overlay.status, {margin_, bottom}, kWarning, 0.5);
   if (!overlay.help.empty()) text(image, overlay.help, {image.cols / 2 + 40, bottom}, kDim, 0.4);
 }

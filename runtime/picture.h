@@ -46,7 +46,12 @@ struct Overlay {
   std::string status;             // "paused", "slow motion (1/4)", ... ("" when playing)
   std::string help;               // the keys, for the live view ("" elsewhere)
   const Ticker* ticker = nullptr;
+  std::string last_draw;          // the last draw that realized something, and its alternatives (describe_draw)
 };
+
+// "0:12.30  Red's mallet 41% (realized), Blue's mallet 3%, nothing 56%": a draw's alternatives
+// with their tweaked chances, for a person asking why.
+std::string describe_draw(const Decision& d, const Field& field);
 
 struct PictureOptions {
   int width = 1100;    // pixels across the image

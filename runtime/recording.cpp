@@ -72,6 +72,7 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
   nlohmann::json handicaps = o.handicaps, factors = o.factors;
   write_json(dir / "recording.json",
              {{"engine", engine_version()},
+              {"command", o.command},
               {"sport", folder.string()},
               {"sport_copy", fs::relative(places_[folder], dir).string()},
               {"seed", o.seed},

@@ -2,7 +2,7 @@
 // exactly, and `quantum replay DIR` plays it again from there (docs/desk.md).
 //
 // A recording is a folder:
-//   recording.json   the engine's version, the options that shape the match (seed, particles,
+//   recording.json   the engine's version, the command line, the options that shape the match (seed, particles,
 //                    time limit, handicaps, balance, factors), the sport's path and a hash of
 //                    every file copied below, and how many frames were played
 //   sport/<name>/    the sport's folder as it was (Lua, field, sounds; not its specs)

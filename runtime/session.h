@@ -42,6 +42,7 @@ struct SessionOptions {
   std::string decisions;        // every draw as a JSON line (docs/decisions.md): "" none, "-" stdout, or a file
   bool watch = false;           // reload the sport's and power-ups' scripts when they change
   std::string record;           // a folder to record the match into, for `quantum replay` ("" none)
+  std::string command;          // the command line that started it, kept in a recording
   std::string replay;           // a recording to play again: its players, files and reloads ("" none)
   double until = 0;             // stop the session at this match time (> 0), whatever the match's limit
   // Real time: each frame waits for the clock. Automatic: real time when someone listens (a sound

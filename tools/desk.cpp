@@ -51,7 +51,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     runtime::Picture picture(session.match().field());
     runtime::Ticker ticker;
     session.watch([&](const runtime::News& news) { ticker.hear(news); });
-    runtime::Overlay overlay{session.sport().name(), "", desk.view ? kHelp : "", &ticker};
+    runtime::Overlay overlay{session.sport().name(), "", desk.view ? kHelp : "", &ticker, ""};
     cv::Mat image;
     picture.draw(session.match(), overlay, image);
     std::optional<runtime::VideoFile> video;
@@ -74,6 +74,9 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
       if (!paused || step) {
         playing = playing && session.frame();
         ticker.mark(session.dropped(), session.cut());
+        // The last draw that realized something: "why did that happen?" at a glance.
+        if (const Decision* d = session.match().decision(); d && d->realized >= 0)
+          overlay.last_draw = runtime::describe_draw(*d, session.match().field());
         step = false;
         if (paused) session.resync();
       }

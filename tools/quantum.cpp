@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
   track->add_option("--frames", tracking.frames, "stop after this many frames (default: all)");
 
   CLI11_PARSE(app, argc, argv);
+  std::string command_line = "quantum";
+  for (int k = 1; k < argc; ++k) command_line += std::string(" ") + argv[k];
+  game.command = command_line;
   try {
     if (test->parsed()) return quantum::tools::run_specs(spec_paths);
     if (track->parsed()) quantum::tools::track(tracking, std::cout);

@@ -117,7 +117,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       bool hit = false;
       for (const Event& e : events) hit |= e.type == EventType::Hit;
       if (hit || (!have_snapshot_moment && s + 1 == steps)) {
-        picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr}, image);
+        picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
         if (!cv::imwrite(o.snapshot, image)) throw std::runtime_error("cannot write snapshot " + o.snapshot);
         have_snapshot_moment = true;
       }

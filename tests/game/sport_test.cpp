@@ -87,6 +87,18 @@ return {
   EXPECT_EQ(goals, r.stats.goals);
 }
 
+TEST(Sport, ARepeatingRuleErrorIsReportedOnceWithItsCount) {
+  runtime::SessionOptions o;
+  o.sport = sport_with("repeating", "return { on = { bounce = function(game, e) error('bad bounce') end } }");
+  o.seconds = 20;
+  std::ostringstream out, errors;
+  const tools::PlayResult r = tools::play(o, out, errors, false);
+  const std::string e = errors.str();
+  ASSERT_GT(r.rule_errors, 3);
+  EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 2) << e;  // the first time, and the count at the end
+  EXPECT_NE(e.find("quantum: rules error, " + std::to_string(r.rule_errors) + " times in all: "), std::string::npos) << e;
+}
+
 TEST(Sport, AirHockeyMatchIsPlayedAndRepeatable) {
   runtime::SessionOptions o;
   o.seconds = 60;
