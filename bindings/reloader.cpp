@@ -54,16 +54,17 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   for (const fs::path& file : files) {
     if (file.extension() != ".lua") continue;
     const fs::path dir = file.parent_path();
+    // Whatever changed may be read later (a power-up granted for the first time, a field in the
+    // next match): a recording keeps it all.
+    if (acted_on) acted_on->push_back(file);
     if (dir == folder_ && file.filename() == "field.lua") {
       errors << "quantum: " << file.string() << " changed: a field takes effect in the next match\n";
       continue;
     }
     const bool module = module_folders_.count(dir) > 0;  // sport.lua, or a module it may require
     const bool powerup = !module && powerup_folders_.count(dir) && sport->has_powerup(file.stem().string());
-    if (!module && !powerup) continue;
     sport_changed |= module;
     if (powerup) powerups.push_back(file.stem().string());
-    if (acted_on) acted_on->push_back(file);
   }
   if (sport_changed) {
     // A new sport loads the power-ups in use afresh when it first needs them.

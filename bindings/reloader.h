@@ -35,7 +35,8 @@ class Reloader {
   // carried, see Sport::take_over) and becomes the match's rules; `sport` then owns it. Each
   // reload is one line on `errors`: "quantum: reloaded FILE" (or "power-up NAME"), or
   // "quantum: reload failed: FILE:LINE: ...". Returns the number of files reloaded.
-  // `acted_on`, when given, gets every file the poll loaded (or failed to): what a recording keeps.
+  // `acted_on`, when given, gets every changed file the poll saw, loaded or not: what a recording
+  // keeps.
   int poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors,
            std::vector<std::filesystem::path>* acted_on = nullptr);
 

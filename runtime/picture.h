@@ -72,8 +72,10 @@ class Picture {
   // prediction of it.
   void draw(const World& world, const FateReport& report, const Overlay& overlay, cv::Mat& image);
 
-  // Where a pixel of the field area is on the field, in metres (the desk's mouse).
+  // Where a pixel of the field area is on the field, in metres (the desk's mouse), and how tall
+  // that area is (the legend is below it).
   Vec2 to_field(int x, int y) const;
+  int field_height() const { return field_height_; }
 
  private:
   struct Row {

@@ -90,7 +90,9 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
 
 Recorder::~Recorder() {
   try {
-    close();
+    // A session that failed to start leaves no half-made recording behind.
+    if (count_ == 0 && !closed_) fs::remove_all(dir_);
+    else close();
   } catch (...) {
   }
 }
@@ -111,11 +113,15 @@ void Recorder::reloaded(const std::vector<fs::path>& files) {
   const fs::path to = dir_ / "reloads" / std::to_string(count_);
   for (const fs::path& file : files) {
     const fs::path original = fs::absolute(file).lexically_normal();
-    const auto place = places_.find(original.parent_path());
-    if (place == places_.end()) continue;
-    const fs::path copy = to / fs::relative(place->second / original.filename(), dir_);
-    fs::create_directories(copy.parent_path());
-    if (fs::exists(original)) fs::copy_file(original, copy, fs::copy_options::overwrite_existing);
+    // The recorded folder it is in (a sport's own powerups/ is in the sport's folder).
+    for (const auto& [folder, copy] : places_) {
+      const fs::path inside = original.lexically_relative(folder);
+      if (inside.empty() || *inside.begin() == "..") continue;
+      const fs::path saved = to / fs::relative(copy / inside, dir_);
+      fs::create_directories(saved.parent_path());
+      if (fs::exists(original)) fs::copy_file(original, saved, fs::copy_options::overwrite_existing);
+      break;
+    }
   }
 }
 
@@ -163,6 +169,7 @@ Replay open_replay(const fs::path& dir) {
         r.differences.push_back(original.string() + " changed since the recording");
     }
   } catch (const nlohmann::json::exception& e) {
+    fs::remove_all(work);
     throw std::runtime_error((dir / "recording.json").string() + ": " + e.what());
   }
   if (r.version != engine_version())
@@ -192,6 +199,11 @@ PlayerSource::Status RecordedPlayers::advance(double, const game::Match&, bool) 
   }
   ++frame_;
   return Status(code);
+}
+
+RecordedPlayers::~RecordedPlayers() {
+  std::error_code ignored;
+  fs::remove_all(work_, ignored);  // the replay's own copy of the files
 }
 
 std::vector<fs::path> RecordedPlayers::files_to_reload() {

@@ -84,7 +84,9 @@ Replay open_replay(const std::filesystem::path& dir);
 // reloader.
 class RecordedPlayers final : public PlayerSource {
  public:
+  // Owns `work` from now on: it goes when the replay is over.
   RecordedPlayers(const std::filesystem::path& dir, const std::filesystem::path& work, size_t bodies);
+  ~RecordedPlayers() override;
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
   std::vector<std::filesystem::path> files_to_reload() override;

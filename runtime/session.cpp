@@ -69,15 +69,16 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   }
   // A replay reloads what its recording reloaded, when it did, and nothing else.
   if (o.watch || replay) reloader_ = std::make_unique<lua::Reloader>(*sport_, settings.factors, !replay);
-  if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_);
   log_ = std::make_unique<LineFile>(o.events);
   decisions_ = std::make_unique<LineFile>(o.decisions);
   audio_ = std::make_unique<MatchAudio>(o.audio, sport_->audio(), errors_);
   // People are listening, playing or watching: then the match runs in real time.
   real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
                (o.pacing == SessionOptions::Pacing::Automatic && (audio_->on_device() || players_->live() || o.watched));
+  // Last: a recording is made only once everything else has opened.
+  if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_);
   wall_start_ = clock_seconds();
-  if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << o.seed << '\n';
+  if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << config.seed << '\n';
 }
 
 Session::~Session() = default;
@@ -123,7 +124,12 @@ bool Session::frame() {
   if (reloader_) {
     for (const std::filesystem::path& file : players_->files_to_reload()) reloader_->changed(file);
     std::vector<std::filesystem::path> reloaded;
-    if (reloader_->poll(sport_, m, errors_, recorder_ ? &reloaded : nullptr) > 0) audio_->set_sport(sport_->audio());
+    if (reloader_->poll(sport_, m, errors_, recorder_ ? &reloaded : nullptr) > 0) {
+      audio_->set_sport(sport_->audio());
+      // The new version starts with a clean slate: an error it still makes is shown again.
+      report_repeated_errors();
+      errors_seen_.clear();
+    }
     if (recorder_ && !reloaded.empty()) recorder_->reloaded(reloaded);
   }
   const double dt = 1.0 / m.fps();
@@ -155,6 +161,11 @@ bool Session::frame() {
 std::span<const std::string> Session::dropped() const { return audio_->dropped(); }
 std::span<const std::string> Session::cut() const { return audio_->cut(); }
 
+void Session::report_repeated_errors() {
+  for (const auto& [error, count] : errors_seen_)
+    if (count > 1) errors_ << "quantum: rules error, " << count << " times in all: " << error << '\n';
+}
+
 void Session::set_speed(double speed) {
   if (!(speed > 0 && speed <= 100)) throw std::invalid_argument("speed must be in (0, 100]");
   speed_ = speed;
@@ -173,8 +184,7 @@ void Session::finish() {
   if (finished_) return;
   finished_ = true;
   tell();
-  for (const auto& [error, count] : errors_seen_)
-    if (count > 1) errors_ << "quantum: rules error, " << count << " times in all: " << error << '\n';
+  report_repeated_errors();
   audio_->finish(match_->time());
   log_->close();
   decisions_->close();

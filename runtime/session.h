@@ -112,6 +112,7 @@ class Session {
 
  private:
   void pause_or_resume(bool lost);
+  void report_repeated_errors();
 
   std::ostream* transcript_;
   std::ostream& errors_;

@@ -38,7 +38,10 @@ VideoFile::VideoFile(const std::string& path, int width, int height, double fps)
 }
 
 VideoFile::~VideoFile() {
+  // Closed before finish (the match failed): the half-made video goes.
   if (ffmpeg_) pclose(ffmpeg_);
+  std::error_code ignored;
+  std::filesystem::remove(silent_, ignored);
 }
 
 void VideoFile::add(const cv::Mat& frame) {
@@ -54,7 +57,10 @@ void VideoFile::finish(const std::string& wav) {
   if (!ffmpeg_) return;
   const int status = pclose(ffmpeg_);
   ffmpeg_ = nullptr;
-  if (status != 0) throw std::runtime_error("--video " + path_ + ": ffmpeg failed to encode the video");
+  if (status != 0) {
+    std::filesystem::remove(silent_);
+    throw std::runtime_error("--video " + path_ + ": ffmpeg failed to encode the video");
+  }
   if (wav.empty()) {
     std::filesystem::rename(silent_, path_);
     return;

@@ -25,6 +25,7 @@ void Window::on_mouse(int event, int x, int y, int, void* self) {
 }
 
 int Window::show(const cv::Mat& image, int wait_ms) {
+  if (closed()) return -1;  // imshow would open it again
   cv::imshow(title_, image);
   shown_ = true;
   return cv::waitKey(std::max(1, wait_ms));

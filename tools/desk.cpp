@@ -33,7 +33,6 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   // Someone watches: the match runs in real time unless asked otherwise.
   o.watched = desk.view;
   std::optional<runtime::Window> window;
-  if (desk.view) window.emplace("Quantum games: " + o.sport);
   runtime::Hand hand;
   const std::string wav = o.audio.rfind("wav:", 0) == 0 ? o.audio.substr(4) : "";
   bool quit = false;
@@ -48,6 +47,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
       players = std::make_unique<runtime::HandPlayers>(field, skills, o.seed, hand_body(field, desk.hand_player), hand);
     }
     runtime::Session session(o, transcript ? &out : nullptr, errors, std::move(players));
+    if (desk.view && !window) window.emplace("Quantum games: " + session.sport().name());
     runtime::Picture picture(session.match().field());
     runtime::Ticker ticker;
     session.watch([&](const runtime::News& news) { ticker.hear(news); });
@@ -56,7 +56,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     picture.draw(session.match(), overlay, image);
     std::optional<runtime::VideoFile> video;
     if (!desk.video.empty()) video.emplace(desk.video, image.cols, image.rows, desk.video_fps);
-    bool paused = false, slow = false, step = false, snapped = false;
+    bool paused = false, slow = false, step = false, snapped = false, restart_refused = false;
     double next_video_frame = 0;
     for (bool playing = true; playing && !quit;) {
       if (window) {
@@ -67,8 +67,9 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         if (key == kSlow) slow = !slow, session.set_speed(slow ? 0.25 : 1.0);
         if (key == kPaths) picture.set_paths(!picture.options().paths);
         if (key == kRestart && o.record.empty()) again = true, playing = false;
+        if (key == kRestart && !o.record.empty()) restart_refused = true;
         const runtime::Window::Mouse m = window->mouse();
-        hand.over = m.over && m.y < image.rows;
+        hand.over = m.over && m.y >= 0 && m.y < picture.field_height() && m.x >= 0 && m.x < image.cols;
         if (hand.over) hand.at = picture.to_field(m.x, m.y);
       }
       if (!paused || step) {
@@ -80,7 +81,10 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         step = false;
         if (paused) session.resync();
       }
-      overlay.status = paused ? "paused" : slow ? "slow motion (1/4)" : "";
+      overlay.status = restart_refused ? "no restart while recording: the recording is of one match"
+                       : paused            ? "paused"
+                       : slow              ? "slow motion (1/4)"
+                                           : "";
       if (window || video || !snapped) picture.draw(session.match(), overlay, image);
       // The video takes the picture of every moment it has a frame for, in match time; the
       // moment the match ends closes it (a 4 s match at 30 frames a second is 120 frames).

@@ -69,9 +69,10 @@ int main(int argc, char** argv) {
     command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)");
     command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str()
         ->check(CLI::Range(1.0, 240.0));
-    command->add_option("--snapshot", d.snapshot, "draw the match to a PNG, at --snapshot-at or at the end");
+    CLI::Option* snapshot = command->add_option("--snapshot", d.snapshot, "draw the match to a PNG, at --snapshot-at "
+                                                                          "or at the end");
     command->add_option("--snapshot-at", d.snapshot_at, "the match time of the snapshot, in seconds")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::NonNegativeNumber)->needs(snapshot);
   };
   add_desk(play, desk);
 

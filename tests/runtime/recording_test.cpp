@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "session.h"
 #include "synthetic.h"
 
@@ -66,6 +68,10 @@ TEST(Recording, ASimulatedMatchReplaysByteForByte) {
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
   EXPECT_EQ(replayed.warnings, "");  // nothing changed since
+  // The replay's own copy of the files is gone with it.
+  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path()))
+    EXPECT_NE(entry.path().filename().string().rfind("quantum_replay_" + std::to_string(getpid()) + "_", 0), 0u)
+        << entry.path();
 }
 
 TEST(Recording, AReloadHalfwayIsReplayedWhereItHappened) {
@@ -97,6 +103,56 @@ TEST(Recording, AReloadHalfwayIsReplayedWhereItHappened) {
   runtime::SessionOptions r;
   r.replay = o.record;
   const Logs replayed = run(r, dir / "replayed");
+  EXPECT_EQ(replayed.events, played.events);
+  EXPECT_EQ(replayed.decisions, played.decisions);
+}
+
+// A power-up of the sport's own, edited while the match runs but before it is first granted:
+// the match loads the edited script when it grants it, and so must the replay.
+TEST(Recording, AScriptEditedBeforeItIsFirstUsedIsReplayedAsItWasUsed) {
+  const fs::path dir = scratch("unused");
+  const fs::path sport = dir / "sports" / "airhockey";
+  fs::create_directories(sport / "powerups");
+  fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", sport, fs::copy_options::recursive);
+  std::string text = read(sport / "sport.lua");
+  text.replace(text.rfind("return sport"), 12,
+               "local granted = false\n"
+               "local drop = sport.on.drop\n"
+               "sport.on.drop = function(game, e)\n"
+               "  drop(game, e)\n"
+               "  if not granted then\n"
+               "    granted = true\n"
+               "    game.after(8, function(game) game.grant(\"Red's mallet\", 'sticky') end)\n"
+               "  end\n"
+               "end\n"
+               "return sport");
+  std::ofstream(sport / "sport.lua") << text;
+  const std::string sticky = "return { duration = 30, factor = function(fate, holder, game, p)\n"
+                             "  if fate.kind == 'body' and fate.actor == holder.name then return STRENGTH end end }\n";
+  auto with = [&](const std::string& strength) {
+    std::string s = sticky;
+    s.replace(s.find("STRENGTH"), 8, strength);
+    return s;
+  };
+  std::ofstream(sport / "powerups" / "sticky.lua") << with("1");
+  runtime::SessionOptions o;
+  o.sport = sport.string();
+  o.seconds = 20;
+  o.seed = 6;
+  o.watch = true;
+  o.record = (dir / "recording").string();
+  fs::create_directories(dir / "played");
+  const Logs played = run(o, dir / "played", [&](runtime::Session& s, int frame) {
+    if (frame != 200) return;
+    std::ofstream(sport / "powerups" / "sticky.lua") << with("20");  // Red's mallet catches almost everything
+    s.reload((sport / "powerups" / "sticky.lua").string());
+  });
+  std::ofstream(sport / "powerups" / "sticky.lua") << with("1");
+  fs::create_directories(dir / "replayed");
+  runtime::SessionOptions r;
+  r.replay = o.record;
+  const Logs replayed = run(r, dir / "replayed");
+  EXPECT_NE(played.events.find("\"powerup\":\"sticky\""), std::string::npos);
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
 }
