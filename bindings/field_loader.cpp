@@ -16,18 +16,20 @@ constexpr size_t kMemoryBudget = 64u << 20;
 Field read_field(Reader& r, int top) {
   lua_State* L = r.L;
   Field f;
-  r.only_keys(top, "field", {"name", "ball", "brownian", "max_body_speed", "walls", "goals", "spots", "bodies", "bounds"});
+  r.only_keys(top, "field",
+              {"name", "ball", "brownian", "max_body_speed", "walls", "goals", "spots", "bodies", "areas", "bounds"});
   f.name = r.string(top, "name", "field", "unnamed field", false);
   f.brownian = r.number(top, "brownian", "field", f.brownian, false);
   f.max_body_speed = r.number(top, "max_body_speed", "field", f.max_body_speed, false);
   if (r.field(top, "ball")) {
     r.expect(LUA_TTABLE, "ball");
     const int b = lua_gettop(L);
-    r.only_keys(b, "ball", {"radius", "wall_restitution", "body_restitution", "audible_bounce"});
+    r.only_keys(b, "ball", {"radius", "wall_restitution", "body_restitution", "audible_bounce", "friction"});
     f.ball_radius = r.number(b, "radius", "ball", f.ball_radius, false);
     f.wall_restitution = r.number(b, "wall_restitution", "ball", f.wall_restitution, false);
     f.body_restitution = r.number(b, "body_restitution", "ball", f.body_restitution, false);
     f.audible_bounce = r.number(b, "audible_bounce", "ball", f.audible_bounce, false);
+    f.friction = r.number(b, "friction", "ball", f.friction, false);
     lua_pop(L, 1);
   }
   r.array(top, "walls", "", [&](int w, const std::string& place) {
@@ -68,13 +70,31 @@ Field read_field(Reader& r, int top) {
     f.spots.push_back(spot);
   });
   r.array(top, "bodies", "", [&](int b, const std::string& place) {
-    r.only_keys(b, place, {"name", "team", "radius", "at"});
+    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "role", "track"});
     BodySpec body;
     body.team = r.string(b, "team", place, "", true);
     body.name = r.string(b, "name", place, body.team + " body", false);
     body.radius = r.number(b, "radius", place, 0, true);
     body.start = r.point_at(b, "at", place);
+    body.catches = r.boolean(b, "catches", place, false);
+    body.role = r.string(b, "role", place, "", false);
+    body.track = r.string(b, "track", place, "", false);
     f.bodies.push_back(body);
+  });
+  r.array(top, "areas", "", [&](int a, const std::string& place) {
+    r.only_keys(a, place, {"name", "team", "from", "to", "at", "radius"});
+    Area area;
+    area.team = r.string(a, "team", place, "", false);
+    area.name = r.string(a, "name", place, "area " + place.substr(5), false);
+    if (r.field(a, "at")) {
+      area.a = area.b = r.point(place + ".at");
+      if (r.field(a, "from") || r.field(a, "to")) r.fail(place, "give either 'at' (a circle) or 'from' and 'to'");
+    } else {
+      area.a = r.point_at(a, "from", place);
+      area.b = r.point_at(a, "to", place);
+    }
+    area.radius = float(r.number(a, "radius", place, 0, true));
+    f.areas.push_back(area);
   });
   if (r.field(top, "bounds")) {
     if (!lua_istable(L, -1) || lua_objlen(L, -1) != 2) r.fail("bounds", "expected two corners { {x0, y0}, {x1, y1} }");
@@ -95,11 +115,15 @@ std::string field_file(const std::string& path) {
   return std::filesystem::is_directory(path) ? (std::filesystem::path(path) / "field.lua").string() : path;
 }
 
-Field load_field(const std::string& path) {
+Field load_field(const std::string& path, Params* params) {
   const std::string file = field_file(path);
   if (!std::filesystem::exists(file)) throw FieldError(file, "no such field file");
   Sandbox sandbox(kMemoryBudget, kInstructionBudget, false);
   lua_State* L = sandbox.L();
+  Params none;
+  sandbox.push_environment();
+  (params ? *params : none).install(L);
+  lua_pop(L, 1);
   try {
     sandbox.run_file(file);
   } catch (const ScriptError& e) {

@@ -3,15 +3,17 @@
 
 #include <string>
 
+#include "params.h"
 #include "quantum/field.h"
 
 namespace quantum::lua {
 
 // `path` is a field file or a sport folder holding field.lua. The file runs as text-only Lua in
 // an empty sandbox (only `math`) with an instruction and a memory budget, and must return a
-// table. Throws FieldError whose message names the file and the place, e.g.
+// table; `param(name, default)` reads `params` (none when null). Throws FieldError whose message
+// names the file and the place, e.g.
 // "rules/airhockey/field.lua: walls[2].points[3]: expected a number for y, got string".
-Field load_field(const std::string& path);
+Field load_field(const std::string& path, Params* params = nullptr);
 
 // The file load_field reads for `path`.
 std::string field_file(const std::string& path);

@@ -59,10 +59,10 @@ void push_score(lua_State* L, const std::map<std::string, int>& score) {
 }
 
 void push_event(lua_State* L, const game::GameEvent& e) {
-  lua_createtable(L, 0, 17);
+  lua_createtable(L, 0, 18);
   set(L, "type", game::to_string(e.type)), set(L, "actor", e.actor), set(L, "team", e.team);
   set(L, "by", e.by), set(L, "by_team", e.by_team);
-  set(L, "previous", e.previous), set(L, "previous_team", e.previous_team);
+  set(L, "previous", e.previous), set(L, "previous_team", e.previous_team), set(L, "holder", e.holder);
   set(L, "t", e.t), set(L, "p", e.p), set(L, "p_newtonian", e.p_newtonian), set(L, "particles", double(e.particles));
   set(L, "x", e.at.x), set(L, "y", e.at.y), set(L, "vx", e.velocity.x), set(L, "vy", e.velocity.y);
   set(L, "speed", std::hypot(e.velocity.x, e.velocity.y));
@@ -107,6 +107,12 @@ void fill_player(lua_State* L, const game::Match& match, size_t k) {
   set(L, "handicap", match.handicap_now(int(k)));
   lua_pushboolean(L, p.turn);
   lua_setfield(L, -2, "turn");
+  const BodySpec& body = match.field().bodies[k];
+  set(L, "role", body.role);
+  const int area = match.field().area_at(p.position);
+  set(L, "area", area < 0 ? std::string_view() : std::string_view(match.field().areas[size_t(area)].name));
+  lua_pushboolean(L, match.holder() == int(k));
+  lua_setfield(L, -2, "holds");
   subtable(L, "powerups");
   size_t held = 0;
   for (const game::ActivePowerup& a : match.powerups()) held += a.player == int(k);

@@ -9,6 +9,7 @@
 #include <lua.hpp>
 
 #include <map>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <string>
@@ -18,6 +19,9 @@
 #include "phrases.h"
 
 namespace quantum::lua {
+
+// Scripts give angles in degrees (a throw's spread); the engine works in radians.
+inline constexpr double kRadiansPerDegree = std::numbers::pi / 180;
 
 void push_strings(lua_State* L, std::span<const std::string> list);  // {"a", "b", ...}
 void push_score(lua_State* L, const std::map<std::string, int>& score);  // {blue = 2, red = 1}

@@ -107,6 +107,14 @@ std::string Reader::string(int idx, const char* key, const std::string& place, c
   return v;
 }
 
+bool Reader::boolean(int idx, const char* key, const std::string& place, bool fallback) const {
+  if (!field(idx, key)) return fallback;
+  expect(LUA_TBOOLEAN, place.empty() ? key : place + "." + key);
+  const bool v = lua_toboolean(L, -1);
+  lua_pop(L, 1);
+  return v;
+}
+
 Vec2 Reader::point(const std::string& place) const {
   if (!lua_istable(L, -1)) fail(place, "expected a point {x, y}, got " + type_at(-1));
   const int t = lua_gettop(L);

@@ -50,6 +50,7 @@ class Reader {
   double number(int idx, const char* key, const std::string& place, double fallback, bool required) const;
   std::string string(int idx, const char* key, const std::string& place, const std::string& fallback,
                      bool required) const;
+  bool boolean(int idx, const char* key, const std::string& place, bool fallback) const;
   // A point is {x, y} (or {x = .., y = ..}) at the top of the stack; pops it.
   Vec2 point(const std::string& place) const;
   Vec2 point_at(int idx, const char* key, const std::string& place) const;

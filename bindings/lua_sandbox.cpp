@@ -131,6 +131,8 @@ void Sandbox::require_module(const std::string& name) {
 
 Sandbox::~Sandbox() { lua_close(L_); }
 
+void Sandbox::push_environment() const { lua_rawgeti(L_, LUA_REGISTRYINDEX, env_); }
+
 bool Sandbox::call(int nargs, int nresults, std::string& error) {
   // A call made from inside another (game.grant running a power-up's start from a handler)
   // spends the outer call's budget; only the outermost arms and disarms it.

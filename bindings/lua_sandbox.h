@@ -35,6 +35,8 @@ class Sandbox {
   Sandbox& operator=(const Sandbox&) = delete;
 
   lua_State* L() const { return L_; }
+  // Pushes the scripts' environment table (to add a global of the caller's, like `param`).
+  void push_environment() const;
 
   // Loads `file` as Lua text with the sandbox as its environment and runs it; leaves its one
   // result on the stack. Throws ScriptError "file:line: message" (or "file: message").

@@ -17,7 +17,7 @@ constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops f
 
 const std::vector<std::string> kSportKeys = {"name",  "field",  "particles", "match",     "factors",
                                              "handicaps", "balance", "teams", "phrases", "audio",
-                                             "modifiers", "on", "state", "on_reload"};
+                                             "modifiers", "on", "state", "on_reload", "throws"};
 const std::vector<std::string> kPowerupKeys = {"name", "duration", "defaults", "phrases", "factor", "start", "stop"};
 // The placeholders the engine fills in a power-up's phrases.
 const std::vector<std::string> kPowerupVars = {"player", "team"};
@@ -89,15 +89,19 @@ class Sport::Acting {
   const game::Match* outer_reading_;
 };
 
-Sport::Sport(const std::string& folder, const fs::path& engine)
+Sport::Sport(const std::string& folder, const fs::path& engine, Params params)
     : folder_(normal_folder(folder).string()),
       file_((fs::path(folder_) / "sport.lua").string()),
       engine_(engine),
       powerup_folders_(powerup_folders_of(folder_, engine)),
       module_folders_({fs::path(folder_), engine / "lib"}),
+      params_(std::move(params)),
       sandbox_(kMemoryBudget, kInstructionBudget, true, module_folders_) {
   if (!fs::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
   lua_State* L = sandbox_.L();
+  sandbox_.push_environment();
+  params_.install(L);
+  lua_pop(L, 1);
   sandbox_.run_file(file_);
   if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
   try {
@@ -106,6 +110,7 @@ Sport::Sport(const std::string& folder, const fs::path& engine)
     throw ScriptError(file_ + ": " + e.what());
   }
   check_said_keys();
+  params_.check_read(folder_);
   sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   push_game_api(L, this);
   game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
@@ -119,7 +124,7 @@ void Sport::read_sport(int t) {
   const Reader r(L);
   r.only_keys(t, "", kSportKeys);
   name_ = r.string(t, "name", "", folder_, false);
-  field_ = load_field((fs::path(folder_) / r.string(t, "field", "", "field.lua", false)).string());
+  field_ = load_field((fs::path(folder_) / r.string(t, "field", "", "field.lua", false)).string(), &params_);
   const double particles = r.number(t, "particles", "", double(particles_), false);
   if (!(particles >= 1 && particles <= 10'000'000)) r.fail("particles", "must be between 1 and 10,000,000");
   particles_ = uint32_t(particles);
@@ -156,6 +161,19 @@ void Sport::read_sport(int t) {
       const double v = r.number(f, kind.c_str(), "factors", 1, false);
       if (!(v >= 0 && std::isfinite(v))) r.fail("factors." + kind, "must be a number >= 0");
     }
+    lua_pop(L, 1);
+  }
+  if (r.field(t, "throws")) {
+    r.expect(LUA_TTABLE, "throws");
+    const int w = lua_gettop(L);
+    r.only_keys(w, "throws", {"speed", "spread", "speed_spread"});
+    throw_speed_ = r.number(w, "speed", "throws", throw_speed_, false);
+    if (!(throw_speed_ > 0 && throw_speed_ <= 1000)) r.fail("throws.speed", "must be in (0, 1000] m/s");
+    const double degrees = r.number(w, "spread", "throws", throw_spread_.direction / kRadiansPerDegree, false);
+    if (!(degrees >= 0 && degrees <= 90)) r.fail("throws.spread", "must be in [0, 90] degrees");
+    throw_spread_.direction = float(degrees * kRadiansPerDegree);
+    throw_spread_.speed = float(r.number(w, "speed_spread", "throws", throw_spread_.speed, false));
+    if (!(throw_spread_.speed >= 0 && throw_spread_.speed <= 1)) r.fail("throws.speed_spread", "must be in [0, 1]");
     lua_pop(L, 1);
   }
   if (r.field(t, "teams")) {
@@ -367,7 +385,8 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
   const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int sport = lua_gettop(L);
-  double by_kind[5] = {1, 1, 1, 1, 1};  // in FateKind's order
+  double by_kind[kFateKindCount];  // in FateKind's order
+  std::fill(std::begin(by_kind), std::end(by_kind), 1.0);
   raw_field(L, sport, "factors");
   if (lua_istable(L, -1)) {
     for (FateKind k : kFateKinds) {

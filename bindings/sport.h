@@ -13,6 +13,7 @@
 #include "game/game.h"
 #include "lua_push.h"
 #include "lua_sandbox.h"
+#include "params.h"
 #include "phrases.h"
 
 namespace quantum::lua {
@@ -34,14 +35,18 @@ std::filesystem::path engine_rules_folder();
 class Sport final : public game::Rules {
  public:
   // `folder` holds sport.lua; `engine` is where the engine's own power-ups and helpers are
-  // (a replay uses the copy it recorded). Throws ScriptError naming the file (and line, or the
-  // place in the returned table) for a script that does not load, and FieldError for a bad field.
-  explicit Sport(const std::string& folder, const std::filesystem::path& engine = engine_rules_folder());
+  // (a replay uses the copy it recorded); `params` are what its field and sport read with
+  // param() (params.h). Throws ScriptError naming the file (and line, or the place in the
+  // returned table) for a script that does not load, FieldError for a bad field, and
+  // std::invalid_argument for a parameter neither reads.
+  explicit Sport(const std::string& folder, const std::filesystem::path& engine = engine_rules_folder(),
+                 Params params = {});
   ~Sport() override;
 
   const std::string& name() const { return name_; }
   const std::string& folder() const { return folder_; }
   const std::filesystem::path& engine() const { return engine_; }
+  const Params& params() const { return params_; }
   const Field& field() const { return field_; }
   uint32_t particles() const { return particles_; }
   double seconds() const { return seconds_; }
@@ -51,6 +56,9 @@ class Sport final : public game::Rules {
   // Automatic balance (sport.lua's `balance`): see game::MatchConfig.
   double balance_per_goal() const { return balance_per_goal_; }
   double balance_most() const { return balance_most_; }
+  // How players throw (sport.lua's `throws`): a throw's speed when none is given, and its spread.
+  double throw_speed() const { return throw_speed_; }
+  ThrowSpread throw_spread() const { return throw_spread_; }
   const SportAudio& audio() const { return audio_; }
   // Where power-up scripts are looked for, in order: the sport's own powerups/, the one beside
   // the sport's folder, the engine's.
@@ -148,6 +156,7 @@ class Sport final : public game::Rules {
   std::string folder_, file_, name_;
   std::filesystem::path engine_;
   std::vector<std::filesystem::path> powerup_folders_, module_folders_;
+  Params params_;  // before the sandbox: its `param` function points here
   Sandbox sandbox_;
   int sport_ref_ = LUA_NOREF, game_ref_ = LUA_NOREF;
   Field field_;
@@ -156,6 +165,8 @@ class Sport final : public game::Rules {
   int first_spot_ = 0;
   std::vector<double> handicaps_;
   double balance_per_goal_ = 0, balance_most_ = 2;
+  double throw_speed_ = 10;
+  ThrowSpread throw_spread_;
   Phrases phrases_;
   std::map<std::string, std::string> team_names_;
   std::map<std::string, int> powerups_;       // loaded power-up scripts: name -> their table in the registry

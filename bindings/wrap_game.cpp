@@ -160,6 +160,103 @@ int aim(lua_State* L) {
   return 0;
 }
 
+// game.give(player): the ball into the player's hands (a throw-off, a throw-in, a free throw); a
+// ball in play is dead first. `give` is told.
+int give(lua_State* L) {
+  game::Match& m = acting(L);
+  m.give(player_index(m, check_string(L, 1)));
+  return 0;
+}
+
+// Where a throw at `to` goes: a velocity {vx, vy}, a point {x = .., y = ..}, or the name of a
+// player (where they will be when the ball arrives, as they run now), a goal or a spot.
+Vec2 throw_velocity(lua_State* L, const game::Match& m, int thrower, int to, double speed) {
+  const Vec2 from = m.players()[size_t(thrower)].position;
+  Vec2 target;
+  if (lua_istable(L, to)) {
+    lua_rawgeti(L, to, 1);
+    lua_rawgeti(L, to, 2);
+    const bool velocity = lua_isnumber(L, -2) && lua_isnumber(L, -1);
+    const Vec2 v{float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
+    lua_pop(L, 2);
+    if (velocity) return v;
+    lua_getfield(L, to, "x");
+    lua_getfield(L, to, "y");
+    if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1))
+      throw ArgError("argument " + std::to_string(script_arg(L, to)) +
+                     ": expected a velocity {vx, vy}, a point {x = .., y = ..} or a name");
+    target = {float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
+    lua_pop(L, 2);
+  } else {
+    const std::string name = check_string(L, to);
+    const Field& f = m.field();
+    std::vector<std::string> names;
+    bool found = false;
+    for (const game::Player& p : m.players()) {
+      names.push_back(p.name);
+      if (found || p.name != name) continue;
+      const float lead = float(std::hypot(p.position.x - from.x, p.position.y - from.y) / speed);
+      target = {p.position.x + p.velocity.x * lead, p.position.y + p.velocity.y * lead}, found = true;
+    }
+    for (const Goal& g : f.goals) {
+      names.push_back(g.name);
+      if (!found && g.name == name) target = {0.5f * (g.a.x + g.b.x), 0.5f * (g.a.y + g.b.y)}, found = true;
+    }
+    for (const Spot& s : f.spots) {
+      names.push_back(s.name);
+      if (!found && s.name == name) target = s.at, found = true;
+    }
+    if (!found) throw ArgError(unknown_key(name, names, "player, goal or spot"));
+  }
+  const float dx = target.x - from.x, dy = target.y - from.y, d = std::hypot(dx, dy);
+  if (!(d > 0)) throw ArgError("the thrower stands on the point it throws at");
+  return {float(speed * dx / d), float(speed * dy / d)};
+}
+
+// game.throw(player, to [, {speed =, spread =, speed_spread =}]): the player, who holds the
+// ball, throws it at `to` (see throw_velocity) at `speed` m/s (the sport's by default; a
+// velocity gives its own), scattered by `spread` degrees of direction and `speed_spread` of
+// speed (the sport's `throws` by default). `throw` is told.
+int throw_ball(lua_State* L) {
+  game::Match& m = acting(L);
+  const int player = player_index(m, check_string(L, 1));
+  if (!lua_isnoneornil(L, 3)) check_table(L, 3);
+  const std::map<std::string, double> opts = numbers_of(L, 3);
+  const Reader r(L);
+  if (lua_istable(L, 3)) r.only_keys(3, "argument 3", {"speed", "spread", "speed_spread"});
+  auto opt = [&](const char* key, double fallback) {
+    const auto it = opts.find(key);
+    return it == opts.end() ? fallback : it->second;
+  };
+  const game::MatchConfig& c = m.config();
+  const double speed = opt("speed", c.throw_speed);
+  if (!(speed > 0 && speed <= 1000)) throw ArgError("speed must be in (0, 1000] m/s");
+  if (lua_isnoneornil(L, 2)) throw ArgError("argument 2: expected where to throw");
+  const Vec2 velocity = throw_velocity(L, m, player, 2, speed);
+  const ThrowSpread spread{float(opt("spread", c.throw_spread.direction / kRadiansPerDegree) * kRadiansPerDegree),
+                           float(opt("speed_spread", c.throw_spread.speed))};
+  m.throw_ball(player, velocity, spread);
+  return 0;
+}
+
+// game.holder(): who holds the ball, or nil.
+int holder(lua_State* L) {
+  const game::Match& m = reading(L);
+  if (m.holder() < 0) return 0;
+  lua_pushstring(L, m.players()[size_t(m.holder())].name.c_str());
+  return 1;
+}
+
+// game.area(x, y): the name and team of the field's area at that point (field.lua's `areas`), or nil.
+int area(lua_State* L) {
+  const Field& f = reading(L).field();
+  const int a = f.area_at({float(check_number(L, 1)), float(check_number(L, 2))});
+  if (a < 0) return 0;
+  lua_pushstring(L, f.areas[size_t(a)].name.c_str());
+  lua_pushstring(L, f.areas[size_t(a)].team.c_str());
+  return 2;
+}
+
 int score(lua_State* L) {
   push_score(L, reading(L).score());
   return 1;
@@ -227,7 +324,8 @@ void push_game_api(lua_State* L, Sport* sport) {
                {"cancel", guard<cancel>},     {"turn", guard<turn>},         {"aim", guard<aim>},
                {"score", guard<score>},       {"time", guard<time>},         {"teams", guard<teams>},
                {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
-               {"last_touch", guard<last_touch>}},
+               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>},
+               {"holder", guard<holder>},     {"area", guard<area>}},
               sport);
 }
 

@@ -30,6 +30,7 @@ void write_events(std::ostream& out, std::span<const game::GameEvent> events, st
     if (!e.by.empty()) line.field("by", e.by);
     if (!e.previous.empty()) line.field("previous", e.previous);
     if (!e.powerup.empty()) line.field("powerup", e.powerup);
+    if (!e.holder.empty()) line.field("holder", e.holder);
     line.field("p", e.p).field("p_newtonian", e.p_newtonian).field("particles", uint64_t(e.particles));
     line.field("x", double(e.at.x)).field("y", double(e.at.y));
     write_said(line, said, int(k));
@@ -80,7 +81,7 @@ void write_decision(std::ostream& out, const Decision& d, std::span<const FateGr
   for (const FateGroup& g : fates) {
     char via[256];
     const Fate& f = g.fate;
-    const std::string_view actor = f.kind == FateKind::Body                                 ? field.bodies[f.target].name
+    const std::string_view actor = at_body(f.kind)                                          ? field.bodies[f.target].name
                                    : f.kind == FateKind::Goal || f.kind == FateKind::OwnGoal ? field.goals[f.target].name
                                                                                              : std::string_view();
     line.object().field("kind", to_string(f.kind)).field("actor", actor)

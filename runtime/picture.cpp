@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "session.h"
 
@@ -100,7 +101,10 @@ cv::Scalar Picture::fate_colour(const Fate& f, size_t rank) const {
   switch (f.kind) {
     case FateKind::Goal: c = kGoal; break;
     case FateKind::OwnGoal: c = kOwnGoal; break;
-    case FateKind::Body: c = team_colour(field_.bodies[f.target].team); break;
+    case FateKind::Body:
+    case FateKind::Catch:
+    case FateKind::Pass:
+    case FateKind::Intercept: c = team_colour(field_.bodies[f.target].team); break;
     case FateKind::Out: c = kOut; break;
     case FateKind::Field: c = kStays; break;
   }
@@ -168,6 +172,19 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
         cv::line(img, px(path[k - 1]), px(path[k]), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
     }
   }
+  // A court's lines are its bounds; its areas (goal areas) are outlined in their team's colour.
+  if (field_.has_bounds) cv::rectangle(img, px(field_.bounds_min), px(field_.bounds_max), kDim, 1, cv::LINE_AA);
+  for (const Area& a : field_.areas) {
+    std::vector<cv::Point> outline;
+    const float heading = std::atan2(a.b.y - a.a.y, a.b.x - a.a.x);
+    for (int end = 0; end < 2; ++end)
+      for (int k = 0; k <= 16; ++k) {
+        const float angle = heading + float(std::numbers::pi) * (0.5f + float(end) + float(k) / 16);
+        const Vec2 c = end == 0 ? a.a : a.b;
+        outline.push_back(px({c.x + a.radius * std::cos(angle), c.y + a.radius * std::sin(angle)}));
+      }
+    cv::polylines(img, outline, true, team_colour(a.team) * 0.6, 1, cv::LINE_AA);
+  }
   for (const Segment& s : field_.segments) cv::line(img, px(s.a), px(s.b), kWall, 3, cv::LINE_AA);
   for (const Goal& g : field_.goals) cv::line(img, px(g.a), px(g.b), team_colour(g.team), 5, cv::LINE_AA);
   for (const Spot& s : field_.spots) cv::drawMarker(img, px(s.at), kDim, cv::MARKER_CROSS, 12, 1);
@@ -180,6 +197,13 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
     cv::circle(img, at, std::max(4, int(b.radius * scale_)), c, cv::FILLED, cv::LINE_AA);
     cv::circle(img, at, std::max(4, int(b.radius * scale_)), kText, 1, cv::LINE_AA);
     text(img, b.name, at + cv::Point(int(b.radius * scale_) + 4, -4), c * 0.5 + kText * 0.5, 0.45);
+  }
+  // The ball in a player's hands: a white ball on the holder.
+  if (world.holder() >= 0) {
+    const cv::Point at = px(world.body_positions()[size_t(world.holder())]);
+    const int r = std::max(4, int(field_.ball_radius * scale_));
+    cv::circle(img, at, r, kText, cv::FILLED, cv::LINE_AA);
+    cv::circle(img, at, r, kBackground, 1, cv::LINE_AA);
   }
 }
 
@@ -243,7 +267,12 @@ void Picture::draw(const World& world, const FateReport& report, const Overlay& 
                   ranked_.size() - size_t(options_.top_fates));
     text(image, buf, {margin_ + 22, y}, kDim, 0.45);
   }
-  if (!fated) text(image, world.live() ? "(no prediction yet)" : "(no ball in play)", {margin_ + 22, y + kLine}, kDim, 0.45);
+  if (!fated) {
+    const std::string why = world.live()           ? "(no prediction yet)"
+                            : world.holder() >= 0 ? "(the ball is in " + world.field().bodies[size_t(world.holder())].name + "'s hands)"
+                                                  : "(no ball in play)";
+    text(image, why, {margin_ + 22, y + kLine}, kDim, 0.45);
+  }
   // Every colour the picture uses, the rarer fates' included.
   int x = margin_;
   const int key_y = field_height_ + 22 + kLine * (options_.top_fates + 3) + 6;

@@ -8,8 +8,9 @@ namespace quantum::runtime {
 using Status = PlayerSource::Status;
 using TrackingStatus = tracking::TrackingInput::Status;
 
-HandPlayers::HandPlayers(const Field& field, std::vector<double> skills, uint64_t seed, int body, const Hand& hand)
-    : bots_(field, std::move(skills), seed), field_(field), body_(body), hand_(hand) {
+HandPlayers::HandPlayers(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed, int body,
+                         const Hand& hand)
+    : bots_(field, std::move(skills), seed, throw_speed), field_(field), body_(body), hand_(hand), thrown_(hand.throws) {
   if (body < 0 || body >= int(field.bodies.size())) throw std::invalid_argument("no player " + std::to_string(body));
 }
 
@@ -17,6 +18,10 @@ Status HandPlayers::advance(double t, const game::Match& match, bool waiting) {
   bots_.advance(t, match, waiting);
   const std::span<const BodyInput> bots = bots_.bodies();
   bodies_.assign(bots.begin(), bots.end());
+  // The bots' throws, but none for the hand's player: the person throws it.
+  throws_.clear();
+  for (const game::Throw& th : bots_.throws())
+    if (th.player != body_) throws_.push_back(th);
   const BodySpec& b = field_.bodies[size_t(body_)];
   const BodyInput before = match.players().empty() ? BodyInput{b.start, {0, 0}}
                                                    : BodyInput{match.players()[size_t(body_)].position, {0, 0}};
@@ -33,15 +38,27 @@ Status HandPlayers::advance(double t, const game::Match& match, bool waiting) {
     at = {float(before.position.x + v.x * dt), float(before.position.y + v.y * dt)};
   }
   bodies_[size_t(body_)] = {at, v};
+  if (hand_.throws != thrown_) {
+    thrown_ = hand_.throws;
+    Vec2 way = v;
+    if (std::hypot(way.x, way.y) < 0.5) {  // a still hand throws at the other team's goal
+      way = {1, 0};
+      for (const Goal& g : field_.goals)
+        if (g.team != b.team) way = {0.5f * (g.a.x + g.b.x) - at.x, 0.5f * (g.a.y + g.b.y) - at.y};
+    }
+    const double l = std::hypot(way.x, way.y), speed = match.config().throw_speed;
+    if (l > 0) throws_.push_back({body_, {float(speed * way.x / l), float(speed * way.y / l)}});
+  }
   return Status::Ready;
 }
 
-TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field)
-    : field_(field), input_(spec, tracking::tracked_field(field), tracking::SourceOptions{}) {
+TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options)
+    : field_(field), input_(spec, tracking::tracked_field(field), options) {
   for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
 }
 
-Status TrackedPlayers::advance(double t, const game::Match&, bool waiting) {
+Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting) {
+  throws_.clear();
   // A live source is asked at most once a frame of the match: a Kinect blocks until its next
   // frame, and asking every step would hold the match to the camera's 30 Hz.
   if (live() && seen_ && t < next_ask_) return Status::Ready;
@@ -60,7 +77,7 @@ Status TrackedPlayers::advance(double t, const game::Match&, bool waiting) {
       pending_ = std::move(f);
     }
     if (pending_->t > t + 1e-9 && !live()) return Status::Ready;  // not due yet
-    apply(*pending_);
+    apply(*pending_, match.config().throw_speed);
     seen_ = true;
     next_ask_ = pending_->t + 1.0 / 60;
     pending_.reset();
@@ -70,12 +87,19 @@ Status TrackedPlayers::advance(double t, const game::Match&, bool waiting) {
 
 // Tracking glitches must not stop a match: positions stay within a field's size of the bounds
 // and speeds under the field's limit, as the core requires.
-void TrackedPlayers::apply(const tracking::TrackedFrame& f) {
+void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) {
   for (BodyInput& b : bodies_) b.velocity = {0, 0};  // no input: the body holds still
   const float slack = 0.5f * std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
+  for (const tracking::TrackedAction& a : f.actions) {
+    const double l = std::hypot(a.dx, a.dy);
+    if (a.type != "throw" || !(l > 0)) continue;
+    for (size_t k = 0; k < field_.bodies.size(); ++k)
+      if (field_.bodies[k].tracked_as() == a.player)
+        throws_.push_back({int(k), {float(throw_speed * a.dx / l), float(throw_speed * a.dy / l)}});
+  }
   for (const tracking::TrackedPlayer& p : f.players) {
     for (size_t k = 0; k < field_.bodies.size(); ++k) {
-      if (field_.bodies[k].name != p.id) continue;
+      if (field_.bodies[k].tracked_as() != p.id) continue;
       bodies_[k].position = {std::clamp(float(p.x), field_.bounds_min.x - slack, field_.bounds_max.x + slack),
                              std::clamp(float(p.y), field_.bounds_min.y - slack, field_.bounds_max.y + slack)};
       const double speed = std::hypot(p.vx, p.vy), most = 0.99 * field_.max_body_speed;

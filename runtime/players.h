@@ -1,6 +1,8 @@
-// Where a match's players come from, frame by frame: simulated players (game::Bots), a tracking
+// Where a match's players come from, frame by frame: simulated players (game/bots.h), a tracking
 // source (core/tracking/input.h), or a script (the rule specs' scenario). The session asks its
-// source once a frame and hands it the frame's events.
+// source once a frame and hands it the frame's events. Besides where every body is, a source
+// says who threw (an accelerometer's whip, a bot's pass, a click at the desk); the session lets
+// a throw go only from the player who holds the ball.
 #pragma once
 
 #include <filesystem>
@@ -28,6 +30,8 @@ class PlayerSource {
   // `waiting`: the match is paused, and the source may take a moment to answer.
   virtual Status advance(double t, const game::Match& match, bool waiting) = 0;
   virtual std::span<const BodyInput> bodies() const = 0;
+  // The throws made since the last frame.
+  virtual std::span<const game::Throw> throws() const { return {}; }
   // What the announcer just told everyone.
   virtual void hear(std::span<const game::GameEvent>) {}
   // A live source (a camera, a tracker): the match runs in real time with it.
@@ -39,39 +43,48 @@ class PlayerSource {
   virtual std::vector<std::filesystem::path> files_to_reload() { return {}; }
 };
 
-// Simulated players, one skill each (0 to 1).
+// Simulated players, one skill each (0 to 1): they strike the ball, or hold, throw and catch it
+// when the field's bodies catch (game::make_bots). `throw_speed`: the sport's (m/s).
 class BotPlayers final : public PlayerSource {
  public:
-  BotPlayers(const Field& field, std::vector<double> skills, uint64_t seed) : bots_(field, std::move(skills), seed) {}
+  BotPlayers(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed)
+      : bots_(game::make_bots(field, std::move(skills), seed, throw_speed)) {}
   Status advance(double t, const game::Match& match, bool) override {
-    moves_ = bots_.move(t, 1.0 / match.fps(), match.players());
+    moves_ = bots_->move(t, 1.0 / match.fps(), match.players());
     return Status::Ready;
   }
   std::span<const BodyInput> bodies() const override { return moves_; }
+  std::span<const game::Throw> throws() const override { return bots_->throws(); }
   void hear(std::span<const game::GameEvent> events) override {
-    for (const game::GameEvent& e : events) bots_.hear(e);
+    for (const game::GameEvent& e : events) bots_->hear(e);
   }
 
  private:
-  game::Bots bots_;
+  std::unique_ptr<game::SimulatedPlayers> bots_;
   std::span<const BodyInput> moves_;
 };
 
 // Where a person's hand is (the desk's mouse over the field), in field metres; `over` is false
-// while it is off the field. The front end that reads the mouse writes it every frame.
+// while it is off the field. `throws` counts the times the person threw (a click, a key): each
+// new one throws the ball if the hand's player holds it. The front end that reads the mouse
+// writes it every frame.
 struct Hand {
   Vec2 at;
   bool over = false;
+  int throws = 0;
 };
 
 // Simulated players, but one of them moves where a person's hand is: a designer plays their own
 // sport at a desk. The hand's body takes the hand's velocity (from its motion), within the
-// field and its speed limit.
+// field and its speed limit; a throw goes the way the hand moves (toward the opponents' goal
+// when it is still), at the sport's throw speed.
 class HandPlayers final : public PlayerSource {
  public:
-  HandPlayers(const Field& field, std::vector<double> skills, uint64_t seed, int body, const Hand& hand);
+  HandPlayers(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed, int body,
+              const Hand& hand);
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
+  std::span<const game::Throw> throws() const override { return throws_; }
   void hear(std::span<const game::GameEvent> events) override { bots_.hear(events); }
 
  private:
@@ -79,26 +92,32 @@ class HandPlayers final : public PlayerSource {
   const Field field_;
   int body_;
   const Hand& hand_;
+  int thrown_;  // the hand's throws already made
   std::vector<BodyInput> bodies_;
+  std::vector<game::Throw> throws_;
 };
 
 // Players from a tracking source: each tracked id moves the body of that name. Recordings are
 // replayed in match time; live sources as their frames come.
 class TrackedPlayers final : public PlayerSource {
  public:
-  // `spec`: fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT (see tracking/input.h).
-  TrackedPlayers(const std::string& spec, const Field& field);
+  // `spec`: fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT (see tracking/input.h);
+  // `options`: accelerometers for throws (any source) and a camera's field of view.
+  TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options = {});
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
+  // A tracked throw goes the way the tracker says, at the sport's throw speed.
+  std::span<const game::Throw> throws() const override { return throws_; }
   bool live() const override { return input_.live(); }
   void resync() override { t0_ = -1, next_ask_ = 0; }
 
  private:
-  void apply(const tracking::TrackedFrame& f);
+  void apply(const tracking::TrackedFrame& f, double throw_speed);
 
   Field field_;
   tracking::TrackingInput input_;
   std::vector<BodyInput> bodies_;
+  std::vector<game::Throw> throws_;
   std::optional<tracking::TrackedFrame> pending_;
   double t0_ = -1;        // source time at match time 0
   bool seen_ = false;     // a frame has come

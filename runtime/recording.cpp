@@ -17,7 +17,7 @@ const char* engine_version() { return QUANTUM_VERSION; }
 
 namespace {
 
-constexpr char kMagic[] = "QGFRAMES1\n";
+constexpr char kMagic[] = "QGFRAMES2\n";
 
 // FNV-1a of a file's bytes: enough to tell a changed file from the recorded one.
 std::string fingerprint(const fs::path& file) {
@@ -69,7 +69,7 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
   for (const auto& [original, copy] : places_)
     for (const auto& [from, to] : copy_tree(original, copy))
       files.push_back({{"copy", fs::relative(to, dir).string()}, {"original", from.string()}, {"fnv1a", fingerprint(from)}});
-  nlohmann::json handicaps = o.handicaps, factors = o.factors;
+  nlohmann::json handicaps = o.handicaps, factors = o.factors, params = sport.params().pairs();
   write_json(dir / "recording.json",
              {{"engine", engine_version()},
               {"command", o.command},
@@ -81,6 +81,7 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
               {"handicaps", handicaps},
               {"auto_balance", o.auto_balance},
               {"factors", factors},
+              {"params", params},
               {"files", files},
               {"frames", 0}});
   frames_.open(dir / "frames.bin", std::ios::binary);
@@ -97,13 +98,20 @@ Recorder::~Recorder() {
   }
 }
 
-void Recorder::frame(PlayerSource::Status status, std::span<const BodyInput> bodies) {
+void Recorder::frame(PlayerSource::Status status, std::span<const BodyInput> bodies, std::span<const game::Throw> throws) {
   const uint8_t code = uint8_t(status);
-  const uint32_t n = uint32_t(bodies.size());
+  const uint32_t n = uint32_t(bodies.size()), n_throws = uint32_t(throws.size());
   frames_.write(reinterpret_cast<const char*>(&code), 1);
   frames_.write(reinterpret_cast<const char*>(&n), sizeof n);
   for (const BodyInput& b : bodies) {
     const float v[4] = {b.position.x, b.position.y, b.velocity.x, b.velocity.y};
+    frames_.write(reinterpret_cast<const char*>(v), sizeof v);
+  }
+  frames_.write(reinterpret_cast<const char*>(&n_throws), sizeof n_throws);
+  for (const game::Throw& t : throws) {
+    const int32_t player = t.player;
+    const float v[2] = {t.velocity.x, t.velocity.y};
+    frames_.write(reinterpret_cast<const char*>(&player), sizeof player);
     frames_.write(reinterpret_cast<const char*>(v), sizeof v);
   }
   ++count_;
@@ -161,6 +169,7 @@ Replay open_replay(const fs::path& dir) {
     r.handicaps = j.at("handicaps").get<std::vector<double>>();
     r.auto_balance = j.at("auto_balance");
     r.factors = j.at("factors").get<std::map<std::string, double>>();
+    r.params = j.value("params", std::vector<std::string>());
     r.version = j.at("engine");
     for (const nlohmann::json& f : j.at("files")) {
       const fs::path original = f.at("original").get<std::string>();
@@ -196,6 +205,18 @@ PlayerSource::Status RecordedPlayers::advance(double, const game::Match&, bool) 
     if (!frames_.read(reinterpret_cast<char*>(v), sizeof v))
       throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is cut short");
     b = {{v[0], v[1]}, {v[2], v[3]}};
+  }
+  uint32_t n_throws = 0;
+  if (!frames_.read(reinterpret_cast<char*>(&n_throws), sizeof n_throws) || n_throws > 4 * bodies_.size())
+    throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is damaged");
+  throws_.resize(n_throws);
+  for (game::Throw& t : throws_) {
+    int32_t player = 0;
+    float v[2];
+    if (!frames_.read(reinterpret_cast<char*>(&player), sizeof player) || !frames_.read(reinterpret_cast<char*>(v), sizeof v) ||
+        player < 0 || size_t(player) >= bodies_.size())
+      throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is damaged");
+    t = {player, {v[0], v[1]}};
   }
   ++frame_;
   return Status(code);

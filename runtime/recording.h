@@ -3,13 +3,13 @@
 //
 // A recording is a folder:
 //   recording.json   the engine's version, the command line, the options that shape the match (seed, particles,
-//                    time limit, handicaps, balance, factors), the sport's path and a hash of
+//                    time limit, handicaps, balance, factors, parameters), the sport's path and a hash of
 //                    every file copied below, and how many frames were played
 //   sport/<name>/    the sport's folder as it was (Lua, field, sounds; not its specs)
 //   sport/powerups/  the power-ups beside it, if any
 //   engine/          the engine's own rules/powerups and rules/lib
-//   frames.bin       every frame's players, as the match got them: the source's status and
-//                    each body's position and velocity (floats, bit for bit)
+//   frames.bin       every frame's players, as the match got them: the source's status, each
+//                    body's position and velocity (floats, bit for bit), and the throws made
 //   reloads/<frame>/ the files a reload loaded before that frame, as they were then
 // The match draws from its seed, so the same players, files and options give the same events,
 // byte for byte.
@@ -44,7 +44,7 @@ class Recorder {
   Recorder(const std::filesystem::path& dir, const SessionOptions& options, const lua::Sport& sport);
   ~Recorder();
   // The players a frame was played with (nothing stepped when the source was lost).
-  void frame(PlayerSource::Status status, std::span<const BodyInput> bodies);
+  void frame(PlayerSource::Status status, std::span<const BodyInput> bodies, std::span<const game::Throw> throws);
   // The files a reload loaded before the frame to come.
   void reloaded(const std::vector<std::filesystem::path>& files);
   // Completes recording.json (the frame count). Throws when anything could not be written.
@@ -69,6 +69,7 @@ struct Replay {
   std::vector<double> handicaps;
   double auto_balance = -1;
   std::map<std::string, double> factors;
+  std::vector<std::string> params;
   std::string version;           // the engine that recorded it
   // What differs now from when it was recorded: the engine, and the sport's files at their
   // original places ("rules/airhockey/sport.lua changed", "... is gone").
@@ -89,12 +90,14 @@ class RecordedPlayers final : public PlayerSource {
   ~RecordedPlayers() override;
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
+  std::span<const game::Throw> throws() const override { return throws_; }
   std::vector<std::filesystem::path> files_to_reload() override;
 
  private:
   std::filesystem::path dir_, work_;
   std::ifstream frames_;
   std::vector<BodyInput> bodies_;
+  std::vector<game::Throw> throws_;
   uint64_t frame_ = 0;  // frames read so far
 };
 

@@ -45,8 +45,10 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
     settings.sport = replay->sport.string();
     settings.seed = replay->seed, settings.seconds = replay->seconds, settings.particles = replay->particles;
     settings.handicaps = replay->handicaps, settings.auto_balance = replay->auto_balance, settings.factors = replay->factors;
+    settings.params = replay->params;
   }
-  sport_ = std::make_unique<lua::Sport>(settings.sport, replay ? replay->engine : lua::engine_rules_folder());
+  sport_ = std::make_unique<lua::Sport>(settings.sport, replay ? replay->engine : lua::engine_rules_folder(),
+                                        lua::Params(settings.params));
   for (const auto& [kind, value] : settings.factors) sport_->set_factor(kind, value);
   const std::vector<double> handicaps = per_player(settings.handicaps, sport_->handicaps(), *sport_, "--handicap", "handicaps");
   game::MatchConfig config;
@@ -56,15 +58,17 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   config.first_spot = sport_->first_spot();
   config.balance_per_goal = settings.auto_balance >= 0 ? settings.auto_balance : sport_->balance_per_goal();
   config.balance_most = sport_->balance_most();
+  config.throw_speed = sport_->throw_speed();
+  config.throw_spread = sport_->throw_spread();
   match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
   if (!players_ && replay) players_ = std::make_unique<RecordedPlayers>(o.replay, replay->work, sport_->field().bodies.size());
   if (!players_) {
     if (o.input == "bots") {
       const std::vector<double> skills(sport_->field().bodies.size(), 0.6);
       players_ = std::make_unique<BotPlayers>(match_->field(), per_player(o.skills, skills, *sport_, "--skill", "skills"),
-                                              o.seed);
+                                              o.seed, config.throw_speed);
     } else {
-      players_ = std::make_unique<TrackedPlayers>(o.input, match_->field());
+      players_ = std::make_unique<TrackedPlayers>(o.input, match_->field(), tracking::SourceOptions{o.accel, o.fov});
     }
   }
   // A replay reloads what its recording reloaded, when it did, and nothing else.
@@ -134,7 +138,7 @@ bool Session::frame() {
   }
   const double dt = 1.0 / m.fps();
   const PlayerSource::Status status = players_->advance(m.time() + dt, m, paused_);
-  if (recorder_) recorder_->frame(status, players_->bodies());
+  if (recorder_) recorder_->frame(status, players_->bodies(), players_->throws());
   if (status == PlayerSource::Status::Ended) {
     if (transcript_) {
       const game::Said end{m.time(), "(the recording is over)", -1, "", ""};
@@ -145,6 +149,9 @@ bool Session::frame() {
     const bool lost = status == PlayerSource::Status::Lost;
     if (lost != paused_) pause_or_resume(lost);
     if (!paused_) {
+      // A throw goes from the player who holds the ball; anyone else's arm swings at nothing.
+      for (const game::Throw& t : players_->throws())
+        if (t.player == m.holder()) m.throw_ball(t.player, t.velocity);
       m.step(players_->bodies());
       if (decisions_->stream() && m.decision()) write_decision(*decisions_->stream(), *m.decision(), m.decision_fates(), m.field());
     }

@@ -30,6 +30,9 @@ class Recorder;
 struct SessionOptions {
   std::string sport = "rules/airhockey";
   std::string input = "bots";   // or a tracking source: fakenect:DIR, kinect, video:FILE, camera:N, tuio:PORT
+  std::string accel;            // with a tracking source: accelerometer throws, FILE (CSV) or udp:PORT
+  float fov = 82;               // with video or camera: its horizontal field of view, degrees
+  std::vector<std::string> params;  // NAME=VALUE for the sport's scripts (param(), bindings/params.h)
   uint64_t seed = 1;
   double seconds = 0;           // 0: the sport's own time limit
   uint32_t particles = 0;       // 0: the sport's own

@@ -14,9 +14,12 @@ namespace quantum::tools {
 namespace {
 
 constexpr const char* kHelp = "space pause   s step   m slow motion   p paths   r restart   q quit";
+constexpr const char* kHandHelp = "click or t throw   space pause   s step   m slow   p paths   r restart   q quit";
 
 // Keys of the live view. highgui gives the character's code (or -1).
-enum Key : int { kPause = ' ', kStep = 's', kSlow = 'm', kPaths = 'p', kRestart = 'r', kQuit = 'q', kEscape = 27 };
+enum Key : int {
+  kPause = ' ', kStep = 's', kSlow = 'm', kPaths = 'p', kRestart = 'r', kQuit = 'q', kThrow = 't', kEscape = 27
+};
 
 // The player a person plays with the mouse: `name`, or the first when "".
 int hand_body(const Field& field, const std::string& name) {
@@ -42,16 +45,18 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     again = false;
     std::unique_ptr<runtime::PlayerSource> players;
     if (desk.hand) {
-      const Field field = lua::Sport(o.sport).field();
+      const lua::Sport sport(o.sport, lua::engine_rules_folder(), lua::Params(o.params));
+      const Field& field = sport.field();
       std::vector<double> skills = o.skills.empty() ? std::vector<double>(field.bodies.size(), 0.6) : o.skills;
-      players = std::make_unique<runtime::HandPlayers>(field, skills, o.seed, hand_body(field, desk.hand_player), hand);
+      players = std::make_unique<runtime::HandPlayers>(field, skills, o.seed, sport.throw_speed(),
+                                                       hand_body(field, desk.hand_player), hand);
     }
     runtime::Session session(o, transcript ? &out : nullptr, errors, std::move(players));
     if (desk.view && !window) window.emplace("Quantum games: " + session.sport().name());
     runtime::Picture picture(session.match().field());
     runtime::Ticker ticker;
     session.watch([&](const runtime::News& news) { ticker.hear(news); });
-    runtime::Overlay overlay{session.sport().name(), "", desk.view ? kHelp : "", &ticker, ""};
+    runtime::Overlay overlay{session.sport().name(), "", desk.view ? (desk.hand ? kHandHelp : kHelp) : "", &ticker, ""};
     cv::Mat image;
     picture.draw(session.match(), overlay, image);
     std::optional<runtime::VideoFile> video;
@@ -69,6 +74,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         if (key == kRestart && o.record.empty()) again = true, playing = false;
         if (key == kRestart && !o.record.empty()) restart_refused = true;
         const runtime::Window::Mouse m = window->mouse();
+        hand.throws += m.clicks + (key == kThrow ? 1 : 0);
         hand.over = m.over && m.y >= 0 && m.y < picture.field_height() && m.x >= 0 && m.x < image.cols;
         if (hand.over) hand.at = picture.to_field(m.x, m.y);
       }

@@ -95,15 +95,17 @@ BalanceResult balance(const runtime::SessionOptions& options, int matches) {
 
   BalanceResult r;
   r.matches = matches;
-  int rallies = 0, contacts = 0, goals = 0;
+  int rallies = 0, contacts = 0, goals = 0, passes = 0;
   double seconds = 0;
   for (const PlayResult& p : results) {
     if (p.winner.empty()) ++r.draws;
     else ++r.wins[p.winner];
     for (const auto& [team, n] : p.score) r.wins.try_emplace(team, 0);
     rallies += p.stats.rallies, contacts += p.stats.contacts, goals += p.stats.goals, seconds += p.stats.seconds;
+    passes += p.stats.passes, r.possessions += p.stats.possessions;
   }
   r.contacts_per_rally = rallies ? double(contacts) / rallies : 0;
+  r.passes_per_possession = r.possessions ? double(passes) / r.possessions : 0;
   r.goals_per_minute = seconds > 0 ? goals * 60 / seconds : 0;
   return r;
 }

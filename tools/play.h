@@ -34,6 +34,8 @@ struct BalanceResult {
   std::map<std::string, int> wins;  // by team
   double contacts_per_rally = 0;    // over all rallies of all matches
   double goals_per_minute = 0;      // over all time played
+  int possessions = 0;              // sports of catching: times a team gained the ball...
+  double passes_per_possession = 0;  // ...and the passes it made, on average, before losing it
 };
 
 // Plays `matches` matches with seeds options.seed, options.seed + 1, ... on every core, without

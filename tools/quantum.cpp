@@ -61,6 +61,17 @@ int main(int argc, char** argv) {
   play->add_option("--decisions", game.decisions, "write every draw the engine makes as a JSON line to FILE "
                                                   "(- for stdout; docs/decisions.md)");
   play->add_option("--record", game.record, "record the match into a new folder DIR, for quantum replay");
+  play->add_option("--accel", game.accel, "with a tracking input: accelerometer samples t,player,ax,ay,az from FILE "
+                                          "(CSV) or udp:PORT (one per datagram): a player's whip throws the ball");
+  play->add_option("--fov", game.fov, "with video or camera: its horizontal field of view, degrees")
+      ->capture_default_str();
+  // Each --param adds one: `--param length=40 --param width=20`.
+  auto add_params = [](CLI::App* command, std::vector<std::string>& params) {
+    command->add_option("--param", params, "NAME=VALUE for the sport's scripts (param(NAME, default) in its "
+                                           "field.lua and sport.lua), e.g. --param length=40")
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  };
+  add_params(play, game.params);
   quantum::tools::DeskOptions desk;
   // The desk's options, on play and on replay alike.
   auto add_desk = [](CLI::App* command, quantum::tools::DeskOptions& d) {
@@ -110,6 +121,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 10.0));
   balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
       ->capture_default_str()->check(CLI::IsMember({"sport", "flat"}));
+  add_params(balance, study.params);
 
   std::vector<std::string> spec_paths;
   CLI::App* test = app.add_subcommand("test", "run Lua rule specs (*_spec.lua) with the scenario API");
@@ -151,7 +163,9 @@ int main(int argc, char** argv) {
       std::cout << "wins:";
       for (const auto& [team, n] : r.wins) std::cout << ' ' << team << ' ' << n << " (" << 100.0 * n / r.matches << " %)";
       std::cout << ", draws " << r.draws << "\ncontacts per rally " << r.contacts_per_rally << ", goals per minute "
-                << r.goals_per_minute << '\n';
+                << r.goals_per_minute;
+      if (r.possessions > 0) std::cout << ", passes per possession " << r.passes_per_possession;
+      std::cout << '\n';
     }
     if (play->parsed()) {
       if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");

@@ -4,22 +4,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "game/plane.h"
+#include "game/team_bots.h"
+
 namespace quantum::game {
 namespace {
-
-Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
-Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-Vec2 operator*(float s, Vec2 a) { return {s * a.x, s * a.y}; }
-float length(Vec2 a) { return std::hypot(a.x, a.y); }
-Vec2 unit(Vec2 a) {
-  const float l = length(a);
-  return l > 0 ? (1 / l) * a : Vec2{1, 0};
-}
-Vec2 rotated(Vec2 a, double angle) {
-  const float c = float(std::cos(angle)), s = float(std::sin(angle));
-  return {c * a.x - s * a.y, s * a.x + c * a.y};
-}
-Vec2 centre(const Goal& g) { return {0.5f * (g.a.x + g.b.x), 0.5f * (g.a.y + g.b.y)}; }
 
 constexpr double kStrikeTime = 0.18;   // s a strike drives through the ball
 constexpr float kBehind = 0.10f;       // m behind the ball where a strike starts
@@ -114,14 +103,6 @@ Vec2 Bots::clamp_to_reach(const Bot& b, Vec2 p, bool whole_field) const {
     else x0 = std::max(x0, mid_x_ + r);
   }
   return {std::clamp(p.x, x0, x1), std::clamp(p.y, lo_.y + r, hi_.y - r)};
-}
-
-// Distance from p to the segment a-b.
-float distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 ab = b - a, ap = p - a;
-  const float l2 = ab.x * ab.x + ab.y * ab.y;
-  const float t = l2 > 0 ? std::clamp((ap.x * ab.x + ap.y * ab.y) / l2, 0.0f, 1.0f) : 0.0f;
-  return length(ap - t * ab);
 }
 
 // Where to shoot: where the sport's hint says (a point; a wall, at its point nearest the ball; a
@@ -293,6 +274,12 @@ const std::vector<BodyInput>& Bots::move(double t, double dt, std::span<const Pl
     moves_[k] = {b.pos, (1 / float(dt)) * step};
   }
   return moves_;
+}
+
+std::unique_ptr<SimulatedPlayers> make_bots(const Field& field, std::vector<double> skills, uint64_t seed,
+                                            double throw_speed) {
+  if (field.catching()) return std::make_unique<TeamBots>(field, std::move(skills), seed, throw_speed);
+  return std::make_unique<Bots>(field, std::move(skills), seed);
 }
 
 }  // namespace quantum::game

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <span>
 #include <vector>
@@ -25,16 +26,38 @@ struct SkillModel {
 };
 SkillModel skill_model(double skill);
 
-class Bots {
+// A throw a player makes: who, and the ball's velocity as it leaves the hand.
+struct Throw {
+  int player = -1;
+  Vec2 velocity;
+};
+
+// Simulated players of any sport: they hear the announcer and move every body.
+class SimulatedPlayers {
+ public:
+  virtual ~SimulatedPlayers() = default;
+  // An announced event; the bots act on it after their reaction time.
+  virtual void hear(const GameEvent& e) = 0;
+  // Where every body goes this frame, and its velocity. `players` carries the sport's hints
+  // (whose turn it is, where to aim: game.turn, game.aim).
+  virtual const std::vector<BodyInput>& move(double t, double dt, std::span<const Player> players) = 0;
+  // The throws they made in the last move (a sport of catching).
+  virtual std::span<const Throw> throws() const { return {}; }
+};
+
+// The simulated players for `field`: TeamBots when its bodies catch, Bots when they strike.
+// One skill in [0, 1] per body; `throw_speed` is the sport's (m/s).
+std::unique_ptr<SimulatedPlayers> make_bots(const Field& field, std::vector<double> skills, uint64_t seed,
+                                            double throw_speed);
+
+// Players who strike the ball with a mallet (air hockey).
+class Bots final : public SimulatedPlayers {
  public:
   // One skill in [0, 1] per body of the field.
   Bots(const Field& field, std::vector<double> skills, uint64_t seed);
 
-  // An announced event; the bots act on it after their reaction time.
-  void hear(const GameEvent& e);
-  // Where every body goes this frame, and its velocity. `players` carries the sport's hints
-  // (whose turn it is, where to aim: game.turn, game.aim).
-  const std::vector<BodyInput>& move(double t, double dt, std::span<const Player> players);
+  void hear(const GameEvent& e) override;
+  const std::vector<BodyInput>& move(double t, double dt, std::span<const Player> players) override;
 
  private:
   // What a bot keeps of an event: only what is said about the ball.

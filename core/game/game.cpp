@@ -12,7 +12,7 @@ namespace {
 
 constexpr std::array<const char*, kEventKinds> kEventNames = {
     "drop", "shot", "intercept", "retouch", "bounce", "goal", "own_goal", "out", "dead", "time_up", "match_end",
-    "powerup", "powerup_end", "paused", "resumed"};
+    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give"};
 
 }  // namespace
 
@@ -37,6 +37,11 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
   if (!(config.balance_per_goal >= 0 && config.balance_per_goal <= 10 && config.balance_most >= 1))
     throw std::invalid_argument("automatic balance: per goal must be in [0, 10] and the most >= 1");
+  if (!(config.throw_speed > 0 && config.throw_speed <= 1000))
+    throw std::invalid_argument("a throw's speed must be in (0, 1000] m/s");
+  if (!(config.throw_spread.direction >= 0 && config.throw_spread.direction <= 1.6f && config.throw_spread.speed >= 0 &&
+        config.throw_spread.speed <= 1))
+    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and [0, 1] of speed");
   const Field& f = world_.field();
   if (!handicaps.empty() && handicaps.size() != f.bodies.size())
     throw std::invalid_argument("got " + std::to_string(handicaps.size()) + " handicaps for " +
@@ -100,11 +105,47 @@ GameEvent& Match::new_event(EventKind type) {
   GameEvent& e = events_.emplace_back();
   e.t = time();
   e.type = type;
+  if (world_.holder() >= 0) e.holder = players_[size_t(world_.holder())].name;
   return e;
 }
 
+void Match::give(int k) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  if (!field().bodies[size_t(k)].catches)
+    throw std::invalid_argument(players_[size_t(k)].name + " cannot hold the ball: its field body does not catch");
+  dead_ball();
+  respawn_at_ = -1;
+  world_.give(k);
+  report_.groups.clear();
+  previous_toucher_ = -1;
+  last_toucher_ = k;
+  last_touch_t_ = time();
+  gained(k);
+  GameEvent& e = new_event(EventKind::Give);
+  e.actor = players_[size_t(k)].name, e.team = players_[size_t(k)].team, e.actor_index = k;
+  e.at = players_[size_t(k)].position;
+  name_touchers(e);
+  tell_rules(events_.size() - 1);
+}
+
+void Match::throw_ball(int k, Vec2 velocity, std::optional<ThrowSpread> spread) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  thrown_.clear();
+  world_.release(k, velocity, spread.value_or(config_.throw_spread), thrown_);
+  const Event e = thrown_.back();  // a copy: the rules told of it may throw again
+  handle(e);
+  // The new flight's fates, so the next draw is already tweaked.
+  if (world_.live()) retweak();
+}
+
+void Match::gained(int k) {
+  const std::string_view team = players_[size_t(k)].team;
+  if (team != possession_) ++stats_.possessions;
+  possession_ = team;
+}
+
 void Match::dead_ball() {
-  if (!world_.live()) return;
+  if (!world_.in_play()) return;
   world_.remove_ball();
   end_rally(false);
   name_touchers(new_event(EventKind::Dead));
@@ -217,7 +258,7 @@ void Match::step(std::span<const BodyInput> input) {
   set_cause("");
   // A ball gone without an outcome that brings it back (crushed away, or a shot that left while its
   // contact was caught up): it comes back where it was dropped.
-  if (!world_.live() && respawn_at_ < 0 && !finished_) respawn(respawn_spot_, 1.0);
+  if (!world_.in_play() && respawn_at_ < 0 && !finished_) respawn(respawn_spot_, 1.0);
   if (!finished_ && !time_up_told_ && time() >= config_.seconds - 1e-9) {
     time_up_told_ = true;
     new_event(EventKind::TimeUp);
@@ -257,12 +298,30 @@ void Match::handle(const Event& e) {
       rally_contacts_ += again ? 0 : 1;
       break;
     }
+    case EventType::Catch: {
+      const int thrower = last_toucher_;
+      type = thrower < 0 || thrower == e.actor          ? EventKind::Catch
+             : f.bodies[thrower].team == f.bodies[e.actor].team ? EventKind::Pass
+                                                              : EventKind::Intercept;
+      previous_toucher_ = last_toucher_;
+      last_toucher_ = e.actor;
+      last_touch_t_ = e.t;
+      ++rally_contacts_;
+      stats_.passes += type == EventKind::Pass;
+      gained(e.actor);
+      break;
+    }
+    case EventType::Throw:
+      type = EventKind::Throw;
+      if (last_toucher_ != e.actor) previous_toucher_ = last_toucher_, last_toucher_ = e.actor;
+      last_touch_t_ = e.t;
+      break;
     case EventType::Bounce: type = EventKind::Bounce; break;
     case EventType::Goal: type = EventKind::Goal; break;
     case EventType::OwnGoal: type = EventKind::OwnGoal; break;
     case EventType::Out: type = EventKind::Out; break;
   }
-  if (type == EventKind::Drop) rally_contacts_ = 0, last_toucher_ = previous_toucher_ = -1;
+  if (type == EventKind::Drop) rally_contacts_ = 0, last_toucher_ = previous_toucher_ = -1, possession_ = {};
   GameEvent& g = new_event(type);
   g.t = e.t, g.p = e.p, g.p_newtonian = e.p_newtonian, g.particles = e.particles, g.at = e.at;
   g.velocity = e.velocity, g.actor_index = e.actor;
@@ -306,7 +365,7 @@ FateView Match::view(const FateGroup& group) const {
   FateView v;
   v.fate = fate;
   v.mass = group.mass, v.tweaked = group.tweaked_mass, v.count = group.count;
-  if (fate.kind == FateKind::Body) {
+  if (at_body(fate.kind)) {
     v.actor = f.bodies[fate.target].name, v.team = v.favours = f.bodies[fate.target].team;
   } else if (fate.kind == FateKind::Goal || fate.kind == FateKind::OwnGoal) {
     v.actor = f.goals[fate.target].name, v.team = f.goals[fate.target].team;
@@ -346,7 +405,7 @@ void Match::retweak() {
   for (size_t k = 0; k < views_.size(); ++k) {
     const FateView& v = views_[k];
     double h = 1;
-    if (v.fate.kind == FateKind::Body) {
+    if (at_body(v.fate.kind)) {
       h = handicap_now(v.fate.target);
     } else if (!v.favours.empty()) {
       if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) {

@@ -23,11 +23,14 @@ namespace quantum::game {
 // What the rules are told. Retouch is the same player meeting the ball again within 0.25 s of
 // its last touch (one swing); Dead is a ball the rules ended while it still moved; Paused and
 // Resumed come from the runtime when a live tracking source loses the players and finds them.
+// With players who catch: Throw (the holder let go), Pass (a teammate of the thrower caught it),
+// Intercept (an opponent did: the same event as a mallet's intercept), Catch (anyone else: a
+// loose ball picked up, a throw caught again by the thrower), Give (the rules handed it over).
 enum class EventKind : uint8_t {
   Drop, Shot, Intercept, Retouch, Bounce, Goal, OwnGoal, Out, Dead, TimeUp, MatchEnd, Powerup, PowerupEnd,
-  Paused, Resumed,
+  Paused, Resumed, Catch, Pass, Throw, Give,
 };
-constexpr int kEventKinds = int(EventKind::Resumed) + 1;
+constexpr int kEventKinds = int(EventKind::Give) + 1;
 const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "time_up", "powerup_end", ...
 // The kind named `name`, or none.
 std::optional<EventKind> event_kind(std::string_view name);
@@ -45,6 +48,7 @@ struct GameEvent {
   std::string_view by_team;
   std::string_view previous;  // the player who touched it before `by` this rally (who passed), "" for none
   std::string_view previous_team;
+  std::string_view holder;    // who holds the ball once this happened ("" when nobody does)
   double p = 1, p_newtonian = 1;
   uint32_t particles = 0;
   Vec2 at, velocity;   // where it happened; for a touch or bounce the ball's mean velocity after it
@@ -57,7 +61,7 @@ struct FateView {
   Fate fate;                   // kind, target, and the walls on the way (fate.path)
   std::string_view actor;      // the goal's or the body's name, "" otherwise
   std::string_view team;       // the body's team, or the team defending the goal
-  std::string_view favours;    // the team this outcome is good for: the body's, or the one attacking the goal
+  std::string_view favours;    // the team this outcome is good for: the body's (a catcher's), or the one attacking the goal
   double mass = 0;             // Newtonian probability
   double tweaked = 0;          // probability after the current factors
   uint32_t count = 0;
@@ -92,6 +96,10 @@ struct MatchConfig {
   // (1 + balance_per_goal), up to balance_most times their own. 0 is off.
   double balance_per_goal = 0;
   double balance_most = 2;
+  // Throws (fields whose bodies catch): the speed of a throw that gives none (m/s; a rule's aimed
+  // throw, an accelerometer's), and how every throw scatters.
+  double throw_speed = 10;
+  ThrowSpread throw_spread;
 };
 
 struct Said {
@@ -113,8 +121,10 @@ struct ActivePowerup {
 
 struct RallyStats {
   int rallies = 0;      // balls dropped that ended (goal, own goal, out or dead)
-  int contacts = 0;     // shots and intercepts within those rallies
+  int contacts = 0;     // shots, intercepts and catches within those rallies
   int goals = 0;
+  int passes = 0;       // catches by a teammate of the thrower
+  int possessions = 0;  // times a team gained the ball (a catch, intercept or give after the other team had it)
   double seconds = 0;   // match time played
 };
 
@@ -153,9 +163,18 @@ class Match {
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   // A ball still in play is dead first (see dead_ball).
   void respawn(int spot, double delay);
-  // Ends the rally while the ball still moves: the cloud is removed, a `dead` event is told, and
-  // nothing more happens until the next drop. Nothing happens when no ball is in play.
+  // Ends the rally while the ball is in play (moving, or held): the ball is removed, a `dead`
+  // event is told, and nothing more happens until the next drop. Nothing happens when no ball is
+  // in play.
   void dead_ball();
+  // Puts the ball in player k's hands (a throw-off, a throw-in, a free throw): a ball in play is
+  // dead first, a pending drop is cancelled, and a `give` event is told. Throws
+  // std::invalid_argument for a player who does not catch (field.lua: catches = true).
+  void give(int k);
+  // Player k, who holds the ball, throws it at `velocity` (m/s), scattered by `spread` (the
+  // sport's when none): a `throw` event is told. Throws std::invalid_argument when k does not
+  // hold the ball, or for a bad velocity or spread.
+  void throw_ball(int k, Vec2 velocity, std::optional<ThrowSpread> spread = std::nullopt);
   void finish(const std::string& winner);  // "" for a draw
   // Sets player k's own handicap (> 0) from now on: a sport's rules may change it during a match.
   void set_handicap(int k, double handicap);
@@ -193,6 +212,8 @@ class Match {
   const RallyStats& stats() const { return stats_; }
   const std::vector<ActivePowerup>& powerups() const { return powerups_; }
   int last_toucher() const { return last_toucher_; }  // body of the last announced touch this rally, -1 for none
+  int holder() const { return world_.holder(); }     // body holding the ball, -1 for none
+  const MatchConfig& config() const { return config_; }
   // Player k's handicap as it applies now: its own, times the automatic balance's boost while
   // its team trails.
   double handicap_now(int k) const;
@@ -230,6 +251,7 @@ class Match {
   GameEvent& new_event(EventKind type);
   void name_touchers(GameEvent& e) const;  // by and previous, from the rally's touches
   void end_rally(bool goal);               // the statistics of a rally that ended
+  void gained(int k);                      // player k has the ball: a new possession if the other team had it
   void tell_rules(size_t event);
   void retweak();
   FateView view(const FateGroup& g) const;
@@ -256,6 +278,8 @@ class Match {
   int rally_contacts_ = 0;
   int last_toucher_ = -1;      // body of the last announced touch this rally
   int previous_toucher_ = -1;  // the one before it (another touch, or the same player's earlier one)
+  std::string_view possession_;  // the team that has had the ball since it last changed sides, "" for none
+  std::vector<Event> thrown_;    // the throw a rule or a player makes between steps (room kept)
   double last_touch_t_ = 0;
   bool finished_ = false, time_up_told_ = false;
   std::string winner_;

@@ -23,11 +23,20 @@ void add_to_path(Fate& f, int wall) {
   else f.path_more = true;
 }
 
+// What ends a flight, decided once per prediction: the fate kind of meeting each body, and
+// whether each goal would be an own goal (both depend on who touched the ball last).
+struct Endings {
+  const uint8_t* body_kind;  // FateKind per body
+  const uint8_t* own_goal;   // 1 per goal its last toucher's team defends
+};
+
 // Ends f at a hit that is not a wall; false for walls (the flight goes on).
-bool ends_at(Fate& f, detail::HitKind kind, int index, const uint8_t* own_goal) {
+bool ends_at(Fate& f, detail::HitKind kind, int index, const Endings& ends) {
   switch (kind) {
-    case detail::HitKind::Body: f.kind = FateKind::Body, f.target = index; return true;
-    case detail::HitKind::Goal: f.kind = own_goal[index] ? FateKind::OwnGoal : FateKind::Goal, f.target = index; return true;
+    case detail::HitKind::Body: f.kind = FateKind(ends.body_kind[index]), f.target = index; return true;
+    case detail::HitKind::Goal:
+      f.kind = ends.own_goal[index] ? FateKind::OwnGoal : FateKind::Goal, f.target = index;
+      return true;
     case detail::HitKind::Out: f.kind = FateKind::Out; return true;
     default: return false;
   }
@@ -44,9 +53,11 @@ struct NextStep {
   float amplitude = 0;
 };
 
-NextStep next_step(uint64_t seed, uint64_t step, float brownian, float dt) {
+// `span` is the step's flight time (dt without friction): the drift is traced over it, with the
+// noise of a step of dt.
+NextStep next_step(uint64_t seed, uint64_t step, float brownian, float dt, float span) {
   if (!(brownian > 0)) return {};
-  return {dt, step_key(seed, step + 1), noise_amplitude(brownian, dt)};
+  return {span, step_key(seed, step + 1), noise_amplitude(brownian, dt)};
 }
 
 // Particle i at the start of the prediction: moving with the next step's drift, as the step moves it.
@@ -61,7 +72,7 @@ detail::Mover start_of(const Cloud& c, size_t i, const NextStep& next) {
 // Follows one particle from contact to contact; `visit` sees every point where the path turns.
 // Same searches and arithmetic as trace_fates, one particle at a time.
 template <class Visit>
-Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
+Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const Endings& ends,
                 detail::Mover m, float drift_end, float horizon, Visit&& visit) {
   Fate f;
   float t = 0, end = drift_end > 0 && drift_end < horizon ? drift_end : horizon;
@@ -81,7 +92,7 @@ Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int n
     m.x += m.ux * hit.dt, m.y += m.uy * hit.dt;
     t += hit.dt;
     visit(m.x, m.y);
-    if (ends_at(f, hit.kind, hit.index, own_goal)) return f;
+    if (ends_at(f, hit.kind, hit.index, ends)) return f;
     if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);  // a wormhole is no wall
     detail::resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
     ++contact;
@@ -113,7 +124,7 @@ bool meets_nothing(const detail::Geometry& g, const detail::BodyPath* bodies, in
 // Fates of every particle of the cloud: each round searches all still-flying particles of a
 // chunk at once (vectorized), then moves each to its contact. The first `drift_end` seconds run
 // with the next step's drift (see NextStep), the rest without.
-void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const uint8_t* own_goal,
+void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const Endings& ends,
                  const Cloud& c, const NextStep& next, float horizon, Flight& flying, Flight& later,
                  std::vector<Fate>& fates) {
   constexpr size_t kChunk = Flight::kChunk;
@@ -144,7 +155,7 @@ void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int 
           }
           Fate& f = fates[flying.id[j]];
           const int index = detail::code_index(b.code[j]);
-          if (ends_at(f, kind, index, own_goal)) continue;
+          if (ends_at(f, kind, index, ends)) continue;
           if (kind == detail::HitKind::Wall) add_to_path(f, index);  // a wormhole is no wall
           const uint8_t touched = uint8_t(flying.contacts[j] + 1);
           if (touched >= kMaxFateContacts) continue;
@@ -169,6 +180,9 @@ const char* to_string(FateKind kind) {
     case FateKind::Body: return "body";
     case FateKind::Out: return "out";
     case FateKind::Field: return "field";
+    case FateKind::Catch: return "catch";
+    case FateKind::Pass: return "pass";
+    case FateKind::Intercept: return "intercept";
   }
   return "?";
 }
@@ -202,6 +216,9 @@ std::string describe(const Fate& f, const Field& field) {
     case FateKind::Goal: s = "goal (" + field.goals[f.target].name + ")"; break;
     case FateKind::OwnGoal: s = "own goal (" + field.goals[f.target].name + ")"; break;
     case FateKind::Body: s = field.bodies[f.target].name; break;
+    case FateKind::Catch: s = "caught by " + field.bodies[f.target].name; break;
+    case FateKind::Pass: s = "pass to " + field.bodies[f.target].name; break;
+    case FateKind::Intercept: s = "intercepted by " + field.bodies[f.target].name; break;
     case FateKind::Out: s = "out"; break;
     case FateKind::Field: s = "stays in field"; break;
   }
@@ -219,6 +236,9 @@ std::vector<double> factors_by_kind(const FateReport& report, const KindFactors&
       case FateKind::Body: out.push_back(k.body); break;
       case FateKind::Out: out.push_back(k.out); break;
       case FateKind::Field: out.push_back(k.field); break;
+      case FateKind::Catch:
+      case FateKind::Pass:
+      case FateKind::Intercept: out.push_back(k.catches); break;
     }
   }
   return out;
@@ -230,12 +250,29 @@ void World::check_horizon(float horizon) const {
 }
 
 // Bodies keep their last velocity for the lookahead, then hold: players rarely keep running in
-// a straight line, and a body extrapolated for seconds would leave the field.
+// a straight line, and a body extrapolated for seconds would leave the field. Prediction runs in
+// flight time (see flight_time()): the body sweeps to the same place by the end of the lookahead.
 void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
   bodies.resize(field_.bodies.size());
+  const float stop = flight(config_.body_lookahead);
+  const float sweep = stop > 0 ? config_.body_lookahead / stop : 1.0f;
   for (size_t k = 0; k < bodies.size(); ++k) {
     const Vec2 p = body_pos_[k], v = body_vel_[k];
-    bodies[k] = {p.x, p.y, v.x, v.y, config_.body_lookahead, v.x, v.y, field_.bodies[k].radius};
+    bodies[k] = {p.x, p.y, v.x * sweep, v.y * sweep, stop, v.x, v.y, field_.bodies[k].radius};
+  }
+}
+
+void World::endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) const {
+  own_goals(own);
+  body_kind.resize(field_.bodies.size());
+  for (size_t k = 0; k < body_kind.size(); ++k) {
+    FateKind kind = FateKind::Body;
+    if (field_.bodies[k].catches) {
+      kind = FateKind::Catch;
+      if (last_touch_ >= 0 && last_touch_ != int(k))
+        kind = field_.bodies[last_touch_].team == field_.bodies[k].team ? FateKind::Pass : FateKind::Intercept;
+    }
+    body_kind[k] = uint8_t(kind);
   }
 }
 
@@ -244,13 +281,12 @@ std::vector<Vec2> World::predict_path(size_t i, float horizon) const {
   if (i >= cloud_.size()) throw std::out_of_range("no live particle " + std::to_string(i));
   std::vector<detail::BodyPath> bodies;
   predicted_bodies(bodies);
-  std::vector<uint8_t> own;
-  own_goals(own);
+  std::vector<uint8_t> body_kind, own;
+  endings(body_kind, own);
   std::vector<Vec2> path;
-  const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_);
-  trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), own.data(), start_of(cloud_, i, next), next.dt,
-             horizon,
-             [&](float px, float py) { path.push_back({px, py}); });
+  const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
+  trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), {body_kind.data(), own.data()},
+             start_of(cloud_, i, next), next.dt, flight(horizon), [&](float px, float py) { path.push_back({px, py}); });
   return path;
 }
 
@@ -264,14 +300,15 @@ void World::predict(FateReport& report, float horizon) const {
   check_horizon(horizon);
   WorldInternals& s = *internals_;
   predicted_bodies(s.predicted_bodies);
-  own_goals(s.own_goal);
+  endings(s.body_kind, s.own_goal);
   report.horizon = horizon;
   report.cloud_version = version_;
   report.groups.clear();
   report.group_of.resize(cloud_.size());
   s.fates.assign(cloud_.size(), Fate{});
-  trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), s.own_goal.data(), cloud_,
-              next_step(config_.seed, step_, field_.brownian, last_dt_), horizon, s.flying, s.later, s.fates);
+  trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), {s.body_kind.data(), s.own_goal.data()},
+              cloud_, next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_)), flight(horizon),
+              s.flying, s.later, s.fates);
   s.index.clear();
   for (size_t i = 0; i < cloud_.size(); ++i) {
     const Fate& f = s.fates[i];

@@ -9,16 +9,25 @@
 
 namespace quantum {
 
-enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field };
-constexpr FateKind kFateKinds[] = {FateKind::Goal, FateKind::OwnGoal, FateKind::Body, FateKind::Out, FateKind::Field};
-const char* to_string(FateKind kind);  // "goal", "own_goal", "body", "out", "field"
+// Where a particle's flight ends. A body that strikes the ball is Body; one that catches it is
+// Pass when a teammate of the last player to touch the ball (the thrower) catches it, Intercept
+// when an opponent does, and Catch otherwise (nobody threw it, or the thrower catches it again).
+enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field, Catch, Pass, Intercept };
+constexpr FateKind kFateKinds[] = {FateKind::Goal,  FateKind::OwnGoal, FateKind::Body, FateKind::Out,
+                                   FateKind::Field, FateKind::Catch,   FateKind::Pass, FateKind::Intercept};
+constexpr int kFateKindCount = 8;
+const char* to_string(FateKind kind);  // "goal", "own_goal", "body", "out", "field", "catch", "pass", "intercept"
 std::vector<std::string> fate_kind_names();  // every kind's name, in order
+// Whether the fate ends at a body (Fate::target is a body index).
+constexpr bool at_body(FateKind k) {
+  return k == FateKind::Body || k == FateKind::Catch || k == FateKind::Pass || k == FateKind::Intercept;
+}
 
 constexpr int kMaxPath = 4;
 
 struct Fate {
   FateKind kind = FateKind::Field;
-  int target = -1;         // goal index (Goal, OwnGoal) or body index (Body)
+  int target = -1;         // goal index (Goal, OwnGoal) or body index (at_body(kind))
   uint8_t path_len = 0;    // walls touched before the end, in order, repeats folded
   bool path_more = false;  // more than kMaxPath walls
   uint16_t path[kMaxPath] = {};
@@ -47,9 +56,9 @@ std::string describe(const Fate& fate, const Field& field);
 // allocation: the rules read it every frame.
 size_t write_via(const Fate& fate, const Field& field, char* out, size_t size);
 
-// Per-kind fate factors, the paper's example as defaults.
+// Per-kind fate factors, the paper's example as defaults (catches count as body contacts).
 struct KindFactors {
-  double goal = 5, own_goal = 0.1, body = 5, out = 1, field = 1;
+  double goal = 5, own_goal = 0.1, body = 5, out = 1, field = 1, catches = 5;
 };
 std::vector<double> factors_by_kind(const FateReport& report, const KindFactors& factors);
 

@@ -30,6 +30,22 @@ std::vector<std::string> Field::teams() const {
   return out;
 }
 
+bool Field::catching() const {
+  return std::any_of(bodies.begin(), bodies.end(), [](const BodySpec& b) { return b.catches; });
+}
+
+bool Area::contains(Vec2 p) const {
+  const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+  const float t = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0f, 1.0f) : 0.0f;
+  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy)) <= radius;
+}
+
+int Field::area_at(Vec2 p) const {
+  for (size_t i = 0; i < areas.size(); ++i)
+    if (areas[i].contains(p)) return int(i);
+  return -1;
+}
+
 namespace {
 
 // Coordinates beyond this are typos (centimetres for metres), not fields.
@@ -59,6 +75,7 @@ void finish_field(Field& f) {
   check_range(f.audible_bounce, 0.0f, 1000.0f, "ball.audible_bounce");
   check_range(f.brownian, 0.0f, 10.0f, "brownian");
   check_range(f.max_body_speed, 0.1f, 1000.0f, "max_body_speed");
+  check_range(f.friction, 0.0f, 100.0f, "ball.friction");
   for (size_t i = 0; i < f.segments.size(); ++i) {
     const Segment& s = f.segments[i];
     const std::string place = "walls[" + std::to_string(s.wall + 1) + "] (" + f.wall_names.at(s.wall) + ")";
@@ -82,6 +99,18 @@ void finish_field(Field& f) {
     check_range(f.bodies[i].radius, 1e-3f, 10.0f, place + ".radius");
   }
   if (f.bodies.size() > 1000) throw FieldError("bodies", "more than 1000 bodies");
+  for (size_t i = 0; i < f.bodies.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if ((!f.bodies[i].track.empty() || !f.bodies[j].track.empty()) && f.bodies[i].tracked_as() == f.bodies[j].tracked_as())
+        throw FieldError("bodies[" + std::to_string(i + 1) + "] (" + f.bodies[i].name + ")",
+                         "tracked as '" + f.bodies[i].tracked_as() + "', like bodies[" + std::to_string(j + 1) +
+                             "]: each tracking id moves one body");
+  for (size_t i = 0; i < f.areas.size(); ++i) {
+    const std::string place = "areas[" + std::to_string(i + 1) + "] (" + f.areas[i].name + ")";
+    check_point(f.areas[i].a, place);
+    check_point(f.areas[i].b, place);
+    check_range(f.areas[i].radius, 0.0f, kMaxCoordinate, place + ".radius");
+  }
   if (f.wall_names.size() > 1000) throw FieldError("walls", "more than 1000 named walls");
 
   if (!f.has_bounds) {
@@ -98,7 +127,6 @@ void finish_field(Field& f) {
     const float m = 2 * f.ball_radius;
     f.bounds_min = {lo.x - m, lo.y - m};
     f.bounds_max = {hi.x + m, hi.y + m};
-    f.has_bounds = true;
   }
   check_point(f.bounds_min, "bounds");
   check_point(f.bounds_max, "bounds");

@@ -37,11 +37,28 @@ struct Spot {
   Vec2 at;
 };
 
-// A circle moved every frame from input: a mallet, or a player seen from above.
+// A circle moved every frame from input: a mallet, or a player seen from above. A body that
+// catches holds the ball it meets (its radius is the player's reach) instead of striking it.
 struct BodySpec {
   std::string name, team;
   float radius = 0;
   Vec2 start;
+  bool catches = false;
+  std::string role;   // the sport's word for the player's part ("goalkeeper"); the core ignores it
+  std::string track;  // the tracking id that moves this body ("blue 1" for a hat); "" for its name
+
+  const std::string& tracked_as() const { return track.empty() ? name : track; }
+};
+
+// A named region of the floor: every point within `radius` of the segment a-b (a circle when a
+// and b are the same point). Rules and simulated players read it (a handball goal area); the
+// ball does not notice it.
+struct Area {
+  std::string name, team;
+  Vec2 a, b;
+  float radius = 0;
+
+  bool contains(Vec2 p) const;
 };
 
 struct Field {
@@ -54,19 +71,26 @@ struct Field {
   float audible_bounce = 0.3f;
   float brownian = 0.0f;        // diffusion of the players' knowledge of the ball, m/sqrt(s)
   float max_body_speed = 30.0f;  // m/s; faster input is a tracking fault, not a player
+  // 1/s: a rolling or flying ball's speed falls as e^(-friction t). 0 (an air table) is none.
+  float friction = 0.0f;
   std::vector<std::string> wall_names;
   std::vector<Segment> segments;
   std::vector<Goal> goals;
   std::vector<Spot> spots;
   std::vector<BodySpec> bodies;
+  std::vector<Area> areas;
   Vec2 bounds_min, bounds_max;  // leaving this box is "out"
-  bool has_bounds = false;      // false: derived from the geometry by finish_field()
+  bool has_bounds = false;      // given by the field; false: derived from the geometry by finish_field()
 
   int spot_of_team(const std::string& team) const;  // -1 when the team has none
   // The spot of that name, else the first of that team; -1 when there is none.
   int spot_of(const std::string& name_or_team) const;
   // Every team the field names, bodies' first, then goals' (in their order).
   std::vector<std::string> teams() const;
+  // Whether any body catches: a sport of holding, throwing and catching.
+  bool catching() const;
+  // The first area containing p, or -1.
+  int area_at(Vec2 p) const;
 };
 
 // A field that is not usable. `place` says where, e.g. "walls[2].points[3]".

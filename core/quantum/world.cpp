@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "world_internals.h"
@@ -16,6 +17,8 @@ const char* to_string(EventType type) {
     case EventType::Goal: return "goal";
     case EventType::OwnGoal: return "own_goal";
     case EventType::Out: return "out";
+    case EventType::Catch: return "catch";
+    case EventType::Throw: return "throw";
   }
   return "?";
 }
@@ -23,7 +26,9 @@ const char* to_string(EventType type) {
 EventActor actor_of(const Event& e, const Field& f) {
   switch (e.type) {
     case EventType::Drop: return {f.spots[e.actor].name, f.spots[e.actor].team};
-    case EventType::Hit: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
+    case EventType::Hit:
+    case EventType::Catch:
+    case EventType::Throw: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
     case EventType::Bounce: return {f.wall_names[e.actor], ""};
     case EventType::Goal:
     case EventType::OwnGoal: return {f.goals[e.actor].name, f.goals[e.actor].team};
@@ -78,9 +83,74 @@ void World::drop(int spot, std::vector<Event>& events) {
   cloud_.push(at.x, at.y, 0, 0, 1, 1);
   clear_purgatory();
   live_ = true;
+  holder_ = -1;
   last_touch_ = -1;
   ++version_;
   events.push_back({time_, EventType::Drop, spot, 1, 1, 1, at, {0, 0}});
+}
+
+float World::flight(float seconds) const { return flight_time(field_.friction, seconds); }
+
+void World::give(int body) {
+  if (body < 0 || body >= int(field_.bodies.size()))
+    throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
+                                std::to_string(field_.bodies.size()) + ")");
+  if (!field_.bodies[body].catches)
+    throw std::invalid_argument(field_.bodies[body].name + " cannot hold the ball: its field body does not catch");
+  cloud_.clear();
+  clear_purgatory();
+  live_ = false;
+  holder_ = body;
+  last_touch_ = body;  // whoever throws it next passes it, or loses it to the other team
+  ++version_;
+}
+
+// Where a throw leaves the hand: at arm's length from the holder in the throw's direction, just
+// outside its reach, so the thrower does not catch its own throw at once; a wall, a goal line or
+// the bounds on the way stop it short (the ball then meets them in the first step).
+Vec2 World::release_point(int body, Vec2 direction) const {
+  const detail::Geometry& g = internals_->geometry;
+  const detail::Box& b = g.bounds;
+  const float inset = g.r + 1e-3f;
+  const Vec2 p = body_pos_[size_t(body)];
+  detail::Mover m{std::clamp(p.x, b.x0 + inset, b.x1 - inset), std::clamp(p.y, b.y0 + inset, b.y1 - inset), 0, 0, 0, 0};
+  detail::settle(g, nullptr, 0, 0, m, false);
+  const float reach = field_.bodies[size_t(body)].radius + g.r + 1e-3f;
+  m.ux = m.vx = direction.x * reach, m.uy = m.vy = direction.y * reach;
+  const detail::Hit hit = detail::next_hit(g, nullptr, 0, m, 0, 1, false);
+  const float t = hit.kind == detail::HitKind::None ? 1.0f : hit.dt;
+  return {m.x + m.ux * t, m.y + m.uy * t};
+}
+
+void World::release(int body, Vec2 velocity, ThrowSpread spread, std::vector<Event>& events) {
+  if (body < 0 || body != holder_)
+    throw std::invalid_argument(
+        (body >= 0 && body < int(field_.bodies.size()) ? field_.bodies[body].name : "body " + std::to_string(body)) +
+        " does not hold the ball" + (holder_ >= 0 ? " (" + field_.bodies[holder_].name + " does)" : ""));
+  const float speed = std::hypot(velocity.x, velocity.y);
+  if (!(std::isfinite(speed) && speed > 0 && speed <= 1000))
+    throw std::invalid_argument("a throw's speed must be in (0, 1000] m/s, got " + std::to_string(speed));
+  if (!(spread.direction >= 0 && spread.direction <= 1.6f && spread.speed >= 0 && spread.speed <= 1))
+    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and [0, 1] of speed");
+  const Vec2 at = release_point(body, {velocity.x / speed, velocity.y / speed});
+  const float heading = std::atan2(velocity.y, velocity.x);
+  const uint32_t n = config_.particles;
+  cloud_.clear();
+  for (uint32_t i = 0; i < n; ++i) {
+    // Box-Muller: two standard normal numbers from two uniform ones.
+    const double radius = std::sqrt(-2 * std::log(1 - rng_.uniform())), angle = 2 * std::numbers::pi * rng_.uniform();
+    const float a = heading + spread.direction * float(radius * std::cos(angle));
+    // A throw never turns back on itself: the slowest particles keep a twentieth of its speed.
+    const float s = speed * std::max(0.05f, 1 + spread.speed * float(radius * std::sin(angle)));
+    cloud_.push(at.x, at.y, s * std::cos(a), s * std::sin(a), 1, 1);
+  }
+  cloud_.normalize();
+  clear_purgatory();
+  live_ = true;
+  holder_ = -1;
+  last_touch_ = body;
+  ++version_;
+  events.push_back({time_, EventType::Throw, body, 1, 1, n, at, velocity});
 }
 
 void World::set_cloud(Cloud c) {
@@ -101,6 +171,7 @@ void World::set_cloud(Cloud c) {
   cloud_ = std::move(c);
   clear_purgatory();
   live_ = true;
+  holder_ = -1;
   ++version_;
 }
 
@@ -150,9 +221,15 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   slot.step = step_;
   if (live_) {
     contacts_.clear();
-    const StepContext ctx{dt, motion_.data(), nb, step_key(config_.seed, step_),
+    const StepContext ctx{flight(dt), motion_.data(), nb, step_key(config_.seed, step_),
                           noise_amplitude(field_.brownian, dt)};
     backend_->advance(cloud_, ctx, contacts_);
+    if (field_.friction > 0) {
+      const float slow = std::exp(-field_.friction * dt);
+      float* __restrict vx = cloud_.vx.data();
+      float* __restrict vy = cloud_.vy.data();
+      for (size_t i = 0; i < cloud_.size(); ++i) vx[i] *= slow, vy[i] *= slow;
+    }
     ++version_;
     decide(dt, events);
   }
@@ -278,6 +355,12 @@ void World::decide(float dt, std::vector<Event>& events) {
           Vec2{float(t.cx / t.newtonian), float(t.cy / t.newtonian)}, Vec2{0, 0}};
   switch (target.kind) {
     case TargetKind::Body:
+      if (field_.bodies[target.index].catches) {
+        e.type = EventType::Catch;
+        give(target.index);
+        break;
+      }
+      [[fallthrough]];
     case TargetKind::Wall:
       if (target.kind == TargetKind::Body) {
         realize_body(target.index, dt);
@@ -308,6 +391,7 @@ void World::remove_ball() {
   cloud_.clear();
   clear_purgatory();
   live_ = false;
+  holder_ = -1;
   ++version_;
 }
 
@@ -329,13 +413,14 @@ void World::realize_body(int body, float dt) {
     const PurgatorySlot& slot = purgatory_[(step_ - age) % config_.purgatory_frames];
     if (slot.step != step_ - age) continue;
     const Cloud& from = slot.touched;
+    const float slow = field_.friction > 0 ? std::exp(-field_.friction * float(age) * dt) : 1.0f;
     auto keep = [&](uint32_t i, detail::Mover m, detail::Outcome out) {
       // Went in, or out, while catching up; bouncing off a wall meanwhile is part of the flight.
       if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) return;
       if (detail::settle(g, now.data(), nb, 0, m, true).kind != detail::HitKind::None) return;
-      scratch_.push(m.x, m.y, m.vx, m.vy, from.w[i], from.w[i]);
+      scratch_.push(m.x, m.y, m.vx * slow, m.vy * slow, from.w[i], from.w[i]);
     };
-    tracer.begin(nullptr, 0, float(age) * dt);
+    tracer.begin(nullptr, 0, flight(float(age) * dt));
     for (size_t i = 0; i < from.size(); ++i) {
       if (slot.body[i] != body) continue;
       const detail::Mover m{from.x[i], from.y[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i]};

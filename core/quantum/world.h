@@ -29,18 +29,26 @@ struct WorldConfig {
   float body_lookahead = 0.25f;   // s: prediction moves bodies on their velocity this long, then holds them
 };
 
-enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out };
-const char* to_string(EventType type);  // "drop", "hit", "bounce", "goal", "own_goal", "out"
+// Catch: a body that catches met the ball and holds it now. Throw: its holder let it go.
+enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out, Catch, Throw };
+const char* to_string(EventType type);  // "drop", "hit", "bounce", "goal", "own_goal", "out", "catch", "throw"
 
 struct Event {
   double t;
   EventType type;
-  int actor;            // spot (drop), body (hit), wall (bounce), goal (goal, own goal); -1 for out
+  int actor;            // spot (drop), body (hit, catch, throw), wall (bounce), goal (goal, own goal); -1 for out
   double p;             // probability with which this outcome was drawn (fate factors applied)
   double p_newtonian;   // the same without fate factors
   uint32_t particles;   // particles that carried the outcome
   Vec2 at;              // weighted centre of those particles
-  Vec2 velocity;        // hit, bounce: the ball's mean velocity afterwards (what a player makes of it); else 0
+  Vec2 velocity;        // hit, bounce, throw: the ball's mean velocity afterwards (what a player makes of it); else 0
+};
+
+// How a thrown ball's particles scatter: standard deviations of their direction (rad) and of
+// their speed (a share of the throw's). A person's throw is never exact, and the spread is what
+// lets the engine choose among plausible throws (the paper, section 8.2).
+struct ThrowSpread {
+  float direction = 0.06f, speed = 0.1f;
 };
 
 // One step's draw: what the particles met, each with the chance that the ball met it, and what
@@ -57,8 +65,8 @@ struct Decision {
   int realized = -1;            // index into options; -1: nothing happened, the ball flies on
 };
 
-// Who an event is about, by the field's names: the spot (drop), the body (hit), the wall
-// (bounce) or the goal and the team defending it (goal, own goal); nothing for out.
+// Who an event is about, by the field's names: the spot (drop), the body (hit, catch, throw), the
+// wall (bounce) or the goal and the team defending it (goal, own goal); nothing for out.
 struct EventActor {
   std::string_view name, team;
 };
@@ -82,9 +90,20 @@ class World {
   // Puts the ball back: one particle of weight 1 at the spot, grown by splitting in later steps.
   void drop(int spot, std::vector<Event>& events);
 
-  // Takes the ball off the field: the cloud and the purgatory are emptied, and nothing more is
-  // decided until the next drop (a dead ball, ended by the rules).
+  // Takes the ball off the field: the cloud and the purgatory are emptied (or the holder lets
+  // go), and nothing more is decided until the next drop (a dead ball, ended by the rules).
   void remove_ball();
+
+  // Puts the ball in the hands of `body`, which must catch (a throw-in, a throw-off): the cloud
+  // is removed, and the ball goes where the body goes. Throws std::invalid_argument for an
+  // unknown body or one that does not catch.
+  void give(int body);
+
+  // The holder `body` throws the ball: it leaves the hand at arm's length (the body's radius) in
+  // the throw's direction, as `particles` particles whose directions and speeds scatter around
+  // `velocity` by `spread`. Appends a Throw event. Throws std::invalid_argument when `body` does
+  // not hold the ball or the velocity is not finite and > 0 (or faster than 1000 m/s).
+  void release(int body, Vec2 velocity, ThrowSpread spread, std::vector<Event>& events);
 
   // Replaces the ball with the given particles (a scene set up by a test, a benchmark or a
   // tool). Throws std::invalid_argument for non-finite values, particles outside the bounds or
@@ -133,8 +152,10 @@ class World {
   const Cloud& cloud() const { return cloud_; }
   double time() const { return time_; }
   uint64_t steps() const { return step_; }
-  bool live() const { return live_; }
-  int last_touch() const { return last_touch_; }  // body of the last realized hit, -1 after a drop
+  bool live() const { return live_; }           // a cloud is in play
+  int holder() const { return holder_; }        // the body holding the ball, -1 for none
+  bool in_play() const { return live_ || holder_ >= 0; }
+  int last_touch() const { return last_touch_; }  // body of the last realized hit or catch, -1 after a drop
   // The last step's draw, or null when no particle met anything in it.
   const Decision* decision() const { return decided_step_ == step_ && step_ > 0 ? &decision_ : nullptr; }
   const std::vector<Vec2>& body_positions() const { return body_pos_; }
@@ -146,11 +167,16 @@ class World {
   void check_bodies(std::span<const BodyInput> input) const;
   void decide(float dt, std::vector<Event>& events);
   void realize_body(int body, float dt);
+  void realize_catch(int body);
+  Vec2 release_point(int body, Vec2 direction) const;
+  float flight(float seconds) const;  // see flight_time() in world_internals.h
   void realize_bounce(Target wall);
   void refill(bool jitter);
   void split_round(bool jitter);
   void clear_purgatory();
   void own_goals(std::vector<uint8_t>& own) const;  // per goal: 1 when the last toucher's team defends it
+  // Per body, the FateKind of meeting it (see FateKind); per goal, whether it is an own goal.
+  void endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) const;
   void predicted_bodies(std::vector<detail::BodyPath>& bodies) const;
   void check_horizon(float horizon) const;
 
@@ -174,6 +200,7 @@ class World {
   uint64_t version_ = 0;
   size_t split_cursor_ = 0;
   bool live_ = false;
+  int holder_ = -1;
   int last_touch_ = -1;
 };
 

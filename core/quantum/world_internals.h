@@ -3,6 +3,7 @@
 // nothing (as Box2D v3 keeps a step's scratch in its world).
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "quantum/contact.h"
@@ -10,6 +11,15 @@
 #include "step_tracer.h"
 
 namespace quantum {
+
+// Friction slows every particle alike, v(t) = v0 e^(-kt), so in t seconds a particle covers
+// v0 (1 - e^(-kt)) / k: the frictionless path, travelled for this "flight time" instead of t.
+// The step and the prediction trace frictionless paths over flight times, and the step then
+// slows the velocities by e^(-kt): the prediction stays exact, and without friction nothing
+// changes (flight time is t).
+inline float flight_time(float friction, float seconds) {
+  return friction > 0 ? float(-std::expm1(-double(friction) * seconds) / friction) : seconds;
+}
 
 struct Tally {
   double tweaked = 0, newtonian = 0, cx = 0, cy = 0;
@@ -89,7 +99,7 @@ struct WorldInternals {
   TargetSlots targets;
   // Prediction's scratch.
   std::vector<detail::BodyPath> predicted_bodies;
-  std::vector<uint8_t> own_goal;
+  std::vector<uint8_t> body_kind, own_goal;
   std::vector<Fate> fates;
   Flight flying, later;
   GroupIndex index;

@@ -12,6 +12,8 @@ TrackedField tracked_field(const Field& field, std::optional<Vec2> size) {
   TrackedField t;
   if (size) {
     t.length = size->x, t.width = size->y;
+  } else if (field.has_bounds) {  // a hall's court: its lines are the bounds, and its walls only posts
+    t.length = field.bounds_max.x - field.bounds_min.x, t.width = field.bounds_max.y - field.bounds_min.y;
   } else {
     float x0 = 1e9f, x1 = -1e9f, y0 = 1e9f, y1 = -1e9f;
     for (const Segment& s : field.segments)
@@ -20,7 +22,7 @@ TrackedField tracked_field(const Field& field, std::optional<Vec2> size) {
     t.length = x1 - x0, t.width = y1 - y0;
   }
   if (!(t.length > 0 && t.width > 0)) throw TrackingError("the field's length and width must be > 0");
-  for (const BodySpec& b : field.bodies) t.players.push_back({b.name, b.team, b.start.x < 0 ? -1 : 1});
+  for (const BodySpec& b : field.bodies) t.players.push_back({b.tracked_as(), b.team, b.start.x < 0 ? -1 : 1});
   return t;
 }
 

@@ -124,7 +124,10 @@ TEST(Property, RealizedOutcomesFollowTheTweakedProbabilities) {
   auto category = [&](const Fate& fate) -> std::string {
     const std::string first = via(fate.path_len > 0 ? fate.path[0] : -1);
     switch (fate.kind) {
-      case FateKind::Body: return "hit " + f.bodies[fate.target].name + first;
+      case FateKind::Body:
+      case FateKind::Catch:
+      case FateKind::Pass:
+      case FateKind::Intercept: return "hit " + f.bodies[fate.target].name + first;
       case FateKind::Goal:
       case FateKind::OwnGoal: return "goal " + f.goals[fate.target].name + first;
       case FateKind::Out: return "out" + first;

@@ -100,7 +100,7 @@ TEST(Desk, TheHandMovesItsPlayerWithinTheFieldAndItsSpeed) {
   std::ostringstream errors;
   const Field field = lua::Sport(o.sport).field();
   runtime::Session session(o, nullptr, errors,
-                           std::make_unique<runtime::HandPlayers>(field, std::vector<double>{0.6, 0.6}, 1, 0, hand));
+                           std::make_unique<runtime::HandPlayers>(field, std::vector<double>{0.6, 0.6}, 1, 10.0, 0, hand));
   hand.over = true;
   hand.at = {-0.5f, 0.3f};
   for (int frame = 0; frame < 30; ++frame) session.frame();

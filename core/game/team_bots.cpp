@@ -1,0 +1,384 @@
+#include "game/team_bots.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "game/plane.h"
+
+namespace quantum::game {
+namespace {
+
+constexpr double kMostHold = 2.6;  // s: a handball player lets go within three seconds
+constexpr float kOpen = 2.5f;      // m: nobody nearer than this marks a player, who calls for the ball
+constexpr float kMark = 1.3f;      // m a marker keeps from its attacker, on the goal side
+constexpr float kPress = 0.9f;     // m the nearest defender keeps from the holder
+constexpr float kLoose = 0.8f;     // m/s: an imagined ball slower than this lies loose
+constexpr float kArrive = 4.0f;    // m/s a pass should still have when it reaches the catcher
+constexpr double kLook = 3.0;      // s of an imagined flight a player reads ahead
+constexpr double kLookStep = 0.05;
+
+bool is_keeper(const BodySpec& b) { return b.role == "goalkeeper" || b.role == "keeper"; }
+
+// The point nearest p inside (shrink > 0) or outside (shrink < 0) the area's edge moved in by
+// `shrink`; p itself when it already is.
+Vec2 to_area_edge(const Area& a, Vec2 p, float shrink, bool inside) {
+  const Vec2 on = nearest_on_segment(p, a.a, a.b);
+  const float d = length(p - on), edge = a.radius - shrink;
+  if (inside ? d <= edge : d >= edge) return p;
+  return on + std::max(edge, 0.0f) * unit(d > 0 ? p - on : Vec2{0, 1});
+}
+
+}  // namespace
+
+TeamSkill team_skill(double s) {
+  if (!(s >= 0 && s <= 1)) throw std::invalid_argument("skill must be in [0, 1], got " + std::to_string(s));
+  return {0.40 - 0.25 * s, 0.14 - 0.10 * s, 0.8 - 0.6 * s, 3.5 + 3.5 * s, 1.2 + 0.4 * s, 0.3 + 0.7 * s};
+}
+
+TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed)
+    : field_(field), throw_speed_(throw_speed) {
+  if (skills.size() != field.bodies.size())
+    throw std::invalid_argument("got " + std::to_string(skills.size()) + " skills for " +
+                                std::to_string(field.bodies.size()) + " players");
+  if (!(throw_speed > 0)) throw std::invalid_argument("a throw's speed must be > 0");
+  lo_ = field.bounds_min + Vec2{0.3f, 0.3f}, hi_ = field.bounds_max - Vec2{0.3f, 0.3f};
+  const Vec2 middle = 0.5f * (field.bounds_min + field.bounds_max);
+  for (size_t k = 0; k < field.bodies.size(); ++k) {
+    const BodySpec& spec = field.bodies[k];
+    Bot b;
+    b.body = int(k);
+    b.skill = team_skill(skills[k]);
+    b.keeper = is_keeper(spec);
+    b.pos = b.home = b.spot = spec.start;
+    float own = 1e30f, theirs = 1e30f;
+    for (size_t g = 0; g < field.goals.size(); ++g) {
+      const float d = length(centre(field.goals[g]) - spec.start);
+      if (field.goals[g].team == spec.team && d < own) own = d, b.own_goal = int(g);
+      if (field.goals[g].team != spec.team && d < theirs) theirs = d, b.their_goal = int(g);
+    }
+    for (size_t a = 0; a < field.areas.size() && b.keeper; ++a)
+      if (field.areas[a].team == spec.team && b.own_area < 0) b.own_area = int(a);
+    b.phase = 1.7 * double(k);
+    b.rng.seed(seed * 0x9E3779B97F4A7C15ull + k);
+    b.heard.reserve(64);
+    bots_.push_back(std::move(b));
+  }
+  // Attacking places: a fan of points around the opponents' goal, just outside its goal area
+  // (or a third of the field out), one per field player of the team.
+  for (Bot& b : bots_) {
+    if (b.keeper || b.their_goal < 0) continue;
+    const Goal& goal = field.goals[size_t(b.their_goal)];
+    std::vector<int> mates;
+    for (const Bot& o : bots_)
+      if (!o.keeper && field.bodies[size_t(o.body)].team == field.bodies[size_t(b.body)].team) mates.push_back(o.body);
+    const size_t j = size_t(std::find(mates.begin(), mates.end(), b.body) - mates.begin());
+    float radius = 0.3f * (field.bounds_max.x - field.bounds_min.x);
+    for (const Area& a : field.areas)
+      if (a.team == goal.team) radius = a.radius + 2.0f;
+    const double fan = std::min(0.9, 2.1 / double(mates.size()));
+    const double angle = (double(j) - 0.5 * double(mates.size() - 1)) * fan;
+    const Vec2 p = centre(goal) + radius * rotated(unit(middle - centre(goal)), angle);
+    b.spot = {std::clamp(p.x, lo_.x + 0.5f, hi_.x - 0.5f), std::clamp(p.y, lo_.y + 0.5f, hi_.y - 0.5f)};
+  }
+  moves_.resize(bots_.size());
+  throws_.reserve(bots_.size());
+}
+
+void TeamBots::hear(const GameEvent& e) {
+  switch (e.type) {
+    case EventKind::Drop: case EventKind::Give: case EventKind::Catch: case EventKind::Pass:
+    case EventKind::Intercept: case EventKind::Throw: case EventKind::Bounce: case EventKind::Goal:
+    case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
+      for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity});
+      return;
+    default: return;  // nothing about the ball
+  }
+}
+
+void TeamBots::imagine(Bot& b, const Heard& h) {
+  std::normal_distribution<double> noise(0, 1);
+  Ball& ball = b.ball;
+  switch (h.type) {
+    case EventKind::Give:
+    case EventKind::Catch:
+    case EventKind::Pass:
+    case EventKind::Intercept:
+      ball = {Ball::State::Held, h.actor, -1, {}, {}};
+      if (h.actor == b.body) {
+        std::uniform_real_distribution<double> pause(0.3, 1.0);
+        b.got_ball = h.at;
+        b.throw_at = std::min(h.at + pause(b.rng), h.at - b.skill.reaction + kMostHold);
+      }
+      return;
+    case EventKind::Drop:
+    case EventKind::Throw:
+    case EventKind::Bounce: {
+      const double err = b.skill.imagine_noise;
+      const int thrower = h.type == EventKind::Throw ? h.actor : h.type == EventKind::Bounce ? ball.thrower : -1;
+      ball = {Ball::State::Flying, -1, thrower,
+              h.where + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))},
+              float(std::max(0.3, 1 + 0.1 * noise(b.rng))) * rotated(h.velocity, 0.05 * noise(b.rng))};
+      fly(ball.at, ball.velocity, b.skill.reaction);  // it flew on while the news travelled
+      if (h.actor == b.body && h.type == EventKind::Throw) b.got_ball = -1;
+      return;
+    }
+    default: ball = {}; return;  // goal, out, dead: no ball until the next drop or give
+  }
+}
+
+// The imagined ball rolls on, slowed by the field's friction, and stops at the bounds.
+void TeamBots::fly(Vec2& at, Vec2& velocity, double dt) const {
+  const float k = field_.friction;
+  const float span = k > 0 ? float(-std::expm1(-k * dt) / k) : float(dt);
+  at = at + span * velocity;
+  velocity = (k > 0 ? float(std::exp(-k * dt)) : 1.0f) * velocity;
+  if (at.x < field_.bounds_min.x || at.x > field_.bounds_max.x || at.y < field_.bounds_min.y ||
+      at.y > field_.bounds_max.y) {
+    at = {std::clamp(at.x, field_.bounds_min.x, field_.bounds_max.x), std::clamp(at.y, field_.bounds_min.y, field_.bounds_max.y)};
+    velocity = {0, 0};
+  }
+}
+
+bool TeamBots::team_has_ball(const Bot& b) const {
+  return b.ball.state == Ball::State::Held && field_.bodies[size_t(b.ball.holder)].team == field_.bodies[size_t(b.body)].team;
+}
+
+Vec2 TeamBots::holder_position(const Bot& b, std::span<const Player> players) const {
+  switch (b.ball.state) {
+    case Ball::State::Held: return players[size_t(b.ball.holder)].position;
+    case Ball::State::Flying: return b.ball.at;
+    case Ball::State::None: break;
+  }
+  return 0.5f * (field_.bounds_min + field_.bounds_max);
+}
+
+// Where a player may stand: inside the bounds; a goalkeeper in its goal area, anyone else out of
+// every goal area.
+Vec2 TeamBots::allowed(const Bot& b, Vec2 p) const {
+  p = {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
+  if (b.keeper) return b.own_area >= 0 ? to_area_edge(field_.areas[size_t(b.own_area)], p, 0.3f, true) : p;
+  for (const Area& a : field_.areas) p = to_area_edge(a, p, -0.3f, false);
+  return {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
+}
+
+// How far the nearest opponent's reach stays from the line a ball would fly from `from` to `to`.
+float TeamBots::clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to) const {
+  float clear = 1e9f;
+  for (size_t k = 0; k < players.size(); ++k)
+    if (players[k].team != players[size_t(b.body)].team)
+      clear = std::min(clear, distance_to_segment(players[k].position, from, to) - field_.bodies[k].radius);
+  return clear;
+}
+
+// A shot at the opponents' goal from within range, at the point of its mouth the keeper covers least.
+bool TeamBots::open_shot(const Bot& b, std::span<const Player> players, Vec2& aim) const {
+  if (b.their_goal < 0) return false;
+  const Goal& goal = field_.goals[size_t(b.their_goal)];
+  float range = 0.35f * (field_.bounds_max.x - field_.bounds_min.x);
+  for (const Area& a : field_.areas)
+    if (a.team == goal.team) range = a.radius + 3.5f;
+  const Vec2 me = players[size_t(b.body)].position;
+  if (length(centre(goal) - me) > range) return false;
+  float best = -1e9f;
+  for (float f : {0.15f, 0.5f, 0.85f}) {
+    const Vec2 spot = goal.a + f * (goal.b - goal.a);
+    const float clear = clearance(b, players, me, spot);
+    if (clear > best) best = clear, aim = spot;
+  }
+  return best > 0.1f;
+}
+
+// The teammate to pass to: the clearest line, the most ground won toward the goal, and calls for
+// the ball count; a beginner weighs them less well. -1 when nobody is open enough.
+int TeamBots::open_teammate(Bot& b, std::span<const Player> players, Vec2& aim) {
+  const Vec2 me = players[size_t(b.body)].position;
+  const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : me;
+  std::normal_distribution<double> misjudge(0, 1.5 * (1 - b.skill.vision));
+  int best = -1;
+  double best_score = -1e9;
+  for (const Bot& o : bots_) {
+    const Player& p = players[size_t(o.body)];
+    if (o.body == b.body || p.team != players[size_t(b.body)].team) continue;
+    const float d = length(p.position - me);
+    if (d < 2.0f) continue;
+    const float flight = d / (0.5f * (kArrive + float(throw_speed_)));
+    const Vec2 lead = p.position + flight * p.velocity;
+    const float clear = std::min(clearance(b, players, me, lead), 3.0f);
+    const float gain = std::clamp(length(goal - me) - length(goal - lead), -3.0f, 3.0f);
+    const double score = clear + 0.3 * gain + (o.calling ? 1.0 : 0.0) - (o.keeper ? 1.5 : 0.0) -
+                         0.1 * std::max(0.0f, d - 10) + misjudge(b.rng);
+    if (score > best_score) best_score = score, best = o.body, aim = lead;
+  }
+  return best_score > 1.0 ? best : -1;
+}
+
+// A throw from `from` that reaches `to` still at kArrive: friction takes k m/s per metre flown
+// (v = v0 - k x), give or take the thrower's aim.
+Vec2 TeamBots::pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) {
+  std::normal_distribution<double> noise(0, 1);
+  const float d = length(to - from);
+  const double speed = std::clamp(double(kArrive + field_.friction * d), 0.6 * throw_speed_, most);
+  return float(speed * (1 + 0.05 * noise(b.rng))) * rotated(unit(to - from), b.skill.throw_noise * noise(b.rng));
+}
+
+// The holder steps toward the goal and, when its moment comes, shoots or passes.
+Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
+  const Player& me = players[size_t(b.body)];
+  const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : me.position;
+  const Vec2 step = allowed(b, me.position + 1.0f * unit(goal - me.position));
+  if (b.got_ball < 0 || t < b.throw_at) return step;
+  const double shot = throw_speed_ * b.skill.throw_speed;
+  const bool forced = t >= b.got_ball + kMostHold - b.skill.reaction;
+  Vec2 aim;
+  Vec2 velocity;
+  if (me.aim.kind == Aim::Kind::Point || me.aim.kind == Aim::Kind::Goal) {
+    aim = me.aim.kind == Aim::Kind::Point ? me.aim.point : centre(field_.goals[size_t(me.aim.index)]);
+    velocity = pass_velocity(b, me.position, aim, shot);
+  } else if (open_shot(b, players, aim)) {
+    std::normal_distribution<double> noise(0, b.skill.throw_noise);
+    velocity = float(shot) * rotated(unit(aim - me.position), noise(b.rng));
+  } else if (open_teammate(b, players, aim) >= 0 || forced) {
+    if (forced && open_teammate(b, players, aim) < 0 && !open_shot(b, players, aim)) aim = goal;
+    velocity = pass_velocity(b, me.position, aim, shot);
+  } else {
+    return step;  // nobody open yet: look again next frame
+  }
+  throws_.push_back({b.body, velocity});
+  b.got_ball = -1;
+  return step;
+}
+
+// Running into space: its place around the opponents' goal area, weaving across, away from
+// whoever marks it.
+Vec2 TeamBots::attacking(const Bot& b, double t, std::span<const Player> players) const {
+  const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : b.spot;
+  const Vec2 across = rotated(unit(b.spot - goal), 1.5707963);
+  Vec2 p = b.spot + float(1.2 * std::sin(b.phase + 0.7 * t)) * across;
+  for (size_t k = 0; k < players.size(); ++k) {
+    if (players[k].team == players[size_t(b.body)].team) continue;
+    const float d = length(p - players[k].position);
+    if (d < kOpen) p = p + (kOpen - d) * unit(p - players[k].position);
+  }
+  return allowed(b, p);
+}
+
+// Marking: the attacker of the same rank, from its goal side; the defender nearest the holder
+// presses the holder.
+Vec2 TeamBots::defending(const Bot& b, std::span<const Player> players) const {
+  const std::string& team = field_.bodies[size_t(b.body)].team;
+  const Vec2 goal = b.own_goal >= 0 ? centre(field_.goals[size_t(b.own_goal)]) : b.home;
+  std::vector<int> mine, theirs;
+  for (const Bot& o : bots_) {
+    if (o.keeper) continue;
+    (field_.bodies[size_t(o.body)].team == team ? mine : theirs).push_back(o.body);
+  }
+  if (theirs.empty()) return allowed(b, b.home);
+  if (b.ball.state == Ball::State::Held) {
+    const Vec2 holder = players[size_t(b.ball.holder)].position;
+    int nearest = -1;
+    float best = 1e30f;
+    for (int k : mine)
+      if (length(players[size_t(k)].position - holder) < best) best = length(players[size_t(k)].position - holder), nearest = k;
+    if (nearest == b.body) return allowed(b, holder + kPress * unit(goal - holder));
+  }
+  const size_t rank = size_t(std::find(mine.begin(), mine.end(), b.body) - mine.begin());
+  const Vec2 mark = players[size_t(theirs[rank % theirs.size()])].position;
+  return allowed(b, mark + kMark * unit(goal - mark));
+}
+
+// A goalkeeper stands off its goal's centre toward the ball.
+Vec2 TeamBots::keeping(const Bot& b, std::span<const Player> players) const {
+  if (b.own_goal < 0) return allowed(b, b.home);
+  const Vec2 goal = centre(field_.goals[size_t(b.own_goal)]);
+  const Vec2 ball = holder_position(b, players);
+  const float out = b.own_area >= 0 ? std::min(1.5f, field_.areas[size_t(b.own_area)].radius * 0.4f) : 1.0f;
+  return allowed(b, goal + out * unit(ball - goal));
+}
+
+// A flying or loose ball: whoever of the team reaches its imagined path first goes for it (the
+// thrower leaves its own throw to the others). `chase` says whether that is this bot.
+Vec2 TeamBots::chasing(const Bot& b, std::span<const Player> players, bool& chase) const {
+  chase = false;
+  const std::string& team = field_.bodies[size_t(b.body)].team;
+  const bool loose = length(b.ball.velocity) < kLoose;
+  double first = 1e30;
+  Vec2 where = b.ball.at;
+  int who = -1;
+  for (const Bot& o : bots_) {
+    if (field_.bodies[size_t(o.body)].team != team || (o.body == b.ball.thrower && !loose)) continue;
+    const Vec2 from = players[size_t(o.body)].position;
+    const float reach = field_.bodies[size_t(o.body)].radius;
+    Vec2 at = b.ball.at, velocity = b.ball.velocity;
+    for (double s = 0; s <= kLook; s += kLookStep) {
+      if (s > 0) fly(at, velocity, kLookStep);
+      if (allowed(o, at).x != at.x || allowed(o, at).y != at.y) continue;  // not its ground
+      if (length(at - from) - reach <= o.skill.run_speed * s || (loose && s + kLookStep > kLook)) {
+        if (s < first) first = s, who = o.body, where = at;
+        break;
+      }
+      if (length(velocity) < 0.05f) break;
+    }
+  }
+  if (who != b.body) return b.pos;
+  chase = true;
+  return allowed(b, where);
+}
+
+Vec2 TeamBots::decide(Bot& b, double t, std::span<const Player> players) {
+  b.calling = false;
+  switch (b.ball.state) {
+    case Ball::State::None: return b.keeper ? keeping(b, players) : allowed(b, b.home);
+    case Ball::State::Held:
+      if (b.ball.holder == b.body) return holding(b, t, players);
+      if (b.keeper) return keeping(b, players);
+      if (team_has_ball(b)) {
+        float marked = 1e30f;
+        for (const Player& p : players)
+          if (p.team != players[size_t(b.body)].team) marked = std::min(marked, length(p.position - b.pos));
+        b.calling = marked > kOpen;
+        return attacking(b, t, players);
+      }
+      return defending(b, players);
+    case Ball::State::Flying: {
+      bool chase = false;
+      const Vec2 p = chasing(b, players, chase);
+      if (chase) return p;
+      if (b.keeper) return keeping(b, players);
+      const bool ours = b.ball.thrower >= 0 &&
+                        field_.bodies[size_t(b.ball.thrower)].team == field_.bodies[size_t(b.body)].team;
+      return ours ? attacking(b, t, players) : defending(b, players);
+    }
+  }
+  return b.pos;
+}
+
+const std::vector<BodyInput>& TeamBots::move(double t, double dt, std::span<const Player> players) {
+  if (players.size() != bots_.size())
+    throw std::invalid_argument("got " + std::to_string(players.size()) + " players for " +
+                                std::to_string(bots_.size()) + " bots");
+  throws_.clear();
+  for (Bot& b : bots_) {
+    size_t kept = 0;
+    for (const Heard& h : b.heard) {
+      if (h.at > t) b.heard[kept++] = h;
+      else imagine(b, h);
+    }
+    b.heard.resize(kept);
+    if (b.ball.state == Ball::State::Flying) fly(b.ball.at, b.ball.velocity, dt);
+  }
+  for (size_t k = 0; k < bots_.size(); ++k) {
+    Bot& b = bots_[k];
+    b.pos = players[k].position;  // where it really is (a rule spec may have placed it)
+    Vec2 step = decide(b, t, players) - b.pos;
+    // A player with the ball takes a few steps, no more (the ball is to be thrown, not carried).
+    const bool holds = b.ball.state == Ball::State::Held && b.ball.holder == b.body;
+    const float l = length(step), most = float((holds ? 0.4 : 1.0) * b.skill.run_speed * dt);
+    if (l > most) step = (most / l) * step;
+    b.pos = b.pos + step;
+    moves_[k] = {b.pos, (1 / float(dt)) * step};
+  }
+  return moves_;
+}
+
+}  // namespace quantum::game

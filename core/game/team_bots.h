@@ -1,0 +1,101 @@
+// Simulated players for sports of holding, throwing and catching (fields whose bodies catch): team
+// handball, or any "A vs B" sport built the same way. Like the mallet bots they know the field
+// (goals, goal areas, its friction) and what the announcer said, and they see where everyone
+// stands, as players on a court do; they never see the particles. Who holds the ball they know
+// only from the announcements, and a thrown ball only as the announcer's "Anna throws" and the
+// direction they saw her throw in.
+//
+// The holder looks for a shot, else for an open teammate (one who calls for the ball counts
+// more), and throws before the sport's three seconds are up. Teammates run into space around the
+// opponents' goal area and call for the ball when nobody marks them. The other team marks them
+// man to man between them and the goal and presses the holder. Goalkeepers keep to their goal
+// area, between the ball and the goal. A flying ball draws whoever of each team can reach its
+// path first; a loose one, the nearest of each team. Field players stay out of goal areas;
+// goalkeepers stay in their own.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "game/bots.h"
+#include "game/game.h"
+
+namespace quantum::game {
+
+// Skill 0 is a beginner, 1 an expert.
+struct TeamSkill {
+  double reaction;       // s from hearing an event to acting on it
+  double throw_noise;    // rad, standard deviation of a throw's direction
+  double imagine_noise;  // m, standard deviation of where it places an announced ball
+  double run_speed;      // m/s
+  double throw_speed;    // m/s of its hardest throw (a shot)
+  double vision;         // 0..1: how well it picks the open teammate (1 always the best)
+};
+TeamSkill team_skill(double skill);
+
+class TeamBots final : public SimulatedPlayers {
+ public:
+  // One skill in [0, 1] per body of the field; `throw_speed` is the sport's usual throw (m/s).
+  TeamBots(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed);
+
+  void hear(const GameEvent& e) override;
+  const std::vector<BodyInput>& move(double t, double dt, std::span<const Player> players) override;
+  std::span<const Throw> throws() const override { return throws_; }
+
+ private:
+  // What a bot believes about the ball.
+  struct Ball {
+    enum class State : uint8_t { None, Held, Flying } state = State::None;
+    int holder = -1;    // Held: the body holding it
+    int thrower = -1;   // Flying: who threw it (-1: dropped, or off a wall)
+    Vec2 at, velocity;  // Flying: where it was and how fast, as imagined
+  };
+  struct Heard {
+    double at;  // when the bot acts on it
+    EventKind type;
+    int actor;
+    Vec2 where, velocity;
+  };
+  struct Bot {
+    int body;
+    TeamSkill skill;
+    bool keeper;
+    int own_goal = -1, their_goal = -1;  // goal indices (-1: none)
+    int own_area = -1;                   // the goal area it keeps (a goalkeeper's), -1 for none
+    Vec2 pos, home, spot;                // where it is, starts, and stands in attack
+    Ball ball;
+    double got_ball = -1;                // when it learnt it holds the ball
+    double throw_at = 0;                 // when it throws at the latest
+    bool calling = false;                // open, and asking for the ball
+    double phase;                        // of its runs into space
+    std::vector<Heard> heard;
+    std::mt19937_64 rng;
+  };
+
+  void imagine(Bot& b, const Heard& h);
+  void fly(Vec2& at, Vec2& velocity, double dt) const;
+  Vec2 decide(Bot& b, double t, std::span<const Player> players);
+  Vec2 holding(Bot& b, double t, std::span<const Player> players);
+  Vec2 attacking(const Bot& b, double t, std::span<const Player> players) const;
+  Vec2 defending(const Bot& b, std::span<const Player> players) const;
+  Vec2 keeping(const Bot& b, std::span<const Player> players) const;
+  Vec2 chasing(const Bot& b, std::span<const Player> players, bool& chase) const;
+  bool open_shot(const Bot& b, std::span<const Player> players, Vec2& aim) const;
+  int open_teammate(Bot& b, std::span<const Player> players, Vec2& aim);
+  Vec2 pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) ;
+  float clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to) const;
+  Vec2 allowed(const Bot& b, Vec2 p) const;
+  Vec2 holder_position(const Bot& b, std::span<const Player> players) const;
+  bool team_has_ball(const Bot& b) const;
+
+  Field field_;
+  std::vector<Bot> bots_;
+  std::vector<BodyInput> moves_;
+  std::vector<Throw> throws_;
+  double throw_speed_;
+  Vec2 lo_, hi_;  // where a player may stand: the bounds
+};
+
+}  // namespace quantum::game
