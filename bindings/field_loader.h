@@ -9,7 +9,7 @@
 namespace quantum::lua {
 
 // `path` is a field file or a sport folder holding field.lua. The file runs as text-only Lua in
-// an empty sandbox (only `math`) with an instruction and a memory budget, and must return a
+// a sandbox (math, string, table; no require) with an instruction and a memory budget, and must return a
 // table; `param(name, default)` reads `params` (none when null). Throws FieldError whose message
 // names the file and the place, e.g.
 // "rules/airhockey/field.lua: walls[2].points[3]: expected a number for y, got string".

@@ -69,6 +69,62 @@ void push_event(lua_State* L, const game::GameEvent& e) {
   if (!e.powerup.empty()) set(L, "powerup", e.powerup);
 }
 
+namespace {
+
+void push_point(lua_State* L, Vec2 p) {
+  lua_createtable(L, 2, 0);
+  lua_pushnumber(L, p.x);
+  lua_rawseti(L, -2, 1);
+  lua_pushnumber(L, p.y);
+  lua_rawseti(L, -2, 2);
+}
+
+void set_point(lua_State* L, const char* key, Vec2 p) {
+  push_point(L, p);
+  lua_setfield(L, -2, key);
+}
+
+// A list of `items`, each a table filled by fill(item).
+template <class Items, class Fill>
+void set_list(lua_State* L, const char* key, const Items& items, Fill fill) {
+  lua_createtable(L, int(items.size()), 0);
+  for (size_t i = 0; i < items.size(); ++i) {
+    lua_newtable(L);
+    fill(items[i]);
+    lua_rawseti(L, -2, int(i + 1));
+  }
+  lua_setfield(L, -2, key);
+}
+
+}  // namespace
+
+void push_field(lua_State* L, const Field& f) {
+  lua_newtable(L);
+  set(L, "name", f.name);
+  lua_createtable(L, 2, 0);
+  push_point(L, f.bounds_min);
+  lua_rawseti(L, -2, 1);
+  push_point(L, f.bounds_max);
+  lua_rawseti(L, -2, 2);
+  lua_setfield(L, -2, "bounds");
+  set(L, "ball_radius", f.ball_radius), set(L, "friction", f.friction);
+  set_list(L, "goals", f.goals, [&](const Goal& g) {
+    set(L, "name", g.name), set(L, "team", g.team), set_point(L, "from", g.a), set_point(L, "to", g.b);
+  });
+  set_list(L, "spots", f.spots, [&](const Spot& s) { set(L, "name", s.name), set(L, "team", s.team), set_point(L, "at", s.at); });
+  set_list(L, "areas", f.areas, [&](const Area& a) {
+    set(L, "name", a.name), set(L, "team", a.team), set_point(L, "from", a.a), set_point(L, "to", a.b);
+    set(L, "radius", a.radius);
+  });
+  set_list(L, "players", f.bodies, [&](const BodySpec& b) {
+    set(L, "name", b.name), set(L, "team", b.team), set(L, "role", b.role), set(L, "reach", b.radius);
+    lua_pushboolean(L, b.catches);
+    lua_setfield(L, -2, "catches");
+  });
+  push_strings(L, f.wall_names);
+  lua_setfield(L, -2, "walls");
+}
+
 void TablePool::push(lua_State* L, size_t k) {
   if (ref_ == LUA_NOREF) {
     lua_newtable(L);

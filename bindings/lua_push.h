@@ -25,6 +25,10 @@ inline constexpr double kRadiansPerDegree = std::numbers::pi / 180;
 
 void push_strings(lua_State* L, std::span<const std::string> list);  // {"a", "b", ...}
 void push_score(lua_State* L, const std::map<std::string, int>& score);  // {blue = 2, red = 1}
+// {name, bounds = {{x0, y0}, {x1, y1}}, ball_radius, friction, goals = {{name, team, from, to}},
+// spots = {{name, team, at}}, areas = {{name, team, from, to, radius}}, players = {{name, team,
+// role, reach, catches}}, walls = {names}}: the field as game.field() gives it.
+void push_field(lua_State* L, const Field& field);
 // {type, actor, team, by, by_team, previous, previous_team, t, p, p_newtonian, particles, x, y,
 //  vx, vy, speed, powerup}: a fresh table (handlers may keep events)
 void push_event(lua_State* L, const game::GameEvent& e);

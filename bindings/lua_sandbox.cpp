@@ -57,9 +57,7 @@ Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules,
     lua_getglobal(L_, name);
     lua_setfield(L_, env, name);
   }
-  std::vector<const char*> libs = {"math"};
-  if (rules) libs.insert(libs.end(), {"string", "table"});
-  for (const char* name : libs) {
+  for (const char* name : {"math", "string", "table"}) {
     lua_getglobal(L_, name);
     lua_setfield(L_, env, name);
   }

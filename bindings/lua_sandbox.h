@@ -23,10 +23,9 @@ std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders,
 
 class Sandbox {
  public:
-  // `libraries`: which of Lua's own go into the scripts' environment besides the base
-  // functions: "math" always; "string" and "table" when `rules` is true (sports need them,
-  // field files are data), and os.clock. No io, the rest of os, debug, package, ffi, jit,
-  // load, loadstring, dofile or collectgarbage. With `rules`, `require` loads the script's own
+  // Of Lua's own libraries the scripts get the base functions, math, string, table and
+  // os.clock: no io, the rest of os, debug, package, ffi, jit, load, loadstring, dofile or
+  // collectgarbage. With `rules` (sports, not field files), `require` loads the script's own
   // Lua modules, as text, from `module_folders` only (see require_module).
   Sandbox(size_t memory_budget, int instruction_budget, bool rules,
           std::vector<std::filesystem::path> module_folders = {});

@@ -240,7 +240,18 @@ void Sport::read_match(const Reader& r, int t) {
     const std::string where = lua_tostring(L, -1);
     lua_pop(L, 1);
     first_spot_ = field_.spot_of(where);
-    if (first_spot_ < 0) r.fail("match.start", "no spot or team '" + where + "' in the field");
+    // No spot of that name or team: a player who catches, or the team's catcher nearest the centre.
+    const Vec2 centre{0.5f * (field_.bounds_min.x + field_.bounds_max.x), 0.5f * (field_.bounds_min.y + field_.bounds_max.y)};
+    float nearest = 1e30f;
+    for (size_t k = 0; k < field_.bodies.size() && first_spot_ < 0; ++k) {
+      const BodySpec& b = field_.bodies[k];
+      const float d = std::hypot(b.start.x - centre.x, b.start.y - centre.y);
+      if (b.catches && (b.name == where || (b.team == where && d < nearest))) first_holder_ = int(k), nearest = d;
+      if (b.catches && b.name == where) break;
+    }
+    if (first_holder_ < 0 && first_spot_ < 0)
+      r.fail("match.start", "no spot, team or player who catches named '" + where + "' in the field");
+    first_spot_ = std::max(first_spot_, 0);
   }
   lua_pop(L, 1);
 }

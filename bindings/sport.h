@@ -50,7 +50,8 @@ class Sport final : public game::Rules {
   const Field& field() const { return field_; }
   uint32_t particles() const { return particles_; }
   double seconds() const { return seconds_; }
-  int first_spot() const { return first_spot_; }  // match.start: where the first ball drops
+  int first_spot() const { return first_spot_; }  // match.start: where the first ball drops...
+  int first_holder() const { return first_holder_; }  // ...or who holds it (-1: nobody)
   // The sport's handicap for every body of the field (1 where it names none).
   const std::vector<double>& handicaps() const { return handicaps_; }
   // Automatic balance (sport.lua's `balance`): see game::MatchConfig.
@@ -163,6 +164,7 @@ class Sport final : public game::Rules {
   uint32_t particles_ = 1000;
   double seconds_ = 180;
   int first_spot_ = 0;
+  int first_holder_ = -1;
   std::vector<double> handicaps_;
   double balance_per_goal_ = 0, balance_most_ = 2;
   double throw_speed_ = 10;

@@ -160,11 +160,12 @@ int aim(lua_State* L) {
   return 0;
 }
 
-// game.give(player): the ball into the player's hands (a throw-off, a throw-in, a free throw); a
-// ball in play is dead first. `give` is told.
+// game.give(player [, delay]): the ball into the player's hands (a throw-off, a throw-in, a free
+// throw), at once or `delay` seconds from now; a ball in play is dead at once. `give` is told
+// when the player has it.
 int give(lua_State* L) {
   game::Match& m = acting(L);
-  m.give(player_index(m, check_string(L, 1)));
+  m.give(player_index(m, check_string(L, 1)), opt_number(L, 2, 0));
   return 0;
 }
 
@@ -247,6 +248,12 @@ int holder(lua_State* L) {
   return 1;
 }
 
+// game.field(): the field's geometry and players (lua_push.h, push_field).
+int field(lua_State* L) {
+  push_field(L, reading(L).field());
+  return 1;
+}
+
 // game.area(x, y): the name and team of the field's area at that point (field.lua's `areas`), or nil.
 int area(lua_State* L) {
   const Field& f = reading(L).field();
@@ -325,7 +332,7 @@ void push_game_api(lua_State* L, Sport* sport) {
                {"score", guard<score>},       {"time", guard<time>},         {"teams", guard<teams>},
                {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
                {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>},
-               {"holder", guard<holder>},     {"area", guard<area>}},
+               {"holder", guard<holder>},     {"area", guard<area>},         {"field", guard<field>}},
               sport);
 }
 

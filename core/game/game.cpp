@@ -58,6 +58,13 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   events_.reserve(64);
   said_.reserve(64);
   respawn(config.first_spot, 0);
+  if (config.first_holder >= 0) check_catcher(config.first_holder), respawn_holder_ = config.first_holder;
+}
+
+void Match::check_catcher(int k) const {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  if (!field().bodies[size_t(k)].catches)
+    throw std::invalid_argument(players_[size_t(k)].name + " cannot hold the ball: its field body does not catch");
 }
 
 void Match::say(std::string_view text, std::string_view recording) {
@@ -98,6 +105,7 @@ void Match::respawn(int spot, double delay) {
   if (!(delay >= 0 && delay <= 60)) throw std::invalid_argument("respawn: delay must be in [0, 60] s");
   dead_ball();
   respawn_spot_ = spot;
+  respawn_holder_ = -1;
   respawn_at_ = time() + delay;
 }
 
@@ -109,12 +117,20 @@ GameEvent& Match::new_event(EventKind type) {
   return e;
 }
 
-void Match::give(int k) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
-  if (!field().bodies[size_t(k)].catches)
-    throw std::invalid_argument(players_[size_t(k)].name + " cannot hold the ball: its field body does not catch");
+void Match::give(int k, double delay) {
+  check_catcher(k);
+  if (!(delay >= 0 && delay <= 60)) throw std::invalid_argument("give: delay must be in [0, 60] s");
   dead_ball();
   respawn_at_ = -1;
+  if (delay > 0) {
+    respawn_holder_ = k;
+    respawn_at_ = time() + delay;
+    return;
+  }
+  hand_over(k);
+}
+
+void Match::hand_over(int k) {
   world_.give(k);
   report_.groups.clear();
   previous_toucher_ = -1;
@@ -228,6 +244,7 @@ void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_to
   world_.set_cloud(std::move(cloud));
   world_.set_last_touch(last_touch);
   respawn_at_ = -1;
+  respawn_holder_ = -1;
   last_toucher_ = last_touch;
   previous_toucher_ = -1;
   last_touch_t_ = -kRetouch;  // a scene's last touch is no swing in progress
@@ -243,8 +260,12 @@ void Match::step(std::span<const BodyInput> input) {
   core_events_.clear();
   if (respawn_at_ >= 0 && time() >= respawn_at_ - 1e-9) {
     respawn_at_ = -1;
-    world_.drop(respawn_spot_, core_events_);
-    report_.groups.clear();  // the new ball has no prediction yet
+    if (respawn_holder_ >= 0) {
+      hand_over(std::exchange(respawn_holder_, -1));
+    } else {
+      world_.drop(respawn_spot_, core_events_);
+      report_.groups.clear();  // the new ball has no prediction yet
+    }
   }
   world_.step(dt, input, core_events_);
   decision_fates_.clear();

@@ -91,7 +91,8 @@ struct MatchConfig {
   uint64_t seed = 1;
   double fps = 60;
   double seconds = 120;       // time limit; the rules hear time_up when it runs out
-  int first_spot = 0;         // where the first ball drops, at once
+  int first_spot = 0;         // where the first ball drops, at once...
+  int first_holder = -1;      // ...unless a player (a body that catches) starts with it in hand
   // Automatic balance: for every goal a team trails by, its players' handicaps are multiplied by
   // (1 + balance_per_goal), up to balance_most times their own. 0 is off.
   double balance_per_goal = 0;
@@ -167,10 +168,11 @@ class Match {
   // event is told, and nothing more happens until the next drop. Nothing happens when no ball is
   // in play.
   void dead_ball();
-  // Puts the ball in player k's hands (a throw-off, a throw-in, a free throw): a ball in play is
-  // dead first, a pending drop is cancelled, and a `give` event is told. Throws
-  // std::invalid_argument for a player who does not catch (field.lua: catches = true).
-  void give(int k);
+  // Puts the ball in player k's hands (a throw-off, a throw-in, a free throw) after `delay`
+  // seconds: a ball in play is dead at once, a pending drop or give is replaced, and a `give`
+  // event is told when k gets it. Throws std::invalid_argument for a player who does not catch
+  // (field.lua: catches = true) or a delay outside [0, 60] s.
+  void give(int k, double delay = 0);
   // Player k, who holds the ball, throws it at `velocity` (m/s), scattered by `spread` (the
   // sport's when none): a `throw` event is told. Throws std::invalid_argument when k does not
   // hold the ball, or for a bad velocity or spread.
@@ -252,6 +254,8 @@ class Match {
   void name_touchers(GameEvent& e) const;  // by and previous, from the rally's touches
   void end_rally(bool goal);               // the statistics of a rally that ended
   void gained(int k);                      // player k has the ball: a new possession if the other team had it
+  void hand_over(int k);                   // the ball into k's hands now, told as `give`
+  void check_catcher(int k) const;         // throws unless k is a player who catches
   void tell_rules(size_t event);
   void retweak();
   FateView view(const FateGroup& g) const;
@@ -275,6 +279,7 @@ class Match {
   RallyStats stats_;
   double respawn_at_ = -1;
   int respawn_spot_ = 0;
+  int respawn_holder_ = -1;    // the player the pending respawn gives the ball to; -1: it drops at the spot
   int rally_contacts_ = 0;
   int last_toucher_ = -1;      // body of the last announced touch this rally
   int previous_toucher_ = -1;  // the one before it (another touch, or the same player's earlier one)

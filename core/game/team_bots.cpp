@@ -12,9 +12,10 @@ namespace {
 constexpr double kMostHold = 2.6;  // s: a handball player lets go within three seconds
 constexpr float kOpen = 2.5f;      // m: nobody nearer than this marks a player, who calls for the ball
 constexpr float kMark = 1.3f;      // m a marker keeps from its attacker, on the goal side
-constexpr float kPress = 0.9f;     // m the nearest defender keeps from the holder
+constexpr float kPress = 1.6f;     // m the nearest defender keeps from the holder...
+constexpr float kClosest = 1.3f;   // ...and not nearer, when a goal area is in the way
 constexpr float kLoose = 0.8f;     // m/s: an imagined ball slower than this lies loose
-constexpr float kArrive = 4.0f;    // m/s a pass should still have when it reaches the catcher
+constexpr float kArrive = 7.0f;    // m/s a pass should still have when it reaches the catcher
 constexpr double kLook = 3.0;      // s of an imagined flight a player reads ahead
 constexpr double kLookStep = 0.05;
 
@@ -33,7 +34,7 @@ Vec2 to_area_edge(const Area& a, Vec2 p, float shrink, bool inside) {
 
 TeamSkill team_skill(double s) {
   if (!(s >= 0 && s <= 1)) throw std::invalid_argument("skill must be in [0, 1], got " + std::to_string(s));
-  return {0.40 - 0.25 * s, 0.14 - 0.10 * s, 0.8 - 0.6 * s, 3.5 + 3.5 * s, 1.2 + 0.4 * s, 0.3 + 0.7 * s};
+  return {0.40 - 0.25 * s, 0.10 - 0.08 * s, 0.8 - 0.6 * s, 3.5 + 3.5 * s, 1.4 + 0.6 * s, 0.3 + 0.7 * s};
 }
 
 TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed)
@@ -162,36 +163,44 @@ Vec2 TeamBots::allowed(const Bot& b, Vec2 p) const {
   return {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
 }
 
-// How far the nearest opponent's reach stays from the line a ball would fly from `from` to `to`.
-float TeamBots::clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to) const {
+// How far the nearest opponent's reach stays from a ball flying from `from` to `to` at `speed`,
+// after the steps the opponent can take toward its line before it passes, as this player
+// judges an opponent's reaction and pace by its own (`keepers`: goalkeepers count too).
+float TeamBots::clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to, float speed,
+                          bool keepers) const {
   float clear = 1e9f;
-  for (size_t k = 0; k < players.size(); ++k)
-    if (players[k].team != players[size_t(b.body)].team)
-      clear = std::min(clear, distance_to_segment(players[k].position, from, to) - field_.bodies[k].radius);
+  for (size_t k = 0; k < players.size(); ++k) {
+    if (players[k].team == players[size_t(b.body)].team || (!keepers && bots_[k].keeper)) continue;
+    const Vec2 near = nearest_on_segment(players[k].position, from, to);
+    const float reacts = float(std::max(0.0, length(near - from) / speed - b.skill.reaction));
+    clear = std::min(clear, length(players[k].position - near) - field_.bodies[k].radius -
+                                float(b.skill.run_speed) * reacts);
+  }
   return clear;
 }
 
-// A shot at the opponents' goal from within range, at the point of its mouth the keeper covers least.
+// A shot at the opponents' goal from within range, past every field player, at the point of its
+// mouth the keeper covers least (a keeper's fingertips on the line are worth a try).
 bool TeamBots::open_shot(const Bot& b, std::span<const Player> players, Vec2& aim) const {
   if (b.their_goal < 0) return false;
   const Goal& goal = field_.goals[size_t(b.their_goal)];
-  float range = 0.35f * (field_.bounds_max.x - field_.bounds_min.x);
-  for (const Area& a : field_.areas)
-    if (a.team == goal.team) range = a.radius + 3.5f;
   const Vec2 me = players[size_t(b.body)].position;
-  if (length(centre(goal) - me) > range) return false;
+  if (length(centre(goal) - me) > shooting_distance(b) + 1.0f) return false;
   float best = -1e9f;
-  for (float f : {0.15f, 0.5f, 0.85f}) {
+  for (float f : {0.1f, 0.5f, 0.9f}) {
     const Vec2 spot = goal.a + f * (goal.b - goal.a);
-    const float clear = clearance(b, players, me, spot);
+    const float speed = float(throw_speed_ * b.skill.throw_speed);
+    if (clearance(b, players, me, spot, speed, false) < 0.15f) continue;
+    const float clear = clearance(b, players, me, spot, speed, true);
     if (clear > best) best = clear, aim = spot;
   }
-  return best > 0.1f;
+  return best > -0.3f;
 }
 
 // The teammate to pass to: the clearest line, the most ground won toward the goal, and calls for
-// the ball count; a beginner weighs them less well. -1 when nobody is open enough.
-int TeamBots::open_teammate(Bot& b, std::span<const Player> players, Vec2& aim) {
+// the ball count; a beginner weighs them less well. -1 when nobody is open enough, unless
+// `forced` (the holder must let go): then the best there is.
+int TeamBots::open_teammate(Bot& b, std::span<const Player> players, Vec2& aim, bool forced) {
   const Vec2 me = players[size_t(b.body)].position;
   const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : me;
   std::normal_distribution<double> misjudge(0, 1.5 * (1 - b.skill.vision));
@@ -204,13 +213,13 @@ int TeamBots::open_teammate(Bot& b, std::span<const Player> players, Vec2& aim) 
     if (d < 2.0f) continue;
     const float flight = d / (0.5f * (kArrive + float(throw_speed_)));
     const Vec2 lead = p.position + flight * p.velocity;
-    const float clear = std::min(clearance(b, players, me, lead), 3.0f);
+    const float clear = std::min(clearance(b, players, me, lead, kArrive, true), 3.0f);
     const float gain = std::clamp(length(goal - me) - length(goal - lead), -3.0f, 3.0f);
     const double score = clear + 0.3 * gain + (o.calling ? 1.0 : 0.0) - (o.keeper ? 1.5 : 0.0) -
                          0.1 * std::max(0.0f, d - 10) + misjudge(b.rng);
     if (score > best_score) best_score = score, best = o.body, aim = lead;
   }
-  return best_score > 1.0 ? best : -1;
+  return best_score > 1.0 || forced ? best : -1;
 }
 
 // A throw from `from` that reaches `to` still at kArrive: friction takes k m/s per metre flown
@@ -222,11 +231,14 @@ Vec2 TeamBots::pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) {
   return float(speed * (1 + 0.05 * noise(b.rng))) * rotated(unit(to - from), b.skill.throw_noise * noise(b.rng));
 }
 
-// The holder steps toward the goal and, when its moment comes, shoots or passes.
+// The holder steps toward the goal, up to a shooting distance, and when its moment comes shoots
+// or passes.
 Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   const Player& me = players[size_t(b.body)];
   const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : me.position;
-  const Vec2 step = allowed(b, me.position + 1.0f * unit(goal - me.position));
+  const Vec2 step = length(goal - me.position) > shooting_distance(b) - 1.0f
+                        ? allowed(b, me.position + 1.0f * unit(goal - me.position))
+                        : me.position;
   if (b.got_ball < 0 || t < b.throw_at) return step;
   const double shot = throw_speed_ * b.skill.throw_speed;
   const bool forced = t >= b.got_ball + kMostHold - b.skill.reaction;
@@ -238,9 +250,10 @@ Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   } else if (open_shot(b, players, aim)) {
     std::normal_distribution<double> noise(0, b.skill.throw_noise);
     velocity = float(shot) * rotated(unit(aim - me.position), noise(b.rng));
-  } else if (open_teammate(b, players, aim) >= 0 || forced) {
-    if (forced && open_teammate(b, players, aim) < 0 && !open_shot(b, players, aim)) aim = goal;
+  } else if (open_teammate(b, players, aim, forced) >= 0) {
     velocity = pass_velocity(b, me.position, aim, shot);
+  } else if (forced) {  // nobody to pass to at all (a team of one): at the goal, from wherever
+    velocity = pass_velocity(b, me.position, goal, shot);
   } else {
     return step;  // nobody open yet: look again next frame
   }
@@ -263,8 +276,18 @@ Vec2 TeamBots::attacking(const Bot& b, double t, std::span<const Player> players
   return allowed(b, p);
 }
 
+// How far from the opponents' goal a player likes to shoot: a little outside its goal area, or a
+// third of the field out.
+float TeamBots::shooting_distance(const Bot& b) const {
+  if (b.their_goal < 0) return 0;
+  float d = 0.3f * (field_.bounds_max.x - field_.bounds_min.x);
+  for (const Area& a : field_.areas)
+    if (a.team == field_.goals[size_t(b.their_goal)].team) d = a.radius + 1.5f;
+  return d;
+}
+
 // Marking: the attacker of the same rank, from its goal side; the defender nearest the holder
-// presses the holder.
+// presses the holder, never nearer than an arm's length and a step.
 Vec2 TeamBots::defending(const Bot& b, std::span<const Player> players) const {
   const std::string& team = field_.bodies[size_t(b.body)].team;
   const Vec2 goal = b.own_goal >= 0 ? centre(field_.goals[size_t(b.own_goal)]) : b.home;
@@ -280,7 +303,11 @@ Vec2 TeamBots::defending(const Bot& b, std::span<const Player> players) const {
     float best = 1e30f;
     for (int k : mine)
       if (length(players[size_t(k)].position - holder) < best) best = length(players[size_t(k)].position - holder), nearest = k;
-    if (nearest == b.body) return allowed(b, holder + kPress * unit(goal - holder));
+    if (nearest == b.body) {
+      Vec2 p = allowed(b, holder + kPress * unit(goal - holder));
+      if (length(p - holder) < kClosest) p = allowed(b, holder + kClosest * rotated(unit(goal - holder), 0.8));
+      return p;
+    }
   }
   const size_t rank = size_t(std::find(mine.begin(), mine.end(), b.body) - mine.begin());
   const Vec2 mark = players[size_t(theirs[rank % theirs.size()])].position;
@@ -292,7 +319,7 @@ Vec2 TeamBots::keeping(const Bot& b, std::span<const Player> players) const {
   if (b.own_goal < 0) return allowed(b, b.home);
   const Vec2 goal = centre(field_.goals[size_t(b.own_goal)]);
   const Vec2 ball = holder_position(b, players);
-  const float out = b.own_area >= 0 ? std::min(1.5f, field_.areas[size_t(b.own_area)].radius * 0.4f) : 1.0f;
+  const float out = b.own_area >= 0 ? std::min(0.7f, field_.areas[size_t(b.own_area)].radius * 0.4f) : 0.7f;
   return allowed(b, goal + out * unit(ball - goal));
 }
 
@@ -371,9 +398,10 @@ const std::vector<BodyInput>& TeamBots::move(double t, double dt, std::span<cons
     Bot& b = bots_[k];
     b.pos = players[k].position;  // where it really is (a rule spec may have placed it)
     Vec2 step = decide(b, t, players) - b.pos;
-    // A player with the ball takes a few steps, no more (the ball is to be thrown, not carried).
+    // A player with the ball takes a few steps, no more (the ball is to be thrown, not carried);
+    // a goalkeeper moves across its goal in short side steps.
     const bool holds = b.ball.state == Ball::State::Held && b.ball.holder == b.body;
-    const float l = length(step), most = float((holds ? 0.4 : 1.0) * b.skill.run_speed * dt);
+    const float l = length(step), most = float((holds ? 0.4 : b.keeper ? 0.6 : 1.0) * b.skill.run_speed * dt);
     if (l > most) step = (most / l) * step;
     b.pos = b.pos + step;
     moves_[k] = {b.pos, (1 / float(dt)) * step};

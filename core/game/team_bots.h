@@ -83,9 +83,10 @@ class TeamBots final : public SimulatedPlayers {
   Vec2 keeping(const Bot& b, std::span<const Player> players) const;
   Vec2 chasing(const Bot& b, std::span<const Player> players, bool& chase) const;
   bool open_shot(const Bot& b, std::span<const Player> players, Vec2& aim) const;
-  int open_teammate(Bot& b, std::span<const Player> players, Vec2& aim);
-  Vec2 pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) ;
-  float clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to) const;
+  float shooting_distance(const Bot& b) const;
+  int open_teammate(Bot& b, std::span<const Player> players, Vec2& aim, bool forced);
+  Vec2 pass_velocity(Bot& b, Vec2 from, Vec2 to, double most);
+  float clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to, float speed, bool keepers) const;
   Vec2 allowed(const Bot& b, Vec2 p) const;
   Vec2 holder_position(const Bot& b, std::span<const Player> players) const;
   bool team_has_ball(const Bot& b) const;
