@@ -255,6 +255,34 @@ int ball(lua_State* L) {
   return 0;
 }
 
+// s:give(player): the ball is in that player's hands now (a player who catches), told as `give`.
+int give(lua_State* L) {
+  Scenario& s = self(L);
+  s.match().give(body_index(s, check_string(L, 2)));
+  s.session->tell();
+  return 0;
+}
+
+// s:throw(player, vx, vy): the holder throws, as from its accelerometer: the sport's spread
+// scatters the cloud, and its rules hear the throw.
+int throw_ball(lua_State* L) {
+  Scenario& s = self(L);
+  const int k = body_index(s, check_string(L, 2));
+  if (s.match().holder() != k) throw ArgError(check_string(L, 2) + " does not hold the ball");
+  s.match().throw_ball(k, {float(check_number(L, 3)), float(check_number(L, 4))});
+  s.session->tell();
+  return 0;
+}
+
+// s:holder(): who holds the ball, nil when nobody does.
+int holder(lua_State* L) {
+  Scenario& s = self(L);
+  const int k = s.match().holder();
+  if (k < 0) lua_pushnil(L);
+  else lua_pushstring(L, s.match().players()[size_t(k)].name.c_str());
+  return 1;
+}
+
 // s:run(seconds [, stop_type]): runs the match; returns the events of this run (each with the
 // phrases its handlers said, `said`), stopping after the first of `stop_type`.
 int run(lua_State* L) {
@@ -345,7 +373,8 @@ void open_scenario(lua_State* L) {
                 {{"place", guard<place>},   {"move", guard<move>},     {"ball", guard<ball>},
                  {"run", guard<run>},       {"grant", guard<grant>},   {"events", guard<events>},
                  {"said", guard<said>},     {"errors", guard<errors>}, {"fates", guard<fates>},
-                 {"players", guard<players>}, {"score", guard<score>}, {"time", guard<time>}},
+                 {"players", guard<players>}, {"score", guard<score>}, {"time", guard<time>},
+                 {"give", guard<give>},     {"throw", guard<throw_ball>}, {"holder", guard<holder>}},
                 gc);
   push_module(L, "quantum", {{"scenario", guard<scenario>}, {"chi_square_p", guard<chi_square_p>}}, nullptr);
   lua_setglobal(L, "quantum");

@@ -19,9 +19,10 @@ function helpers.count(events, kind)
   return n
 end
 
--- The first event that ends the ball's flight: anything but a bounce off a wall on the way, or a
--- power-up starting or ending.
-local passing = { bounce = true, powerup = true, powerup_end = true }
+-- The first event that ends the ball's flight: anything but the ball given or thrown (a spec's
+-- s:give and s:throw are told in the next run), a bounce off a wall on the way, or a power-up
+-- starting or ending.
+local passing = { give = true, throw = true, bounce = true, powerup = true, powerup_end = true }
 function helpers.outcome(events)
   for _, e in ipairs(events) do
     if not passing[e.type] then return e end

@@ -11,6 +11,7 @@ namespace {
 
 constexpr double kMostHold = 2.6;  // s: a handball player lets go within three seconds
 constexpr float kOpen = 2.5f;      // m: nobody nearer than this marks a player, who calls for the ball
+constexpr float kLaneClear = 2.0f; // m: a passing lane this clear of every opponent's reach is open enough
 constexpr float kMark = 1.3f;      // m a marker keeps from its attacker, on the goal side
 constexpr float kPress = 1.6f;     // m the nearest defender keeps from the holder...
 constexpr float kClosest = 1.3f;   // ...and not nearer, when a goal area is in the way
@@ -231,12 +232,12 @@ Vec2 TeamBots::pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) {
   return float(speed * (1 + 0.05 * noise(b.rng))) * rotated(unit(to - from), b.skill.throw_noise * noise(b.rng));
 }
 
-// The holder steps toward the goal, up to a shooting distance, and when its moment comes shoots
-// or passes.
+// The holder steps toward the goal it attacks (if any), up to a shooting distance, and when its
+// moment comes shoots or passes.
 Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   const Player& me = players[size_t(b.body)];
   const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : me.position;
-  const Vec2 step = length(goal - me.position) > shooting_distance(b) - 1.0f
+  const Vec2 step = b.their_goal >= 0 && length(goal - me.position) > shooting_distance(b) - 1.0f
                         ? allowed(b, me.position + 1.0f * unit(goal - me.position))
                         : me.position;
   if (b.got_ball < 0 || t < b.throw_at) return step;
@@ -273,7 +274,30 @@ Vec2 TeamBots::attacking(const Bot& b, double t, std::span<const Player> players
     const float d = length(p - players[k].position);
     if (d < kOpen) p = p + (kOpen - d) * unit(p - players[k].position);
   }
-  return allowed(b, p);
+  return open_lane(b, allowed(b, p), players);
+}
+
+// Of a few places across the line from a teammate holding the ball to `p`, the one whose line
+// stays clearest of the opponents' reach, so that a pass can find it (with or without a goal
+// to attack: keep-away is all this).
+Vec2 TeamBots::open_lane(const Bot& b, Vec2 p, std::span<const Player> players) const {
+  if (b.ball.state != Ball::State::Held || b.ball.holder == b.body) return p;
+  const Vec2 holder = players[size_t(b.ball.holder)].position;
+  if (length(p - holder) < 0.5f) return p;
+  const Vec2 across = rotated(unit(p - holder), 1.5707963);
+  Vec2 best = p;
+  float best_score = -1e30f;
+  for (const float side : {0.0f, 1.5f, -1.5f, 3.0f, -3.0f}) {
+    const Vec2 q = allowed(b, p + side * across);
+    float clear = kLaneClear;
+    for (size_t k = 0; k < players.size(); ++k)
+      if (players[k].team != players[size_t(b.body)].team)
+        clear = std::min(clear, length(players[k].position - nearest_on_segment(players[k].position, holder, q)) -
+                                    field_.bodies[k].radius);
+    const float score = clear - 0.2f * std::abs(side);
+    if (score > best_score) best_score = score, best = q;
+  }
+  return best;
 }
 
 // How far from the opponents' goal a player likes to shoot: a little outside its goal area, or a

@@ -79,6 +79,7 @@ class TeamBots final : public SimulatedPlayers {
   Vec2 decide(Bot& b, double t, std::span<const Player> players);
   Vec2 holding(Bot& b, double t, std::span<const Player> players);
   Vec2 attacking(const Bot& b, double t, std::span<const Player> players) const;
+  Vec2 open_lane(const Bot& b, Vec2 p, std::span<const Player> players) const;
   Vec2 defending(const Bot& b, std::span<const Player> players) const;
   Vec2 keeping(const Bot& b, std::span<const Player> players) const;
   Vec2 chasing(const Bot& b, std::span<const Player> players, bool& chase) const;

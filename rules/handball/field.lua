@@ -25,7 +25,7 @@ local names = {
   blue = { "Anna", "Ben", "Clara", "David", "Eva", "Felix", "Greta" },
   red = { "Hugo", "Ida", "Jonas", "Kim", "Lena", "Max", "Nora" },
 }
-local KEEPER_REACH, REACH = 0.7, 0.75   -- how far a player's hands get to the ball, m
+local KEEPER_REACH, REACH = 0.9, 0.7   -- how far a player's hands get to the ball, m: a goalkeeper dives
 
 local bodies = {}
 for _, team in ipairs({ "blue", "red" }) do
