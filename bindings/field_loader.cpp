@@ -13,6 +13,12 @@ namespace {
 constexpr int kInstructionBudget = 10'000'000;
 constexpr size_t kMemoryBudget = 64u << 20;
 
+// "3" of "walls[3]": an unnamed wall, spot or area is called by its number in the list.
+std::string number_of(const std::string& place) {
+  const size_t open = place.find('[');
+  return place.substr(open + 1, place.find(']') - open - 1);
+}
+
 Field read_field(Reader& r, int top) {
   lua_State* L = r.L;
   Field f;
@@ -34,7 +40,7 @@ Field read_field(Reader& r, int top) {
   }
   r.array(top, "walls", "", [&](int w, const std::string& place) {
     r.only_keys(w, place, {"name", "points"});
-    const std::string name = r.string(w, "name", place, "wall " + place.substr(5), false);
+    const std::string name = r.string(w, "name", place, "wall " + number_of(place), false);
     int id = 0;
     while (id < int(f.wall_names.size()) && f.wall_names[id] != name) ++id;
     if (id == int(f.wall_names.size())) f.wall_names.push_back(name);
@@ -65,7 +71,7 @@ Field read_field(Reader& r, int top) {
     r.only_keys(s, place, {"name", "team", "at"});
     Spot spot;
     spot.team = r.string(s, "team", place, "", false);
-    spot.name = r.string(s, "name", place, "spot " + place.substr(5), false);
+    spot.name = r.string(s, "name", place, "spot " + number_of(place), false);
     spot.at = r.point_at(s, "at", place);
     f.spots.push_back(spot);
   });
@@ -85,7 +91,7 @@ Field read_field(Reader& r, int top) {
     r.only_keys(a, place, {"name", "team", "from", "to", "at", "radius"});
     Area area;
     area.team = r.string(a, "team", place, "", false);
-    area.name = r.string(a, "name", place, "area " + place.substr(5), false);
+    area.name = r.string(a, "name", place, "area " + number_of(place), false);
     if (r.field(a, "at")) {
       area.a = area.b = r.point(place + ".at");
       if (r.field(a, "from") || r.field(a, "to")) r.fail(place, "give either 'at' (a circle) or 'from' and 'to'");

@@ -222,20 +222,21 @@ int throw_ball(lua_State* L) {
   game::Match& m = acting(L);
   const int player = player_index(m, check_string(L, 1));
   if (!lua_isnoneornil(L, 3)) check_table(L, 3);
-  const std::map<std::string, double> opts = numbers_of(L, 3);
-  const Reader r(L);
-  if (lua_istable(L, 3)) r.only_keys(3, "argument 3", {"speed", "spread", "speed_spread"});
-  auto opt = [&](const char* key, double fallback) {
-    const auto it = opts.find(key);
-    return it == opts.end() ? fallback : it->second;
-  };
   const game::MatchConfig& c = m.config();
-  const double speed = opt("speed", c.throw_speed);
+  double speed = c.throw_speed, degrees = c.throw_spread.direction / kRadiansPerDegree, share = c.throw_spread.speed;
+  if (lua_istable(L, 3)) {
+    const Reader r(L);
+    r.only_keys(3, "argument 3", {"speed", "spread", "speed_spread"});
+    speed = r.number(3, "speed", "argument 3", speed, false);
+    degrees = r.number(3, "spread", "argument 3", degrees, false);
+    share = r.number(3, "speed_spread", "argument 3", share, false);
+  }
   if (!(speed > 0 && speed <= 1000)) throw ArgError("speed must be in (0, 1000] m/s");
+  if (!(degrees >= 0 && degrees <= 90)) throw ArgError("spread must be in [0, 90] degrees");
+  if (!(share >= 0 && share <= 1)) throw ArgError("speed_spread must be in [0, 1]");
   if (lua_isnoneornil(L, 2)) throw ArgError("argument 2: expected where to throw");
   const Vec2 velocity = throw_velocity(L, m, player, 2, speed);
-  const ThrowSpread spread{float(opt("spread", c.throw_spread.direction / kRadiansPerDegree) * kRadiansPerDegree),
-                           float(opt("speed_spread", c.throw_spread.speed))};
+  const ThrowSpread spread{float(degrees * kRadiansPerDegree), float(share)};
   m.throw_ball(player, velocity, spread);
   return 0;
 }

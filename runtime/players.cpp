@@ -72,8 +72,8 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
       if (s == TrackingStatus::Waiting) return seen_ ? Status::Ready : Status::Lost;
       if (s == TrackingStatus::Lost) return Status::Lost;
       if (s == TrackingStatus::Ended) return Status::Ended;
-      if (t0_ < 0) t0_ = f.t - t;
-      f.t -= t0_;
+      if (!t0_) t0_ = f.t - t;
+      f.t -= *t0_;
       pending_ = std::move(f);
     }
     if (pending_->t > t + 1e-9 && !live()) return Status::Ready;  // not due yet

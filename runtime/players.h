@@ -109,7 +109,7 @@ class TrackedPlayers final : public PlayerSource {
   // A tracked throw goes the way the tracker says, at the sport's throw speed.
   std::span<const game::Throw> throws() const override { return throws_; }
   bool live() const override { return input_.live(); }
-  void resync() override { t0_ = -1, next_ask_ = 0; }
+  void resync() override { t0_.reset(), next_ask_ = 0; }
 
  private:
   void apply(const tracking::TrackedFrame& f, double throw_speed);
@@ -119,7 +119,8 @@ class TrackedPlayers final : public PlayerSource {
   std::vector<BodyInput> bodies_;
   std::vector<game::Throw> throws_;
   std::optional<tracking::TrackedFrame> pending_;
-  double t0_ = -1;        // source time at match time 0
+  // Source time at match time 0: negative for a recording, whose 0 s plays at the first step's end.
+  std::optional<double> t0_;
   bool seen_ = false;     // a frame has come
   double next_ask_ = 0;   // match time from which a live source is asked again
 };

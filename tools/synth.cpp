@@ -1,8 +1,10 @@
-// `quantum-synth`: writes a synthetic Kinect recording of an air hockey table and its truth.
+// `quantum-synth`: writes a synthetic Kinect recording of an air hockey table, or a video of a
+// handball hall, and its truth.
 #include <CLI/CLI.hpp>
 
 #include <iostream>
 
+#include "field_loader.h"
 #include "synthetic.h"
 
 int main(int argc, char** argv) {
@@ -19,15 +21,26 @@ int main(int argc, char** argv) {
   app.add_option("--width", o.width, "the field's width between the markers, m")->capture_default_str();
   app.add_option("--seed", o.seed, "seed of the motion and the noise")->capture_default_str();
   bool markers = false, hats = false;
+  std::string rally;
+  std::vector<std::tuple<int, double, double>> away;
   app.add_flag("--markers", markers, "write the four printable playfield markers into DIR instead");
-  app.add_flag("--hats", hats, "write a handball hall with hatted players instead: DIR/hats.avi, DIR/accel.csv, "
-                               "DIR/truth.jsonl (a 20 m x 10 m hall; --seed applies)");
+  auto* hats_flag = app.add_flag("--hats", hats, "write a handball hall with hatted players instead: DIR/hats.avi, "
+                                                 "DIR/accel.csv, DIR/truth.jsonl (a 20 m x 10 m hall; --seed applies)");
+  app.add_option("--rally", rally, "with --hats: a rally on the hall of FIELD (rules/handball) from the match's start, "
+                                   "two passes and a goal, with DIR/truth.json")
+      ->needs(hats_flag);
+  app.add_option("--away", away, "with --hats: player K is off the hall from FROM to TO s (FROM 0: walks in at TO); "
+                                 "K counts blue 0-2 then red 3-5, or a rally's field bodies")
+      ->delimiter(',')
+      ->needs(hats_flag);
   CLI11_PARSE(app, argc, argv);
   try {
     if (hats) {
       quantum::tools::HatSceneOptions h;
       h.seed = o.seed;
-      const auto truth = quantum::tools::write_hat_video(dir, h);
+      for (const auto& [player, from, to] : away) h.away.push_back({player, from, to});
+      const auto truth = rally.empty() ? quantum::tools::write_hat_video(dir, h)
+                                       : quantum::tools::write_rally_video(dir, h, quantum::lua::load_field(rally));
       std::cout << "wrote " << truth.frames.size() << " frames to " << dir << "/hats.avi\n";
       return 0;
     }

@@ -8,7 +8,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
+#include <map>
 #include <random>
 
 #include "tracking/tracking.h"
@@ -233,51 +235,72 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
 
 namespace {
 
+// One hatted player: where they walk at each moment of the clip while on the hall, and when they
+// are off it (HatSceneOptions::Away).
 struct Walker {
-  std::string team;
-  // Straight from a to b over the clip, or round a circle (centre a, radius r, period p).
-  Vec2 a, b;
-  double r = 0, period = 0;
-  std::string id;
-  Vec2 at(double t, double seconds) const {
-    if (period > 0) {
-      const double w = 2 * M_PI * t / period;
-      return {float(a.x + r * std::cos(w)), float(a.y + r * std::sin(w))};
-    }
-    const double s = t / seconds;
-    return {float(a.x + (b.x - a.x) * s), float(a.y + (b.y - a.y) * s)};
-  }
+  std::string team, name;  // name: the field's, in a rally
+  std::function<Vec2(double)> way;
+  double away_from = 0, away_to = 0;
+  std::string id = "";  // as the tracker numbers them
 };
 
-}  // namespace
+// Where a walker is at time t: on its way, or off to the side of the hall while away, jogging
+// out over the nearer side line (as far again as the hall is wide) and back.
+Vec2 place(const Walker& w, double t, double width) {
+  Vec2 p = w.way(t);
+  if (t < w.away_to && (w.away_from <= 0 || t > w.away_from)) {
+    const double jog = 3, side = w.way(w.away_from > 0 ? w.away_from : w.away_to).y < 0 ? -1 : 1;
+    double off = jog * (w.away_to - t);
+    if (w.away_from > 0) off = std::min(off, jog * (t - w.away_from));
+    p.y += float(side * std::min(off, width));
+  }
+  return p;
+}
 
-HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
+// Straight from one key (time, place) to the next; standing still before the first and after
+// the last.
+struct Key {
+  double t;
+  Vec2 at;
+};
+std::function<Vec2(double)> through(std::vector<Key> keys) {
+  return [keys = std::move(keys)](double t) {
+    auto next = std::find_if(keys.begin(), keys.end(), [&](const Key& k) { return k.t > t; });
+    if (next == keys.begin()) return keys.front().at;
+    if (next == keys.end()) return keys.back().at;
+    const Key& a = *(next - 1);
+    const double s = (t - a.t) / (next->t - a.t);
+    return Vec2{float(a.at.x + (next->at.x - a.at.x) * s), float(a.at.y + (next->at.y - a.at.y) * s)};
+  };
+}
+
+// A throw in the making: who (index into the walkers), when, and at whom (a walker, or -1 for
+// the goal).
+struct Throw {
+  double t;
+  size_t player;
+  int to = -1;
+};
+
+struct Scene {
+  std::vector<Walker> walkers;
+  std::vector<Throw> throws;
+};
+
+// Films `scene` into dir: hats.avi, truth.jsonl and accel.csv. Numbers the walkers as the tracker
+// does: by x (then y) within their team at the first frame, later arrivals in the order they come
+// into the picture; one who leaves and comes back keeps their number.
+HatTruth film(const std::string& dir, const HatSceneOptions& o, Scene& scene) {
   std::filesystem::create_directories(dir);
   std::mt19937_64 rng(o.seed);
   std::normal_distribution<double> gauss(0, 1);
   std::uniform_real_distribution<double> uni(0, 1);
   const double L = o.length, W = o.width, T = o.seconds;
-  // Two of each team cross at the clip's middle (at x = -L/5 and +L/5); the third circles.
-  auto line = [](const char* team, Vec2 a, Vec2 b) { return Walker{team, a, b, 0, 0, ""}; };
-  auto circle = [](const char* team, Vec2 c, double r, double period) { return Walker{team, c, {}, r, period, ""}; };
-  std::vector<Walker> walkers = {
-      line("blue", {float(-0.45 * L), float(-0.3 * W)}, {float(0.05 * L), float(0.3 * W)}),
-      line("blue", {float(-0.425 * L), float(0.3 * W)}, {float(0.025 * L), float(-0.3 * W)}),
-      circle("blue", {float(0.15 * L), float(-0.25 * W)}, 0.075 * L, 6),
-      line("red", {float(0.45 * L), float(-0.3 * W)}, {float(-0.05 * L), float(0.3 * W)}),
-      line("red", {float(0.425 * L), float(0.3 * W)}, {float(-0.025 * L), float(-0.3 * W)}),
-      circle("red", {float(-0.15 * L), float(0.25 * W)}, 0.075 * L, 7),
-  };
-  // Ids as the tracker gives them: the team and a number in order along x at the start.
-  for (const char* team : {"blue", "red"}) {
-    std::vector<Walker*> members;
-    for (Walker& w : walkers)
-      if (w.team == team) members.push_back(&w);
-    std::sort(members.begin(), members.end(), [&](const Walker* a, const Walker* b) {
-      const Vec2 p = a->at(0, T), q = b->at(0, T);
-      return p.x != q.x ? p.x < q.x : p.y < q.y;
-    });
-    for (size_t k = 0; k < members.size(); ++k) members[k]->id = std::string(team) + " " + std::to_string(k + 1);
+  std::vector<Walker>& walkers = scene.walkers;
+  for (const HatSceneOptions::Away& a : o.away) {
+    if (a.player < 0 || size_t(a.player) >= walkers.size() || !(a.to > a.from))
+      throw std::invalid_argument("away: no player " + std::to_string(a.player) + ", or not from before to");
+    walkers[size_t(a.player)].away_from = a.from, walkers[size_t(a.player)].away_to = a.to;
   }
 
   // The camera, looking down from above the hall's centre, a little off and tilted.
@@ -291,6 +314,31 @@ HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
     const cv::Vec3d c = r * cv::Vec3d(x, y, z) + t;
     return cv::Point2d(fx * c[0] / c[2] + cx, fx * c[1] / c[2] + cy);
   };
+  const double scale = fx / (o.height - o.hat_height);  // px a metre at the hats' height
+  const double hat_px = o.hat_radius * scale;
+  auto in_picture = [&](cv::Point2d c) {
+    return c.x >= hat_px && c.y >= hat_px && c.x <= o.image_width - 1 - hat_px && c.y <= o.image_height - 1 - hat_px;
+  };
+
+  // Ids: the players in the first frame, then the others as they come.
+  const int frames = int(std::lround(T * o.fps));
+  for (int f = 0; f < frames; ++f) {
+    std::vector<Walker*> coming;
+    for (Walker& w : walkers) {
+      const Vec2 p = place(w, f / o.fps, W);
+      if (w.id.empty() && in_picture(project(p.x, p.y, o.hat_height))) coming.push_back(&w);
+    }
+    std::sort(coming.begin(), coming.end(), [&](const Walker* a, const Walker* b) {
+      const Vec2 p = place(*a, f / o.fps, W), q = place(*b, f / o.fps, W);
+      return p.x != q.x ? p.x < q.x : p.y < q.y;
+    });
+    for (Walker* w : coming) {
+      const long n = std::count_if(walkers.begin(), walkers.end(), [&](const Walker& v) {
+        return v.team == w->team && !v.id.empty();
+      });
+      w->id = w->team + " " + std::to_string(n + 1);
+    }
+  }
 
   // The floor as a texture, 50 px a metre: wooden boards, the court's lines, the markers.
   const double ppm = 50, margin = 2;
@@ -324,25 +372,24 @@ HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
   video.set(cv::VIDEOWRITER_PROP_QUALITY, 95);
   HatTruth truth;
   std::ofstream truth_file(dir + "/truth.jsonl");
-  const int frames = int(std::lround(T * o.fps));
   cv::Mat image;
   for (int f = 0; f < frames; ++f) {
     const double time = f / o.fps;
     cv::warpPerspective(floor, image, h, {o.image_width, o.image_height}, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
                         cv::Scalar(90, 90, 90));
     TruthFrame tf{f, time, {}};
-    std::vector<cv::Point2d> pixels;  // where each hat's centre is in the image
+    std::vector<cv::Point2d> pixels;  // where each hat in the picture has its centre
     for (const Walker& w : walkers) {
-      const Vec2 p = w.at(time, T);
+      const Vec2 p = place(w, time, W);
       // Shoulders (dark shirts) under the hat; then the hat, seen from above.
       const cv::Point2d s = project(p.x, p.y, o.hat_height - 0.3), c = project(p.x, p.y, o.hat_height);
-      const double scale = fx / (o.height - o.hat_height);
       // Drawn with 4 fractional bits: whole-pixel centres would move a hat by up to 0.8 cm.
       auto fixed = [](cv::Point2d p) { return cv::Point(int(std::lround(p.x * 16)), int(std::lround(p.y * 16))); };
       cv::ellipse(image, fixed(s), cv::Size(int(0.25 * scale * 16), int(0.13 * scale * 16)), 0, 0, 360,
                   cv::Scalar(55, 55, 55), cv::FILLED, cv::LINE_AA, 4);
       const cv::Scalar hat = w.team == "blue" ? cv::Scalar(220, 80, 20) : cv::Scalar(30, 30, 220);
-      cv::circle(image, fixed(c), int(std::lround(o.hat_radius * scale * 16)), hat, cv::FILLED, cv::LINE_AA, 4);
+      cv::circle(image, fixed(c), int(std::lround(hat_px * 16)), hat, cv::FILLED, cv::LINE_AA, 4);
+      if (!in_picture(c)) continue;
       tf.players.push_back({w.id, p.x, p.y, false});
       pixels.push_back(c);
     }
@@ -359,11 +406,11 @@ HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
   }
 
   // Accelerometers at 100 Hz: gravity, running's jolts, and a throw's whip (40 m/s^2 for 60 ms).
-  for (const auto& [who, when] : {std::pair{1, 2.0}, {3, 4.2}, {5, 6.5}, {2, 8.0}}) {
-    const Walker& w = walkers[size_t(who)];
-    const Vec2 a = w.at(when - 0.01, T), b = w.at(when + 0.01, T);
+  for (const Throw& th : scene.throws) {
+    const Walker& w = walkers[th.player];
+    const Vec2 a = place(w, th.t - 0.01, W), b = place(w, th.t + 0.01, W);
     const double dx = b.x - a.x, dy = b.y - a.y, n = std::hypot(dx, dy);
-    truth.throws.push_back({when, w.id, dx / n, dy / n});
+    truth.throws.push_back({th.t, w.id, dx / n, dy / n, th.to < 0 ? "" : walkers[size_t(th.to)].id});
   }
   std::ofstream accel(dir + "/accel.csv");
   accel << "t,player,ax,ay,az\n";
@@ -377,6 +424,129 @@ HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
             << 9.81 + 3 * gauss(rng) << '\n';
     }
   }
+  return truth;
+}
+
+}  // namespace
+
+HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& o) {
+  const double L = o.length, W = o.width, T = o.seconds;
+  // Two of each team cross at the clip's middle (at x = -L/5 and +L/5); the third circles.
+  auto line = [&](const char* team, Vec2 a, Vec2 b) {
+    return Walker{team, "", through({{0, a}, {T, b}})};
+  };
+  auto circle = [](const char* team, Vec2 c, double r, double period) {
+    return Walker{team, "", [=](double t) {
+                    const double w = 2 * M_PI * t / period;
+                    return Vec2{float(c.x + r * std::cos(w)), float(c.y + r * std::sin(w))};
+                  }};
+  };
+  Scene scene;
+  scene.walkers = {
+      line("blue", {float(-0.45 * L), float(-0.3 * W)}, {float(0.05 * L), float(0.3 * W)}),
+      line("blue", {float(-0.425 * L), float(0.3 * W)}, {float(0.025 * L), float(-0.3 * W)}),
+      circle("blue", {float(0.15 * L), float(-0.25 * W)}, 0.075 * L, 6),
+      line("red", {float(0.45 * L), float(-0.3 * W)}, {float(-0.05 * L), float(0.3 * W)}),
+      line("red", {float(0.425 * L), float(0.3 * W)}, {float(-0.025 * L), float(-0.3 * W)}),
+      circle("red", {float(-0.15 * L), float(0.25 * W)}, 0.075 * L, 7),
+  };
+  for (const auto& [who, when] : {std::pair{1, 2.0}, {3, 4.2}, {5, 6.5}, {2, 8.0}})
+    scene.throws.push_back({when, size_t(who)});
+  return film(dir, o, scene);
+}
+
+HatTruth write_rally_video(const std::string& dir, const HatSceneOptions& o, const Field& hall) {
+  // The choreography is drawn for the default hall: its places, its goal areas (6 m) and its
+  // goals (3 m wide) at x = +-10.
+  const Goal* goal = nullptr;
+  for (const Goal& g : hall.goals)
+    if (g.team == "red") goal = &g;
+  // Each team's goalkeeper and field players, by index into the bodies.
+  std::map<std::string, std::vector<size_t>> keeper, field;
+  for (size_t k = 0; k < hall.bodies.size(); ++k)
+    (hall.bodies[k].role == "goalkeeper" ? keeper : field)[hall.bodies[k].team].push_back(k);
+  if (std::abs(o.length - 20) > 1e-3 || std::abs(o.width - 10) > 1e-3 || hall.bounds_max.x != 10 ||
+      hall.bounds_max.y != 5 || !goal || goal->a.x != 10 || hall.bodies.size() != 6 || keeper["blue"].size() != 1 ||
+      keeper["red"].size() != 1 || field["blue"].size() != 2 || field["red"].size() != 2)
+    throw std::invalid_argument("the rally is drawn for the default handball hall: 20 m x 10 m, three a side with "
+                                "goalkeepers, Red's goal at x = +10");
+  // Blue's field player nearest the centre holds the ball as the match starts (match.start =
+  // "blue"); the other is the one passed to.
+  const auto from_centre = [&](size_t k) { return std::hypot(hall.bodies[k].start.x, hall.bodies[k].start.y); };
+  std::vector<size_t>& blue = field["blue"];
+  if (from_centre(blue[1]) < from_centre(blue[0])) std::swap(blue[0], blue[1]);
+  const size_t holder = blue[0], mate = blue[1], red_keeper = keeper["red"][0];
+
+  std::vector<std::vector<Key>> keys;
+  for (const BodySpec& b : hall.bodies) keys.push_back({{0, b.start}});
+  auto to = [&](size_t k, double t, Vec2 at) { keys[k].push_back({t, at}); };  // there by t
+  auto wait = [&](size_t k, double t) { to(k, t, keys[k].back().at); };      // stays put until t
+  // A throw: the thrower stands until `run` s before it, runs straight at the target at 3.5 m/s
+  // and throws on the run (the tracker takes a throw's direction from its thrower's motion); then
+  // slows to a stop.
+  std::vector<Throw> throws;
+  auto throw_at = [&](size_t k, double t, Vec2 target, int catcher) {
+    const double run = 0.8, speed = 3.5;
+    const Vec2 s = keys[k].back().at;
+    const double n = std::hypot(target.x - s.x, target.y - s.y);
+    const Vec2 u{float((target.x - s.x) / n), float((target.y - s.y) / n)};
+    wait(k, t - run);
+    const auto ahead = [&](double d) { return Vec2{float(s.x + u.x * d), float(s.y + u.y * d)}; };
+    to(k, t, ahead(run * speed));
+    to(k, t + 0.3, ahead(run * speed + 0.3 * speed / 2));
+    throws.push_back({t, k, catcher});
+  };
+
+  // Red's field players fall back to the corners of their goal area's line, out of the passing
+  // lanes: Blue's passes go to unmarked players.
+  for (size_t k : field["red"]) {
+    wait(k, 0.5);
+    to(k, 2.0, {4.0f, hall.bodies[k].start.y < 0 ? -4.4f : 4.4f});
+  }
+  // Pass 1: the teammate runs up the left wing; the holder passes to him there.
+  const Vec2 wing{1.5f, 3.0f}, cut{2.0f, -2.8f}, back{0.6f, -2.4f}, goal_centre{10.0f, 0.0f};
+  wait(mate, 0.3);
+  to(mate, 1.6, wing);
+  throw_at(holder, 2.0, wing, int(mate));
+  // Pass 2: the holder cuts in on the right; the teammate passes back to her there.
+  to(holder, 3.4, cut);
+  throw_at(mate, 3.6, cut, int(holder));
+  // The shot: she steps back and runs at Red's goal, throwing from well outside its goal area,
+  // while Red's goalkeeper has come out to her side.
+  wait(holder, 3.9);
+  to(holder, 4.4, back);
+  wait(red_keeper, 4.4);
+  to(red_keeper, 5.0, {8.5f, -2.5f});
+  throw_at(holder, 5.2, goal_centre, -1);
+
+  Scene scene;
+  for (size_t k = 0; k < hall.bodies.size(); ++k)
+    scene.walkers.push_back({hall.bodies[k].team, hall.bodies[k].name, through(keys[k])});
+  scene.throws = std::move(throws);
+  HatTruth truth = film(dir, o, scene);
+
+  // The tracker's numbers must be the hall's, or the video's players would play as others (a
+  // latecomer who is not the last of their team's missing players).
+  for (size_t k = 0; k < hall.bodies.size(); ++k)
+    if (scene.walkers[k].id != hall.bodies[k].tracked_as())
+      throw std::invalid_argument(hall.bodies[k].name + " is tracked as '" + hall.bodies[k].tracked_as() +
+                                  "' but the tracker would number their hat '" + scene.walkers[k].id + "'");
+  nlohmann::ordered_json j;
+  const auto name = [&](const std::string& id) {
+    for (const Walker& w : scene.walkers)
+      if (w.id == id) return w.name;
+    return std::string();
+  };
+  j["throws"] = nlohmann::json::array();
+  for (const TruthThrow& th : truth.throws) {
+    nlohmann::ordered_json t{{"t", th.t}, {"player", th.player}, {"name", name(th.player)}};
+    if (th.to.empty()) t["at"] = goal->name;
+    else t["to"] = th.to, t["to_name"] = name(th.to);
+    j["throws"].push_back(t);
+  }
+  const std::string& scorer = truth.throws.back().player;
+  j["goal"] = {{"player", scorer}, {"name", name(scorer)}, {"goal", goal->name}};
+  std::ofstream(dir + "/truth.json") << j.dump(2) << '\n';
   return truth;
 }
 

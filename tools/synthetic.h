@@ -1,13 +1,16 @@
 // Synthetic recordings for the tracking tests: a Kinect above an air hockey table with the four
 // playfield markers, two players reaching in over the short ends with mallets (some lifted,
 // hovering), rendered by ray casting into libfreenect's record format with Kinect-like disparity
-// quantization, noise and holes, plus the ground truth. `quantum-synth` writes them from the
+// quantization, noise and holes, plus the ground truth; and a handball hall filmed from its
+// ceiling with hatted players and their accelerometers. `quantum-synth` writes them from the
 // command line.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "quantum/field.h"
 
 namespace quantum::tools {
 
@@ -49,9 +52,8 @@ void write_markers(const std::string& dir);
 // dir/truth.jsonl, one JSON object per depth frame; returns the truth.
 std::vector<TruthFrame> write_depth_recording(const std::string& dir, const DepthSceneOptions& options);
 
-// A handball hall seen from the ceiling: the four markers on its corners, three players a team
-// in coloured hats (blue and red), two of each team crossing paths, throws in their
-// accelerometer samples.
+// A handball hall seen from the ceiling: the four markers on its corners, players in coloured
+// hats (blue and red), their throws in their accelerometer samples.
 struct HatSceneOptions {
   float length = 20.0f, width = 10.0f;  // the hall's field between the markers' centres, m
   float height = 13.0f;                 // the camera above the floor, m
@@ -61,20 +63,41 @@ struct HatSceneOptions {
   float hat_height = 1.8f, hat_radius = 0.13f;  // m
   double seconds = 10, fps = 30;
   uint64_t seed = 1;
+  // A player off the hall for a while: the scene's player `player` (write_hat_video's: blue 0-2,
+  // red 3-5; a rally's: the field's bodies, in order) jogs out over the nearer side line from
+  // `from` and is back on its way at `to`. From 0 or before: they walk in at `to`.
+  struct Away {
+    int player = 0;
+    double from = 0, to = 0;
+  };
+  std::vector<Away> away;
 };
 
 struct TruthThrow {
   double t = 0;
   std::string player;
   double dx = 0, dy = 0;  // the thrower's direction of motion
+  std::string to;         // in a rally: the teammate it is aimed at ("" for a shot at goal)
 };
 
 struct HatTruth {
-  std::vector<TruthFrame> frames;  // hats' positions (x, y under the hat), never hovering
+  std::vector<TruthFrame> frames;  // the hats in the picture: x, y under the hat, never hovering
   std::vector<TruthThrow> throws;
 };
 
-// Writes dir/hats.avi (MJPG), dir/accel.csv (t,player,ax,ay,az at 100 Hz) and dir/truth.jsonl.
+// Six players, three a team, two of each crossing paths at the clip's middle, the third walking
+// a circle; four throws. Ids are the tracker's: the team and a number by x at the first frame,
+// players who walk in later numbered on in the order they come. Writes dir/hats.avi (MJPG),
+// dir/accel.csv (t,player,ax,ay,az at 100 Hz) and dir/truth.jsonl.
 HatTruth write_hat_video(const std::string& dir, const HatSceneOptions& options);
+
+// A rally of handball on `hall` (rules/handball's default field: 20 m x 10 m, three a side,
+// goalkeepers), from the match's start: every player at their place, the ball with Blue's field
+// player nearest the centre (match.start = "blue"), who passes to her teammate running up the
+// wing; he passes back, and she scores in Red's goal, its goalkeeper come out to her side.
+// Every throw is made on the run, straight at its target. Writes what write_hat_video does and
+// dir/truth.json: the throws (time, thrower's track id and name, and the teammate it is aimed at
+// or the goal) and the goal's scorer. Throws std::invalid_argument for another hall.
+HatTruth write_rally_video(const std::string& dir, const HatSceneOptions& options, const Field& hall);
 
 }  // namespace quantum::tools

@@ -67,7 +67,7 @@ std::vector<HatTracker::Blob> HatTracker::blobs(size_t colour) const {
   return out;
 }
 
-void HatTracker::follow(cv::Size image, double dt) {
+std::vector<std::vector<HatTracker::Blob>> HatTracker::follow(cv::Size image, double dt) {
   // A hat lost (not crossing) for more than half a second stays where it was last thought to
   // be: its old velocity would carry it off the field.
   for (Hat& h : hats_) {
@@ -103,8 +103,10 @@ void HatTracker::follow(cv::Size image, double dt) {
   }
   // A hat lost for a while (its CamShift found nothing near where it should be) takes the nearest
   // blob of its colour that no other hat holds, within what it can have walked meanwhile.
+  std::vector<std::vector<Blob>> unheld(masks_.size());
   for (size_t colour = 0; colour < masks_.size(); ++colour) {
-    std::vector<Blob> free = blobs(colour);
+    std::vector<Blob>& free = unheld[colour];
+    free = blobs(colour);
     for (size_t i = 0; i < hats_.size(); ++i) {
       if (hats_[i].colour != int(colour)) continue;
       const Vec2 at = seen[i] ? *seen[i] : Vec2{float(hats_[i].filter.x()), float(hats_[i].filter.y())};
@@ -130,32 +132,68 @@ void HatTracker::follow(cv::Size image, double dt) {
     if (seen[i]) h.filter.correct(seen[i]->x, seen[i]->y), h.coasting = h.lost = 0;
     else if (!crossing[i]) h.lost += dt;
   }
+  return unheld;
+}
+
+// A blob no hat holds is someone new only once it has stayed free for a while: a speck of colour
+// (a shirt, a reflection) comes and goes within a few frames, and a hat coming out of a crossing
+// is taken back by its tracker within a frame or two.
+void HatTracker::arrive(const std::vector<std::vector<Blob>>& free, double dt) {
+  std::vector<Newcomer> still, ready;
+  for (size_t colour = 0; colour < free.size(); ++colour)
+    for (const Blob& b : free[colour]) {
+      // The same newcomer as last frame: the nearest of its colour within a step of it.
+      auto same = newcomers_.end();
+      double best = config_.merged + config_.max_speed * dt;
+      for (auto it = newcomers_.begin(); it != newcomers_.end(); ++it) {
+        const double d = std::hypot(it->blob.at.x - b.at.x, it->blob.at.y - b.at.y);
+        if (it->colour == colour && d < best) best = d, same = it;
+      }
+      Newcomer n{colour, b};
+      if (same != newcomers_.end()) {
+        n.blob.area = std::max(b.area, same->blob.area);
+        n.seen = same->seen + dt;
+        newcomers_.erase(same);
+      }
+      (n.seen >= config_.arrival ? ready : still).push_back(n);
+    }
+  newcomers_ = std::move(still);  // one not seen this frame is forgotten
+  start(std::move(ready));
+}
+
+// A tracker per new hat, numbered within its team after the hats it already has, in order along
+// x (then y) among those starting together.
+void HatTracker::start(std::vector<Newcomer> hats) {
+  std::sort(hats.begin(), hats.end(), [](const Newcomer& a, const Newcomer& b) {
+    return a.blob.at.x != b.blob.at.x ? a.blob.at.x < b.blob.at.x : a.blob.at.y < b.blob.at.y;
+  });
+  for (const Newcomer& n : hats) {
+    const std::string& team = config_.colours[n.colour].team;
+    const long number = 1 + std::count_if(hats_.begin(), hats_.end(), [&](const Hat& h) { return h.team == team; });
+    // The CamShift window: twice the hat's diameter, room for a step between frames.
+    const int side = int(std::ceil(4 * std::sqrt(n.blob.area / M_PI)));
+    Hat h{team + " " + std::to_string(number), team, int(n.colour),
+          PointFilter(config_.filter_acceleration, config_.filter_measurement), side};
+    h.filter.correct(n.blob.at.x, n.blob.at.y);
+    hats_.push_back(std::move(h));
+  }
 }
 
 TrackedFrame HatTracker::feed(const cv::Mat& bgr, int index, double t) {
   if (bgr.empty() || bgr.type() != CV_8UC3) throw TrackingError("frame " + std::to_string(index) + ": not a colour image");
-  if (!pose_) calibrate(bgr);
+  const bool first = !pose_;
+  if (first) calibrate(bgr);
   masks(bgr);
-  const double dt = hats_.empty() ? 0 : std::max(0.0, t - last_t_);
+  const double dt = first ? 0 : std::max(0.0, t - last_t_);
   last_t_ = t;
-  if (hats_.empty()) {
-    // The first frame: a tracker per hat, numbered along x within its team.
-    for (size_t k = 0; k < masks_.size(); ++k) {
-      std::vector<Blob> found = blobs(k);
-      std::sort(found.begin(), found.end(),
-                [](const Blob& a, const Blob& b) { return a.at.x != b.at.x ? a.at.x < b.at.x : a.at.y < b.at.y; });
-      for (size_t i = 0; i < found.size(); ++i) {
-        const std::string& team = config_.colours[k].team;
-        // The CamShift window: twice the hat's diameter, room for a step between frames.
-        const int side = int(std::ceil(4 * std::sqrt(found[i].area / M_PI)));
-        Hat h{team + " " + std::to_string(i + 1), team, int(k),
-              PointFilter(config_.filter_acceleration, config_.filter_measurement), side};
-        h.filter.correct(found[i].at.x, found[i].at.y);
-        hats_.push_back(std::move(h));
-      }
-    }
+  if (first) {
+    // The players in their places: a tracker per hat at once.
+    std::vector<Newcomer> all;
+    for (size_t k = 0; k < masks_.size(); ++k)
+      for (const Blob& b : blobs(k)) all.push_back({k, b});
+    start(std::move(all));
   } else {
-    follow(bgr.size(), dt);
+    arrive(follow(bgr.size(), dt), dt);
   }
   TrackedFrame out;
   out.frame = index;

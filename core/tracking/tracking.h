@@ -150,14 +150,18 @@ struct HatConfig {
   int min_area = 25;                  // px: smaller coloured blobs are not hats
   float merged = 0.5f;                // m: hats of one team nearer than this are crossing: both coast
   float max_speed = 8;                // m/s: how far a lost hat may have run when it is found again
+  double arrival = 0.3;               // s: a hat that comes later is followed once no other has held it this long
   double filter_acceleration = 30;    // Kalman: m/s^2 a player may accelerate
   double filter_measurement = 0.03;   // Kalman: m of measurement noise
 };
 
 // One CamShift tracker per hat. The first frame calibrates the camera from the playfield
 // markers and starts a tracker for every hat it shows; ids are the team and a number in order
-// along x ("blue 1", "blue 2", ...). When two hats of one team meet, their trackers coast on
-// their Kalman filters until the hats part again, so identities survive crossings.
+// along x ("blue 1", "blue 2", ...). A hat that comes later (a player walking in) gets the next
+// number of its team once it has been seen for `arrival` seconds, unless a lost hat of its team
+// could have got there: then it is that player, back. When two hats of one team meet, their
+// trackers coast on their Kalman filters until the hats part again, so identities survive
+// crossings.
 class HatTracker {
  public:
   explicit HatTracker(TrackedField field, HatConfig config = {});
@@ -181,9 +185,18 @@ class HatTracker {
     Vec2 at;
     int area;
   };
+  // A blob no hat holds, not yet seen long enough to be a hat of its own.
+  struct Newcomer {
+    size_t colour;
+    Blob blob;         // where it is now, and the largest it has been (a hat walks in over the picture's edge)
+    double seen = 0;   // s
+  };
   void calibrate(const cv::Mat& bgr);
   std::vector<Blob> blobs(size_t colour) const;
-  void follow(cv::Size image, double dt);
+  // Moves the hats on; returns, per colour, the blobs none of them holds.
+  std::vector<std::vector<Blob>> follow(cv::Size image, double dt);
+  void arrive(const std::vector<std::vector<Blob>>& free, double dt);
+  void start(std::vector<Newcomer> hats);
   void masks(const cv::Mat& bgr);
   cv::Point2f to_image(double x, double y) const;
 
@@ -192,6 +205,7 @@ class HatTracker {
   DepthCamera camera_;  // the colour camera's pinhole, from its size and field of view
   std::optional<CameraPose> pose_;
   std::vector<Hat> hats_;
+  std::vector<Newcomer> newcomers_;
   std::vector<cv::Mat> masks_;  // per team colour: 255 where a pixel has it
   cv::Mat hsv_;
   double last_t_ = 0;

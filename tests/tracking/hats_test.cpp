@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "synthetic.h"
 #include "tracking/tracking.h"
@@ -75,6 +76,69 @@ TEST(Hats, PlayersAreFollowedThroughCrossingsAndTheirThrowsFound) {
       EXPECT_GT(actions[k].dx * truth.throws[k].dx + actions[k].dy * truth.throws[k].dy, 0.95);
     }
   }
+}
+
+// Players who walk in after the first frame get their team's next numbers, in the order they come;
+// one who leaves the hall and comes back keeps theirs. Of the six-player hall: Blue's circling
+// player walks in at 3 s and one of its crossing pair at 6 s (only one blue hat is there at the
+// start); Red's circling player jogs out at 2 s and is back at 6.5 s, out of the picture for
+// about three seconds.
+TEST(Hats, PlayersWhoWalkInLaterGetTheNextNumbersAndOneWhoComesBackKeepsTheirs) {
+  const fs::path dir = fs::temp_directory_path() / "quantum_hats_late";
+  tools::HatSceneOptions o;
+  o.away = {{2, 0, 3}, {1, 0, 6}, {5, 2, 6.5}};
+  const tools::HatTruth truth = tools::write_hat_video(dir.string(), o);
+  tracking::TrackedField field;
+  field.length = o.length, field.width = o.width;
+  tracking::HatConfig config;
+  config.horizontal_fov = o.horizontal_fov;
+  tracking::HatTracker tracker(field, config);
+  cv::VideoCapture video((dir / "hats.avi").string());
+  ASSERT_TRUE(video.isOpened());
+  // Per id: when the truth first shows it, when the tracker first reports it, and since when it
+  // is in the picture this time.
+  std::map<std::string, double> shown, reported, back;
+  double sum = 0;
+  int n = 0, off = 0;
+  cv::Mat image;
+  for (int f = 0; video.read(image); ++f) {
+    const double t = f / o.fps;
+    const tracking::TrackedFrame seen = tracker.feed(image, f, t);
+    for (const tracking::TrackedPlayer& p : seen.players) reported.try_emplace(p.id, t);
+    const tools::TruthFrame& want = truth.frames.at(size_t(f));
+    for (const tools::TruthPlayer& p : want.players) {
+      shown.try_emplace(p.id, t);
+      const bool before = f > 0 && std::any_of(truth.frames[size_t(f - 1)].players.begin(),
+                                               truth.frames[size_t(f - 1)].players.end(),
+                                               [&](const tools::TruthPlayer& q) { return q.id == p.id; });
+      if (!before) back[p.id] = t;
+      if (t - back[p.id] < 0.5) continue;  // coming in: not yet followed, or just found again
+      const auto it = std::find_if(seen.players.begin(), seen.players.end(),
+                                   [&](const tracking::TrackedPlayer& s) { return s.id == p.id; });
+      ASSERT_NE(it, seen.players.end()) << p.id << " at " << t << " s";
+      const double e = std::hypot(it->x - p.x, it->y - p.y);
+      sum += e, ++n;
+      off += e > 1.0;  // another player's hat, or none
+    }
+  }
+  fs::remove_all(dir);
+  std::cout << "mean error " << 100 * sum / n << " cm over " << n << " positions, " << off << " more than 1 m off\n";
+  for (const auto& [id, t] : shown)
+    std::cout << id << ": in the picture at " << t << " s, followed at " << reported[id] << " s\n";
+  // Blue's crossing pair starts with the one at the blue end; the two walk-ins follow in turn.
+  EXPECT_EQ(shown.size(), 6u);
+  EXPECT_EQ(shown["blue 1"], 0.0);
+  EXPECT_GT(shown["blue 2"], 1.5);
+  EXPECT_GT(shown["blue 3"], shown["blue 2"] + 1.5);
+  EXPECT_EQ(reported.size(), shown.size()) << "an id for no one";
+  for (const auto& [id, t] : shown) {
+    ASSERT_TRUE(reported.count(id)) << id;
+    EXPECT_GE(reported[id], t) << id;
+    EXPECT_LE(reported[id], t + config.arrival + 0.2) << id;
+  }
+  EXPECT_GT(back["red 1"], 4.0) << "red 1 left and came back";
+  EXPECT_LE(sum / n, 0.05);
+  EXPECT_EQ(off, 0);
 }
 
 TEST(Hats, ABadAccelerometerLineIsNamed) {
