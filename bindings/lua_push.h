@@ -29,8 +29,8 @@ void push_score(lua_State* L, const std::map<std::string, int>& score);  // {blu
 // spots = {{name, team, at}}, areas = {{name, team, from, to, radius}}, players = {{name, team,
 // role, reach, catches}}, walls = {names}}: the field as game.field() gives it.
 void push_field(lua_State* L, const Field& field);
-// {type, actor, team, by, by_team, previous, previous_team, t, p, p_newtonian, particles, x, y,
-//  vx, vy, speed, powerup}: a fresh table (handlers may keep events)
+// {type, actor, team, by, by_team, previous, previous_team, holder, t, p, p_newtonian, particles,
+//  x, y, vx, vy, speed, powerup}: a fresh table (handlers may keep events)
 void push_event(lua_State* L, const game::GameEvent& e);
 // A phrase placeholder's value from the Lua table at `vars` (a string, a number or a boolean), or
 // none. Strings stay valid while the table is on the stack.
@@ -50,7 +50,8 @@ class TablePool {
 // Fill the table at the top of the stack (fields it had before are overwritten).
 // {kind, actor, team, favours, via, path = {walls...}, mass, tweaked, count}
 void fill_fate(lua_State* L, const game::FateView& f, const Field& field);
-// {name, team, x, y, vx, vy, speed, handicap, turn, powerups = {names}} of player k of the match
+// {name, team, role, area, holds, x, y, vx, vy, speed, handicap, turn, powerups = {names}} of
+// player k of the match
 void fill_player(lua_State* L, const game::Match& match, size_t k);
 // A fresh list of every player's table, in the field's order (game.players()).
 void push_players(lua_State* L, const game::Match& match);

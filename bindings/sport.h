@@ -67,7 +67,8 @@ class Sport final : public game::Rules {
   // Where require() looks for the sport's Lua modules: the sport's folder, the engine's helpers.
   const std::vector<std::filesystem::path>& module_folders() const { return module_folders_; }
 
-  // Replaces the sport's factor for a fate kind (goal, own_goal, body, out, field), e.g. to
+  // Replaces the sport's factor for a fate kind (fate_kind_names(): goal, own_goal, body, out,
+  // field, catch, pass, intercept), e.g. to
   // compare a sport's factors with none. Throws std::invalid_argument for an unknown kind or a
   // value that is not a number >= 0.
   void set_factor(const std::string& kind, double value);

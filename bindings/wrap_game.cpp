@@ -287,8 +287,8 @@ int team_name(lua_State* L) {
   return 1;
 }
 
-// game.players(): {name, team, x, y, vx, vy, speed, handicap, turn, powerups} for each player,
-// in the field's order.
+// game.players(): {name, team, role, area, holds, x, y, vx, vy, speed, handicap, turn, powerups}
+// for each player, in the field's order.
 int players(lua_State* L) {
   push_players(L, reading(L));
   return 1;

@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
   track->add_option("SOURCE", tracking.source, "fakenect:DIR (a Kinect recording), kinect (a live Kinect), "
                                                "video:FILE or camera:N (hats seen from above), tuio:PORT (TUIO 1.1)")
       ->required();
-  track->add_option("--accel", tracking.accel, "with video or camera: accelerometer samples t,player,ax,ay,az from FILE "
+  track->add_option("--accel", tracking.accel, "with video, camera or tuio: accelerometer samples t,player,ax,ay,az from FILE "
                                                "(CSV) or udp:PORT (one per datagram)");
   track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")
       ->capture_default_str();

@@ -69,18 +69,19 @@ struct TrackingInput::Impl {
   std::optional<FakenectReader> recording;
   std::optional<LiveKinect> kinect;
   std::optional<DepthTracker> depth;
-  // Hats in colour video (a file or a camera), throws from accelerometers.
+  // Hats in colour video (a file or a camera).
   std::optional<cv::VideoCapture> video;
   int camera = -1;  // the camera's index when live
   std::optional<HatTracker> hats;
-  std::optional<AccelSource> accel;
-  ThrowDetector throws;
   double fps = 30;
   int frames = 0;
   Clock::time_point start = Clock::now(), retried = start;
   // TUIO.
   std::optional<TuioSource> tuio;
   bool heard = false;
+  // Throws from accelerometers, for the players of either hats or TUIO.
+  std::optional<AccelSource> accel;
+  ThrowDetector throws;
 
   Status next_depth(TrackedFrame& out) {
     RecordedFrame f;
@@ -104,7 +105,6 @@ struct TrackingInput::Impl {
     }
     const double t = camera >= 0 ? since(start) : frames / fps;
     out = hats->feed(image, frames++, t);
-    if (accel) throws.add(accel->until(t), out);
     return Status::Frame;
   }
 
@@ -124,7 +124,8 @@ TrackingInput::TrackingInput(const std::string& spec, const TrackedField& field,
   m.field = field;
   auto after = [&](const char* prefix) { return spec.substr(std::string(prefix).size()); };
   const bool hats = spec.rfind("video:", 0) == 0 || spec.rfind("camera:", 0) == 0;
-  if (!o.accel.empty() && !hats) throw std::invalid_argument("--accel goes with video:FILE or camera:N");
+  if (!o.accel.empty() && !hats && spec.rfind("tuio:", 0) != 0)
+    throw std::invalid_argument("--accel goes with video:FILE, camera:N or tuio:PORT");
   if (spec.rfind("fakenect:", 0) == 0 || spec == "kinect") {
     if (spec == "kinect") m.kinect.emplace();
     else m.recording.emplace(after("fakenect:"));
@@ -143,13 +144,13 @@ TrackingInput::TrackingInput(const std::string& spec, const TrackedField& field,
     HatConfig config;
     config.horizontal_fov = o.fov;
     m.hats.emplace(field, config);
-    if (!o.accel.empty()) m.accel.emplace(o.accel);
   } else if (spec.rfind("tuio:", 0) == 0) {
     m.tuio.emplace(std::atoi(after("tuio:").c_str()), field);
   } else {
     throw std::invalid_argument("unknown source '" + spec +
                                 "': expected fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT");
   }
+  if (!o.accel.empty()) m.accel.emplace(o.accel);
 }
 
 TrackingInput::~TrackingInput() = default;
@@ -159,8 +160,9 @@ bool TrackingInput::live() const { return impl_->kinect || impl_->camera >= 0 ||
 Status TrackingInput::next(TrackedFrame& frame, double timeout) {
   Impl& m = *impl_;
   if (m.depth) return m.next_depth(frame);
-  if (m.hats) return m.next_hats(frame);
-  return m.next_tuio(frame, timeout);
+  const Status status = m.hats ? m.next_hats(frame) : m.next_tuio(frame, timeout);
+  if (status == Status::Frame && m.accel) m.throws.add(m.accel->until(frame.t), frame);
+  return status;
 }
 
 }  // namespace quantum::tracking

@@ -10,7 +10,7 @@
 namespace quantum::tracking {
 
 struct SourceOptions {
-  std::string accel;  // with video or camera: FILE (CSV) or udp:PORT
+  std::string accel;  // with video, camera or tuio: FILE (CSV) or udp:PORT
   float fov = 82;     // with video or camera: horizontal field of view, degrees
 };
 

@@ -1,6 +1,7 @@
 // Record and replay: a match recorded with `--record` plays again from its folder to the same
-// event log and decision log, byte for byte, whether its players were simulated or tracked from a
-// Kinect recording, and with a script reloaded halfway; a replay says which files changed since.
+// event log and decision log, byte for byte, whether its players were simulated, tracked from a
+// Kinect recording or from a filmed handball rally with its throws, and with a script reloaded
+// halfway; a replay says which files changed since.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include <unistd.h>
 
+#include "field_loader.h"
 #include "session.h"
 #include "synthetic.h"
 
@@ -227,6 +229,32 @@ return {
   const Logs replayed = run(r, dir / "replayed");
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
+}
+
+// Handball from a filmed rally and its accelerometers: the throws are part of each recorded
+// frame, and the hall's --param's part of the recording.
+TEST(Recording, AHandballRallyWithThrowsReplaysByteForByte) {
+  const fs::path dir = scratch("rally");
+  tools::HatSceneOptions scene;
+  tools::write_rally_video((dir / "hall").string(), scene, lua::load_field(QUANTUM_SOURCE_DIR "/rules/handball"));
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/handball";
+  o.input = "video:" + (dir / "hall" / "hats.avi").string();
+  o.accel = (dir / "hall" / "accel.csv").string();
+  o.fov = scene.horizontal_fov;
+  o.params = {"minutes=1"};
+  o.record = (dir / "recording").string();
+  fs::create_directories(dir / "played");
+  const Logs played = run(o, dir / "played");
+  ASSERT_NE(played.events.find("\"type\":\"pass\""), std::string::npos) << played.warnings;
+  ASSERT_NE(played.events.find("\"type\":\"goal\""), std::string::npos);
+  fs::create_directories(dir / "replayed");
+  runtime::SessionOptions r;
+  r.replay = o.record;
+  const Logs replayed = run(r, dir / "replayed");
+  EXPECT_EQ(replayed.events, played.events);
+  EXPECT_EQ(replayed.decisions, played.decisions);
+  EXPECT_EQ(replayed.warnings, "");
 }
 
 TEST(Recording, ARecordingGoesIntoANewFolder) {

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "play.h"
+#include "tracking/input.h"
 #include "tracking/tracking.h"
 
 namespace quantum {
@@ -124,6 +125,30 @@ TEST(Tuio, AnObjectIsThePlayerOfItsClass) {
   EXPECT_EQ(f->players[0].id, "Red's mallet");
   EXPECT_NEAR(f->players[0].x, 0.5, 1e-6);
   EXPECT_NEAR(f->players[0].y, 0.4, 1e-6);
+}
+
+// A TUIO tracker and a player's accelerometer together: the whip is a throw by that player, in
+// the frame that reaches its time.
+TEST(Tuio, AccelerometersThrowForTuioPlayers) {
+  const int port = test_port() + 4;
+  const std::string csv =
+      (std::filesystem::temp_directory_path() / ("quantum_tuio_accel_" + std::to_string(port) + ".csv")).string();
+  std::ofstream(csv) << "t,player,ax,ay,az\n0.0,Red's mallet,40,0,0\n";
+  tracking::SourceOptions options;
+  options.accel = csv;
+  tracking::TrackingInput input("tuio:" + std::to_string(port), table(), options);
+  Sender send;
+  lo_address_free(send.to);
+  send.to = lo_address_new("127.0.0.1", std::to_string(port).c_str());
+  send.cursors({{{1, 0.2f, 0.5f}}, {{2, 0.8f, 0.5f}}});
+  tracking::TrackedFrame frame;
+  auto status = tracking::TrackingInput::Status::Waiting;
+  for (int tries = 0; tries < 20 && status != tracking::TrackingInput::Status::Frame; ++tries) status = input.next(frame, 0.1);
+  ASSERT_EQ(status, tracking::TrackingInput::Status::Frame);
+  ASSERT_EQ(frame.actions.size(), 1u);
+  EXPECT_EQ(frame.actions[0].type, "throw");
+  EXPECT_EQ(frame.actions[0].player, "Red's mallet");
+  EXPECT_EQ(frame.actions[0].dx, -1);  // standing still: toward the other end
 }
 
 TEST(Tuio, APortInUseIsNamed) {
