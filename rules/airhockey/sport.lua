@@ -76,15 +76,7 @@ sport.on = {
     game.respawn(two_teams.other(game, e.by_team) or "blue", sport.match.respawn_delay)
   end,
 
-  match_end = function(game, e)
-    local s = game.score()
-    if e.team == "" then
-      game.say("draw", s)
-    else
-      s.winner = game.team_name(e.team)
-      game.say("match_end", s)
-    end
-  end,
+  match_end = two_teams.announce_end,
 }
 
 return sport

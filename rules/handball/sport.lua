@@ -181,15 +181,7 @@ sport.on = {
     game.say("throw_in", { team = game.team_name(other), player = p.name })
   end,
 
-  match_end = function(game, e)
-    local s = game.score()
-    if e.team == "" then
-      game.say("draw", s)
-    else
-      s.winner = game.team_name(e.team)
-      game.say("match_end", s)
-    end
-  end,
+  match_end = two_teams.announce_end,
 }
 
 -- A field player inside a goal area may not catch the ball: those catches are no outcome at all.

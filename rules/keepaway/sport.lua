@@ -2,6 +2,8 @@
 -- Keep-away: Ann, Bo and Dee (the passers) score a point for every five passes in a row; Cy (in
 -- the middle) scores one for every pass caught, and hands the ball back. docs/writing-a-team-sport.md
 -- builds this file step by step.
+local two_teams = require "two_teams"
+
 local sport = {
   name = "Keep-away",
   field = "field.lua",
@@ -73,15 +75,7 @@ sport.on = {
     game.say("back", { player = e.actor })
   end,
 
-  match_end = function(game, e)
-    local s = game.score()
-    if e.team == "" then
-      game.say("draw", s)
-    else
-      s.winner = game.team_name(e.team)
-      game.say("match_end", s)
-    end
-  end,
+  match_end = two_teams.announce_end,
 }
 
 return sport

@@ -22,4 +22,17 @@ function two_teams.goal(game, scorer, phrase, first_to, restart, delay)
   end
 end
 
+-- A match_end handler: says `draw` when nobody won, else `match_end`, each with the score as its
+-- values ({blue}, {red}, ...) and the winner's team name as {winner}:
+--   sport.on.match_end = two_teams.announce_end
+function two_teams.announce_end(game, e)
+  local s = game.score()
+  if e.team == "" then
+    game.say("draw", s)
+  else
+    s.winner = game.team_name(e.team)
+    game.say("match_end", s)
+  end
+end
+
 return two_teams

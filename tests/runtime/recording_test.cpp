@@ -52,6 +52,14 @@ Logs run(runtime::SessionOptions o, const fs::path& out, const std::function<voi
   return {read(o.events), read(o.decisions), warnings.str()};
 }
 
+// Replays `recording` to the end, its logs in `out` (made here).
+Logs replay(const std::string& recording, const fs::path& out) {
+  fs::create_directories(out);
+  runtime::SessionOptions r;
+  r.replay = recording;
+  return run(r, out);
+}
+
 TEST(Recording, ASimulatedMatchReplaysByteForByte) {
   const fs::path dir = scratch("bots");
   runtime::SessionOptions o;
@@ -61,10 +69,7 @@ TEST(Recording, ASimulatedMatchReplaysByteForByte) {
   o.record = (dir / "recording").string();
   fs::create_directories(dir / "played");
   const Logs played = run(o, dir / "played");
-  fs::create_directories(dir / "replayed");
-  runtime::SessionOptions r;
-  r.replay = o.record;
-  const Logs replayed = run(r, dir / "replayed");
+  const Logs replayed = replay(o.record, dir / "replayed");
   ASSERT_GT(std::count(played.events.begin(), played.events.end(), '\n'), 20);
   ASSERT_GT(std::count(played.decisions.begin(), played.decisions.end(), '\n'), 100);
   EXPECT_EQ(replayed.events, played.events);
@@ -101,10 +106,7 @@ TEST(Recording, AReloadHalfwayIsReplayedWhereItHappened) {
   EXPECT_NE(played.events.find("has it"), std::string::npos);
   // The replay reloads at the same frame from its recorded copy, although the file is as it was.
   std::ofstream(sport) << original;
-  fs::create_directories(dir / "replayed");
-  runtime::SessionOptions r;
-  r.replay = o.record;
-  const Logs replayed = run(r, dir / "replayed");
+  const Logs replayed = replay(o.record, dir / "replayed");
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
 }
@@ -150,10 +152,7 @@ TEST(Recording, AScriptEditedBeforeItIsFirstUsedIsReplayedAsItWasUsed) {
     s.reload((sport / "powerups" / "sticky.lua").string());
   });
   std::ofstream(sport / "powerups" / "sticky.lua") << with("1");
-  fs::create_directories(dir / "replayed");
-  runtime::SessionOptions r;
-  r.replay = o.record;
-  const Logs replayed = run(r, dir / "replayed");
+  const Logs replayed = replay(o.record, dir / "replayed");
   EXPECT_NE(played.events.find("\"powerup\":\"sticky\""), std::string::npos);
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
@@ -171,10 +170,7 @@ TEST(Recording, AReplaySaysWhatChangedSinceTheRecording) {
   const Logs played = run(o, dir / "played");
   std::ofstream(dir / "sports" / "practice" / "sport.lua", std::ios::app) << "-- edited after the recording\n";
   fs::remove(dir / "sports" / "practice" / "field.lua");
-  fs::create_directories(dir / "replayed");
-  runtime::SessionOptions r;
-  r.replay = o.record;
-  const Logs replayed = run(r, dir / "replayed");
+  const Logs replayed = replay(o.record, dir / "replayed");
   EXPECT_NE(replayed.warnings.find("practice/sport.lua changed since the recording"), std::string::npos) << replayed.warnings;
   EXPECT_NE(replayed.warnings.find("practice/field.lua is gone since the recording"), std::string::npos) << replayed.warnings;
   EXPECT_EQ(replayed.events, played.events);  // played from the recorded copy all the same
@@ -223,10 +219,7 @@ return {
   fs::create_directories(dir / "played");
   const Logs played = run(o, dir / "played");
   ASSERT_GT(std::count(played.decisions.begin(), played.decisions.end(), '\n'), 5) << played.warnings;
-  fs::create_directories(dir / "replayed");
-  runtime::SessionOptions r;
-  r.replay = o.record;
-  const Logs replayed = run(r, dir / "replayed");
+  const Logs replayed = replay(o.record, dir / "replayed");
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
 }
@@ -248,10 +241,7 @@ TEST(Recording, AHandballRallyWithThrowsReplaysByteForByte) {
   const Logs played = run(o, dir / "played");
   ASSERT_NE(played.events.find("\"type\":\"pass\""), std::string::npos) << played.warnings;
   ASSERT_NE(played.events.find("\"type\":\"goal\""), std::string::npos);
-  fs::create_directories(dir / "replayed");
-  runtime::SessionOptions r;
-  r.replay = o.record;
-  const Logs replayed = run(r, dir / "replayed");
+  const Logs replayed = replay(o.record, dir / "replayed");
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
   EXPECT_EQ(replayed.warnings, "");

@@ -23,6 +23,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A tracker for a synthetic hall, seen as the scene's camera sees it.
+tracking::HatTracker tracker_for(const tools::HatSceneOptions& o) {
+  tracking::TrackedField field;
+  field.length = o.length, field.width = o.width;
+  tracking::HatConfig config;
+  config.horizontal_fov = o.horizontal_fov;
+  return tracking::HatTracker(field, config);
+}
+
 // The figures: identity kept through crossings, position error mean <= 5 cm on a 20 m
 // hall. Two seeds: two camera poses, each with two same-team crossings. Throws from the
 // accelerometers come out once each, by the right player, in the direction they run.
@@ -32,11 +41,7 @@ TEST(Hats, PlayersAreFollowedThroughCrossingsAndTheirThrowsFound) {
     tools::HatSceneOptions o;
     o.seed = seed;
     const tools::HatTruth truth = tools::write_hat_video(dir.string(), o);
-    tracking::TrackedField field;
-    field.length = o.length, field.width = o.width;
-    tracking::HatConfig config;
-    config.horizontal_fov = o.horizontal_fov;
-    tracking::HatTracker tracker(field, config);
+    tracking::HatTracker tracker = tracker_for(o);
     tracking::AccelSource accel((dir / "accel.csv").string());
     tracking::ThrowDetector throws;
     cv::VideoCapture video((dir / "hats.avi").string());
@@ -88,11 +93,7 @@ TEST(Hats, PlayersWhoWalkInLaterGetTheNextNumbersAndOneWhoComesBackKeepsTheirs) 
   tools::HatSceneOptions o;
   o.away = {{2, 0, 3}, {1, 0, 6}, {5, 2, 6.5}};
   const tools::HatTruth truth = tools::write_hat_video(dir.string(), o);
-  tracking::TrackedField field;
-  field.length = o.length, field.width = o.width;
-  tracking::HatConfig config;
-  config.horizontal_fov = o.horizontal_fov;
-  tracking::HatTracker tracker(field, config);
+  tracking::HatTracker tracker = tracker_for(o);
   cv::VideoCapture video((dir / "hats.avi").string());
   ASSERT_TRUE(video.isOpened());
   // Per id: when the truth first shows it, when the tracker first reports it, and since when it
@@ -134,7 +135,7 @@ TEST(Hats, PlayersWhoWalkInLaterGetTheNextNumbersAndOneWhoComesBackKeepsTheirs) 
   for (const auto& [id, t] : shown) {
     ASSERT_TRUE(reported.count(id)) << id;
     EXPECT_GE(reported[id], t) << id;
-    EXPECT_LE(reported[id], t + config.arrival + 0.2) << id;
+    EXPECT_LE(reported[id], t + tracking::HatConfig{}.arrival + 0.2) << id;
   }
   EXPECT_GT(back["red 1"], 4.0) << "red 1 left and came back";
   EXPECT_LE(sum / n, 0.05);
