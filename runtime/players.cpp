@@ -38,9 +38,13 @@ Status HandPlayers::advance(double t, const game::Match& match, bool waiting) {
     at = {float(before.position.x + v.x * dt), float(before.position.y + v.y * dt)};
   }
   bodies_[size_t(body_)] = {at, v};
+  // A person's arm swings the way they have been moving, not only in the frame of the click: the
+  // mouse often stops just before it. A tenth of a second of motion decides the throw.
+  const float keep = float(std::exp(-dt / kThrowMemory));
+  recent_ = {keep * recent_.x + (1 - keep) * v.x, keep * recent_.y + (1 - keep) * v.y};
   if (hand_.throws != thrown_) {
     thrown_ = hand_.throws;
-    Vec2 way = v;
+    Vec2 way = recent_;
     if (std::hypot(way.x, way.y) < 0.5) {  // a still hand throws at the other team's goal
       way = {1, 0};
       for (const Goal& g : field_.goals)

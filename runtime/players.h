@@ -76,8 +76,8 @@ struct Hand {
 
 // Simulated players, but one of them moves where a person's hand is: a designer plays their own
 // sport at a desk. The hand's body takes the hand's velocity (from its motion), within the
-// field and its speed limit; a throw goes the way the hand moves (toward the opponents' goal
-// when it is still), at the sport's throw speed.
+// field and its speed limit; a throw goes the way the hand has just been moving (toward the
+// opponents' goal when it is still), at the sport's throw speed.
 class HandPlayers final : public PlayerSource {
  public:
   HandPlayers(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed, int body,
@@ -93,6 +93,8 @@ class HandPlayers final : public PlayerSource {
   int body_;
   const Hand& hand_;
   int thrown_;  // the hand's throws already made
+  static constexpr double kThrowMemory = 0.1;  // s: how long the hand's motion counts for a throw
+  Vec2 recent_{0, 0};  // the hand's velocity over the last kThrowMemory
   std::vector<BodyInput> bodies_;
   std::vector<game::Throw> throws_;
 };

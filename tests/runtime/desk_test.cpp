@@ -116,6 +116,52 @@ TEST(Desk, TheHandMovesItsPlayerWithinTheFieldAndItsSpeed) {
   EXPECT_EQ(errors.str(), "");
 }
 
+// Handball at the desk: the hand plays Clara, who holds the ball at the throw-off. Nobody throws
+// for her while she holds it; a click throws it the way the hand moves, at the sport's speed.
+TEST(Desk, AClickThrowsTheBallTheWayTheHandMoves) {
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/handball";
+  o.seconds = 30;
+  runtime::Hand hand;
+  std::ostringstream errors;
+  const lua::Sport sport(o.sport);
+  const Field& field = sport.field();
+  int clara = 0;
+  while (field.bodies[size_t(clara)].name != "Clara") ++clara;
+  runtime::Session session(o, nullptr, errors,
+                           std::make_unique<runtime::HandPlayers>(field, std::vector<double>(field.bodies.size(), 0.6), 1,
+                                                                  sport.throw_speed(), clara, hand));
+  std::vector<game::GameEvent> throws;
+  std::vector<std::string> throwers;
+  session.watch([&](const runtime::News& news) {
+    for (const game::GameEvent& e : news.events)
+      if (e.type == game::EventKind::Throw) throws.push_back(e), throwers.emplace_back(e.actor);
+  });
+  hand.over = true;
+  hand.at = field.bodies[size_t(clara)].start;
+  for (int frame = 0; frame < 5 * 60; ++frame) session.frame();  // the throw-off, and 3 s more
+  ASSERT_EQ(session.match().holder(), clara);
+  EXPECT_TRUE(throws.empty());  // the bots leave her throws to her
+  // The hand moves toward the left side line (+y), then clicks.
+  for (int frame = 0; frame < 10; ++frame) {
+    hand.at.y += 0.05f;  // 3 m/s
+    session.frame();
+  }
+  ++hand.throws;  // the hand has stopped: its motion just before decides
+  session.frame();
+  ASSERT_EQ(throws.size(), 1u);
+  EXPECT_EQ(throwers[0], "Clara");
+  EXPECT_NEAR(std::hypot(throws[0].velocity.x, throws[0].velocity.y), sport.throw_speed(), 1e-3);
+  EXPECT_NEAR(throws[0].velocity.x, 0, 1e-3);
+  EXPECT_GT(throws[0].velocity.y, 0);
+  EXPECT_NE(session.match().holder(), clara);
+  // A click when she does not hold the ball throws nothing.
+  ++hand.throws;
+  session.frame();
+  EXPECT_EQ(throws.size(), 1u);
+  EXPECT_EQ(errors.str(), "");
+}
+
 // Every draw of a long match, from its decision log alone: the number of times each kind of
 // outcome was realized against the number its chances predict. Pearson's chi-square over the
 // kinds (body, goal, wall, out, nothing), rejected below p = 0.001.
