@@ -126,10 +126,31 @@ void push_told(lua_State* L, const Told& t) {
   lua_setfield(L, -2, "said");
 }
 
-// quantum.scenario(sport_folder [, {seed =, particles =, seconds = (time limit), handicaps = {...}}])
+// The sport's --param's from {params = {length = 40, ...}}, as NAME=VALUE.
+std::vector<std::string> params_of(lua_State* L, int index) {
+  std::vector<std::string> out;
+  if (!lua_istable(L, index)) return out;
+  lua_getfield(L, index, "params");
+  if (!lua_isnil(L, -1)) {
+    if (!lua_istable(L, -1)) throw ArgError("params: expected a table {name = value}");
+    lua_pushnil(L);
+    while (lua_next(L, -2)) {
+      if (lua_type(L, -2) != LUA_TSTRING) throw ArgError("params: expected names as keys");
+      if (!lua_isstring(L, -1) && !lua_isboolean(L, -1)) throw ArgError("params: expected a number, string or boolean");
+      const std::string value = lua_isboolean(L, -1) ? (lua_toboolean(L, -1) ? "true" : "false") : lua_tostring(L, -1);
+      out.push_back(std::string(lua_tostring(L, -2)) + "=" + value);
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  return out;
+}
+
+// quantum.scenario(sport_folder [, {seed =, particles =, seconds = (time limit), handicaps = {...},
+//                                   params = {name = value} (as --param)}])
 int scenario(lua_State* L) {
   const std::string folder = check_string(L, 1);
-  check_options(L, 2, {"seed", "particles", "seconds", "handicaps"}, "quantum.scenario's options");
+  check_options(L, 2, {"seed", "particles", "seconds", "handicaps", "params"}, "quantum.scenario's options");
   auto s = std::make_unique<Scenario>();
   runtime::SessionOptions o;
   o.sport = folder;
@@ -137,6 +158,7 @@ int scenario(lua_State* L) {
   o.particles = uint32_t(option(L, 2, "particles", 0));
   o.seconds = option(L, 2, "seconds", 0);
   o.pacing = runtime::SessionOptions::Pacing::Fast;
+  o.params = params_of(L, 2);
   auto bodies = std::make_unique<ScriptedPlayers>();
   s->bodies = bodies.get();
   s->session = std::make_unique<runtime::Session>(o, nullptr, s->warnings, std::move(bodies));

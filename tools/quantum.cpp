@@ -141,6 +141,7 @@ int main(int argc, char** argv) {
   track->add_option("--field-size", tracking.field_size, "L,W: the field between the markers' centres, m "
                                                           "(default: the field's own)");
   track->add_option("--frames", tracking.frames, "stop after this many frames (default: all)");
+  add_params(track, tracking.params);
 
   CLI11_PARSE(app, argc, argv);
   std::string command_line = "quantum";

@@ -6,6 +6,7 @@
 
 #include "json_lines.h"
 #include "field_loader.h"
+#include "params.h"
 #include "play.h"
 #include "tracking/input.h"
 
@@ -31,7 +32,9 @@ void write_frame(std::ostream& out, const tracking::TrackedFrame& f) {
 }  // namespace
 
 void track(const TrackOptions& o, std::ostream& out) {
-  const Field field = lua::load_field(o.field);
+  lua::Params params(o.params);
+  const Field field = lua::load_field(o.field, &params);
+  params.check_read(o.field);
   std::optional<Vec2> size;
   if (!o.field_size.empty()) {
     const std::vector<double> lw = parse_list(o.field_size, "--field-size");

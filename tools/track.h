@@ -3,16 +3,18 @@
 
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace quantum::tools {
 
 struct TrackOptions {
   std::string source;                    // fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT
-  std::string accel;                     // with video or camera: accelerometers, FILE (CSV) or udp:PORT
+  std::string accel;                     // with video, camera or tuio: accelerometers, FILE (CSV) or udp:PORT
   float fov = 82;                        // with video or camera: its horizontal field of view, degrees
   std::string field = "rules/airhockey"; // a field file or sport folder: who plays from which end
   std::string field_size;                // "L,W": the field between the markers, default the field's own
   int frames = 0;                        // stop after this many frames (0: at the end of the source)
+  std::vector<std::string> params;       // NAME=VALUE for the field's script (--param length=40)
 };
 
 // Writes {"frame": n, "t": s, "players": [{"id", "team", "x", "y", "vx", "vy"}]} per frame to

@@ -167,6 +167,24 @@ describe("Quantum team handball", function()
     end
   end)
 
+  it("plays a full court of 40 x 20 m, 7 a side, from the same files", function()
+    local s = quantum.scenario(SPORT, { seed = 1, params = { length = 40, width = 20, players = 7 } })
+    local names = {}
+    for _, p in ipairs(s:players()) do names[#names + 1] = p.name end
+    assert.are.equal(14, #names)
+    assert.are.equal("Greta", names[7])   -- Blue's seventh
+    s:place("Ben", -5, 6)
+    s:place("Clara", 5, 6)
+    for _, name in ipairs(names) do
+      if name ~= "Ben" and name ~= "Clara" and name ~= "Anna" and name ~= "Hugo" then s:place(name, 0, -9) end
+    end
+    s:give("Ben")
+    s:throw("Ben", 12, 0)
+    local e = outcome(s:run(3.0, "pass"))
+    assert.are.equal("pass", e.type)
+    assert.are.equal("Clara", e.actor)
+  end)
+
   it("gives a throw-in to the other team where the ball went out over a side line", function()
     local s = quantum.scenario(SPORT, { seed = 1 })
     clear(s, { Ben = true })
