@@ -60,20 +60,24 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
       if (field.goals[g].team != spec.team && d < theirs) theirs = d, b.their_goal = int(g);
     }
     for (size_t a = 0; a < field.areas.size() && b.keeper; ++a)
-      if (field.areas[a].team == spec.team && b.own_area < 0) b.own_area = int(a);
+      if (b.own_area < 0 && b.own_goal >= 0 && field.areas[a].contains(centre(field.goals[size_t(b.own_goal)])))
+        b.own_area = int(a);
     b.phase = 1.7 * double(k);
     b.rng.seed(seed * 0x9E3779B97F4A7C15ull + k);
     b.heard.reserve(64);
     bots_.push_back(std::move(b));
   }
+  for (const Area& a : field.areas)
+    goal_area_.push_back(std::any_of(field.goals.begin(), field.goals.end(), [&](const Goal& g) { return a.contains(centre(g)); }));
+  for (Bot& b : bots_)
+    for (const Bot& o : bots_)
+      if (!o.keeper) (field.bodies[size_t(o.body)].team == field.bodies[size_t(b.body)].team ? b.mates : b.opponents).push_back(o.body);
   // Attacking places: a fan of points around the opponents' goal, just outside its goal area
   // (or a third of the field out), one per field player of the team.
   for (Bot& b : bots_) {
     if (b.keeper || b.their_goal < 0) continue;
     const Goal& goal = field.goals[size_t(b.their_goal)];
-    std::vector<int> mates;
-    for (const Bot& o : bots_)
-      if (!o.keeper && field.bodies[size_t(o.body)].team == field.bodies[size_t(b.body)].team) mates.push_back(o.body);
+    const std::vector<int>& mates = b.mates;
     const size_t j = size_t(std::find(mates.begin(), mates.end(), b.body) - mates.begin());
     float radius = 0.3f * (field.bounds_max.x - field.bounds_min.x);
     for (const Area& a : field.areas)
@@ -156,11 +160,12 @@ Vec2 TeamBots::holder_position(const Bot& b, std::span<const Player> players) co
 }
 
 // Where a player may stand: inside the bounds; a goalkeeper in its goal area, anyone else out of
-// every goal area.
+// every goal area (an area around a goal's mouth; other areas, an end zone say, are open to all).
 Vec2 TeamBots::allowed(const Bot& b, Vec2 p) const {
   p = {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
   if (b.keeper) return b.own_area >= 0 ? to_area_edge(field_.areas[size_t(b.own_area)], p, 0.3f, true) : p;
-  for (const Area& a : field_.areas) p = to_area_edge(a, p, -0.3f, false);
+  for (size_t a = 0; a < field_.areas.size(); ++a)
+    if (goal_area_[a]) p = to_area_edge(field_.areas[a], p, -0.3f, false);
   return {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
 }
 
@@ -313,13 +318,9 @@ float TeamBots::shooting_distance(const Bot& b) const {
 // Marking: the attacker of the same rank, from its goal side; the defender nearest the holder
 // presses the holder, never nearer than an arm's length and a step.
 Vec2 TeamBots::defending(const Bot& b, std::span<const Player> players) const {
-  const std::string& team = field_.bodies[size_t(b.body)].team;
   const Vec2 goal = b.own_goal >= 0 ? centre(field_.goals[size_t(b.own_goal)]) : b.home;
-  std::vector<int> mine, theirs;
-  for (const Bot& o : bots_) {
-    if (o.keeper) continue;
-    (field_.bodies[size_t(o.body)].team == team ? mine : theirs).push_back(o.body);
-  }
+  const std::vector<int>& mine = b.mates;
+  const std::vector<int>& theirs = b.opponents;
   if (theirs.empty()) return allowed(b, b.home);
   if (b.ball.state == Ball::State::Held) {
     const Vec2 holder = players[size_t(b.ball.holder)].position;

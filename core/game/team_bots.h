@@ -70,6 +70,7 @@ class TeamBots final : public SimulatedPlayers {
     double throw_at = 0;                 // when it throws at the latest
     bool calling = false;                // open, and asking for the ball
     double phase;                        // of its runs into space
+    std::vector<int> mates, opponents;   // the field players (no goalkeepers) of its team, itself too, and of the others
     std::vector<Heard> heard;
     std::mt19937_64 rng;
   };
@@ -94,6 +95,7 @@ class TeamBots final : public SimulatedPlayers {
 
   Field field_;
   std::vector<Bot> bots_;
+  std::vector<bool> goal_area_;  // per field area: whether it holds a goal's mouth (field players keep out)
   std::vector<BodyInput> moves_;
   std::vector<Throw> throws_;
   double throw_speed_;

@@ -137,6 +137,15 @@ void finish_field(Field& f) {
     if (p.x <= f.bounds_min.x || p.x >= f.bounds_max.x || p.y <= f.bounds_min.y || p.y >= f.bounds_max.y)
       throw FieldError("spots[" + std::to_string(i + 1) + "] (" + f.spots[i].name + ")", "lies outside the bounds");
   }
+  // Without walls or goals around them, the bounds are only the spots': players who stand
+  // beyond them are on no field at all (a field of players who catch needs `bounds`).
+  for (size_t i = 0; i < f.bodies.size(); ++i) {
+    const Vec2 p = f.bodies[i].start;
+    if (p.x < f.bounds_min.x || p.x > f.bounds_max.x || p.y < f.bounds_min.y || p.y > f.bounds_max.y)
+      throw FieldError("bodies[" + std::to_string(i + 1) + "] (" + f.bodies[i].name + ")",
+                       f.has_bounds ? "starts outside the bounds"
+                                    : "starts outside the field (give the field `bounds`, the lines beyond which the ball is out)");
+  }
 }
 
 }  // namespace quantum

@@ -104,6 +104,17 @@ TEST_F(FieldFile, NumbersAreCheckedAfterReading) {
             std::string::npos);
 }
 
+// A field of players who catch, with a spot but no walls, goals or bounds: the field is the spot
+// alone, and a player standing elsewhere is named with what is missing.
+TEST_F(FieldFile, APlayerOutsideTheFieldAsksForBounds) {
+  const std::string e = error_for(R"(return { spots = { { at = {0, 0} } },
+    bodies = { { name = "Alice", team = "a", radius = 0.7, catches = true, at = {-4, -3} } } })");
+  EXPECT_NE(e.find("bodies[1] (Alice): starts outside the field (give the field `bounds`"), std::string::npos) << e;
+  const std::string bounded = error_for(R"(return { bounds = { {-2, -2}, {2, 2} }, spots = { { at = {0, 0} } },
+    bodies = { { name = "Alice", team = "a", radius = 0.7, catches = true, at = {-4, -3} } } })");
+  EXPECT_NE(bounded.find("bodies[1] (Alice): starts outside the bounds"), std::string::npos) << bounded;
+}
+
 TEST_F(FieldFile, MustReturnATable) {
   EXPECT_NE(error_for("return 42").find("must return a table, returned number"), std::string::npos);
 }

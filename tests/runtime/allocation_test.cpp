@@ -91,11 +91,13 @@ struct Measured {
   size_t frames_with_events = 0;
 };
 
-// A match of air hockey between simulated players at `particles`, with its sound rendered to a
-// WAV file, its events logged and its transcript written, as `quantum play` runs it.
-Measured measure(uint32_t particles, const std::string& audio, const std::string& powerup = "") {
+// A match of a sport (air hockey unless told) between simulated players at `particles`, with its
+// sound rendered to a WAV file, its events logged and its transcript written, as `quantum play`
+// runs it.
+Measured measure(uint32_t particles, const std::string& audio, const std::string& powerup = "",
+                 const std::string& sport = "airhockey") {
   runtime::SessionOptions o;
-  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.sport = QUANTUM_SOURCE_DIR "/rules/" + sport;
   o.seconds = 600;
   o.particles = particles;
   o.seed = 5;
@@ -166,6 +168,21 @@ TEST(Allocations, APowerUpsFactorMakesNoGarbagePerFate) {
   std::cout << "Lua allocations " << m.lua << " (" << double(m.lua) / kMeasured << " a frame)\n";
   EXPECT_EQ(m.cxx, 0u);
   EXPECT_LT(double(m.lua) / kMeasured, 5.0);
+}
+
+// Handball: simulated players who run, pass and mark, the ball held, thrown and caught, and
+// rules that read the players every frame.
+TEST(Allocations, AHandballMatchAllocatesNothingPerFrame) {
+  measure(1000, "none", "", "handball");  // every phrase of the match heard once
+  tracing = true;
+  const Measured m = measure(1000, "none", "", "handball");
+  std::cout << "frames with events " << m.frames_with_events << ", C++ allocations " << m.cxx
+            << ", Lua allocations " << m.lua << " (" << double(m.lua) / kMeasured << " a frame)\n";
+  EXPECT_GT(m.frames_with_events, 5u);  // a catch, a pass or a throw every second or two
+  EXPECT_EQ(m.cxx, 0u);
+  // The rules' garbage: handball's modifier reads game.players() once a frame (a table for each
+  // of the six players and the list, about 8 allocations), and a table per event.
+  EXPECT_LT(double(m.lua) / kMeasured, 12.0);
 }
 
 // Twenty times the particles, and no sound: the core's buffers are sized by the cloud, not by
