@@ -218,7 +218,9 @@ int TeamBots::open_teammate(Bot& b, std::span<const Player> players, Vec2& aim, 
     const float d = length(p.position - me);
     if (d < 2.0f) continue;
     const float flight = d / (0.5f * (kArrive + float(throw_speed_)));
-    const Vec2 lead = p.position + flight * p.velocity;
+    // Where it will be when the ball gets there, if it runs on as it runs now, but no further
+    // than it may go: a pass led over the side line is a throw out.
+    const Vec2 lead = allowed(o, p.position + flight * p.velocity);
     const float clear = std::min(clearance(b, players, me, lead, kArrive, true), 3.0f);
     const float gain = std::clamp(length(goal - me) - length(goal - lead), -3.0f, 3.0f);
     const double score = clear + 0.3 * gain + (o.calling ? 1.0 : 0.0) - (o.keeper ? 1.5 : 0.0) -
