@@ -188,9 +188,15 @@ Replay open_replay(const fs::path& dir) {
 
 RecordedPlayers::RecordedPlayers(const fs::path& dir, const fs::path& work, size_t bodies)
     : dir_(dir), work_(work), frames_(dir / "frames.bin", std::ios::binary) {
-  char magic[sizeof kMagic - 1];
-  if (!frames_.read(magic, sizeof magic) || std::string(magic, sizeof magic) != kMagic)
-    throw std::runtime_error((dir / "frames.bin").string() + ": not a recording's frames");
+  char magic[sizeof kMagic - 1] = {};
+  if (!frames_.read(magic, sizeof magic) || std::string(magic, sizeof magic) != kMagic) {
+    // Recordings before throws were recorded (QGFRAMES1) lack each frame's throws.
+    const bool older = std::string(magic, 8) == std::string(kMagic, 8);
+    throw std::runtime_error((dir / "frames.bin").string() +
+                             (older ? ": recorded by an older engine (" + std::string(magic, sizeof magic - 1) +
+                                          ", this one replays " + std::string(kMagic, sizeof kMagic - 2) + ")"
+                                    : ": not a recording's frames"));
+  }
   bodies_.resize(bodies);
 }
 
