@@ -62,7 +62,6 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
     for (size_t a = 0; a < field.areas.size() && b.keeper; ++a)
       if (b.own_area < 0 && b.own_goal >= 0 && field.areas[a].contains(centre(field.goals[size_t(b.own_goal)])))
         b.own_area = int(a);
-    b.phase = 1.7 * double(k);
     b.rng.seed(seed * 0x9E3779B97F4A7C15ull + k);
     b.heard.reserve(64);
     bots_.push_back(std::move(b));
@@ -79,6 +78,9 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
     const Goal& goal = field.goals[size_t(b.their_goal)];
     const std::vector<int>& mates = b.mates;
     const size_t j = size_t(std::find(mates.begin(), mates.end(), b.body) - mates.begin());
+    // Weaving by rank in the team: each team's runs are the other's turned half a turn, so
+    // neither team's timing is the better one.
+    b.phase = 1.7 * double(j);
     float radius = 0.3f * (field.bounds_max.x - field.bounds_min.x);
     for (const Area& a : field.areas)
       if (a.team == goal.team) radius = a.radius + 2.0f;

@@ -69,7 +69,7 @@ class TeamBots final : public SimulatedPlayers {
     double got_ball = -1;                // when it learnt it holds the ball
     double throw_at = 0;                 // when it throws at the latest
     bool calling = false;                // open, and asking for the ball
-    double phase;                        // of its runs into space
+    double phase = 0;                    // of its runs into space
     std::vector<int> mates, opponents;   // the field players (no goalkeepers) of its team, itself too, and of the others
     std::vector<Heard> heard;
     std::mt19937_64 rng;
