@@ -196,11 +196,10 @@ Vec2 throw_velocity(lua_State* L, const game::Match& m, int thrower, int to, dou
     for (const game::Player& p : m.players()) {
       names.push_back(p.name);
       if (found || p.name != name) continue;
-      // The ball takes longer than distance / speed to get there when friction slows it (speed
-      // falls as e^(-k t), so d = v (1 - e^(-k t)) / k); a ball too slow ever to arrive is
-      // aimed where the player is going in a second.
-      const double d = std::hypot(p.position.x - from.x, p.position.y - from.y), k = f.friction;
-      const float lead = float(k <= 0 ? d / speed : k * d < speed ? -std::log1p(-k * d / speed) / k : 1.0);
+      // Friction makes the ball take longer than distance / speed; one too slow ever to arrive
+      // is aimed where the player is going in a second.
+      const double flight = f.travel_time(std::hypot(p.position.x - from.x, p.position.y - from.y), speed);
+      const float lead = float(std::isfinite(flight) ? flight : 1.0);
       target = {p.position.x + p.velocity.x * lead, p.position.y + p.velocity.y * lead}, found = true;
     }
     for (const Goal& g : f.goals) {

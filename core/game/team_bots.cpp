@@ -137,10 +137,8 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
 
 // The imagined ball rolls on, slowed by the field's friction, and stops at the bounds.
 void TeamBots::fly(Vec2& at, Vec2& velocity, double dt) const {
-  const float k = field_.friction;
-  const float span = k > 0 ? float(-std::expm1(-k * dt) / k) : float(dt);
-  at = at + span * velocity;
-  velocity = (k > 0 ? float(std::exp(-k * dt)) : 1.0f) * velocity;
+  at = at + field_.flight_time(float(dt)) * velocity;
+  velocity = float(std::exp(-field_.friction * dt)) * velocity;
   if (at.x < field_.bounds_min.x || at.x > field_.bounds_max.x || at.y < field_.bounds_min.y ||
       at.y > field_.bounds_max.y) {
     at = {std::clamp(at.x, field_.bounds_min.x, field_.bounds_max.x), std::clamp(at.y, field_.bounds_min.y, field_.bounds_max.y)};

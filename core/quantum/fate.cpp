@@ -251,7 +251,7 @@ void World::check_horizon(float horizon) const {
 
 // Bodies keep their last velocity for the lookahead, then hold: players rarely keep running in
 // a straight line, and a body extrapolated for seconds would leave the field. Prediction runs in
-// flight time (see flight_time()): the body sweeps to the same place by the end of the lookahead.
+// flight time (see Field::flight_time()): the body sweeps to the same place by the end of the lookahead.
 void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
   bodies.resize(field_.bodies.size());
   const float stop = flight(config_.body_lookahead);

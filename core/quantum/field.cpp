@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace quantum {
 
@@ -18,6 +19,16 @@ int Field::spot_of(const std::string& key) const {
   for (size_t i = 0; i < spots.size(); ++i)
     if (spots[i].name == key) return int(i);
   return spot_of_team(key);
+}
+
+float Field::flight_time(float seconds) const {
+  return friction > 0 ? float(-std::expm1(-double(friction) * seconds) / friction) : seconds;
+}
+
+double Field::travel_time(double distance, double speed) const {
+  if (friction <= 0) return distance / speed;
+  return friction * distance < speed ? -std::log1p(-friction * distance / speed) / friction
+                                     : std::numeric_limits<double>::infinity();
 }
 
 std::vector<std::string> Field::teams() const {

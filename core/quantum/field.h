@@ -91,6 +91,14 @@ struct Field {
   bool catching() const;
   // The first area containing p, or -1.
   int area_at(Vec2 p) const;
+
+  // Friction slows a ball alike at any speed, v(t) = v0 e^(-kt), so in t seconds it covers
+  // v0 (1 - e^(-kt)) / k: the frictionless path, travelled for this "flight time" instead of t
+  // (without friction, t itself). The core's step and prediction, the simulated players'
+  // imagined ball and the rules' aimed throws all fly by it.
+  float flight_time(float seconds) const;
+  // Seconds a ball thrown at `speed` takes to cover `distance`; infinity when it stops short.
+  double travel_time(double distance, double speed) const;
 };
 
 // A field that is not usable. `place` says where, e.g. "walls[2].points[3]".

@@ -89,7 +89,10 @@ void World::drop(int spot, std::vector<Event>& events) {
   events.push_back({time_, EventType::Drop, spot, 1, 1, 1, at, {0, 0}});
 }
 
-float World::flight(float seconds) const { return flight_time(field_.friction, seconds); }
+// The step and the prediction trace frictionless paths over flight times (Field::flight_time),
+// and the step then slows the velocities by e^(-kt): the prediction stays exact, and without
+// friction nothing changes.
+float World::flight(float seconds) const { return field_.flight_time(seconds); }
 
 void World::give(int body) {
   if (body < 0 || body >= int(field_.bodies.size()))

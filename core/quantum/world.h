@@ -169,7 +169,7 @@ class World {
   void realize_body(int body, float dt);
   void realize_catch(int body);
   Vec2 release_point(int body, Vec2 direction) const;
-  float flight(float seconds) const;  // see flight_time() in world_internals.h
+  float flight(float seconds) const;  // Field::flight_time
   void realize_bounce(Target wall);
   void refill(bool jitter);
   void split_round(bool jitter);

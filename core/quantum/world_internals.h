@@ -12,15 +12,6 @@
 
 namespace quantum {
 
-// Friction slows every particle alike, v(t) = v0 e^(-kt), so in t seconds a particle covers
-// v0 (1 - e^(-kt)) / k: the frictionless path, travelled for this "flight time" instead of t.
-// The step and the prediction trace frictionless paths over flight times, and the step then
-// slows the velocities by e^(-kt): the prediction stays exact, and without friction nothing
-// changes (flight time is t).
-inline float flight_time(float friction, float seconds) {
-  return friction > 0 ? float(-std::expm1(-double(friction) * seconds) / friction) : seconds;
-}
-
 struct Tally {
   double tweaked = 0, newtonian = 0, cx = 0, cy = 0;
   uint32_t count = 0;
