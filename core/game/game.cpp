@@ -320,10 +320,8 @@ void Match::handle(const Event& e) {
       break;
     }
     case EventType::Catch: {
-      const int thrower = last_toucher_;
-      type = thrower < 0 || thrower == e.actor          ? EventKind::Catch
-             : f.bodies[thrower].team == f.bodies[e.actor].team ? EventKind::Pass
-                                                              : EventKind::Intercept;
+      const FateKind kind = catch_kind(f, last_toucher_, e.actor);
+      type = kind == FateKind::Pass ? EventKind::Pass : kind == FateKind::Intercept ? EventKind::Intercept : EventKind::Catch;
       previous_toucher_ = last_toucher_;
       last_toucher_ = e.actor;
       last_touch_t_ = e.t;

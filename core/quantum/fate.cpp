@@ -173,6 +173,11 @@ void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int 
 
 }  // namespace
 
+FateKind catch_kind(const Field& field, int thrower, int catcher) {
+  if (thrower < 0 || thrower == catcher) return FateKind::Catch;
+  return field.bodies[size_t(thrower)].team == field.bodies[size_t(catcher)].team ? FateKind::Pass : FateKind::Intercept;
+}
+
 const char* to_string(FateKind kind) {
   switch (kind) {
     case FateKind::Goal: return "goal";
@@ -265,15 +270,8 @@ void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
 void World::endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) const {
   own_goals(own);
   body_kind.resize(field_.bodies.size());
-  for (size_t k = 0; k < body_kind.size(); ++k) {
-    FateKind kind = FateKind::Body;
-    if (field_.bodies[k].catches) {
-      kind = FateKind::Catch;
-      if (last_touch_ >= 0 && last_touch_ != int(k))
-        kind = field_.bodies[last_touch_].team == field_.bodies[k].team ? FateKind::Pass : FateKind::Intercept;
-    }
-    body_kind[k] = uint8_t(kind);
-  }
+  for (size_t k = 0; k < body_kind.size(); ++k)
+    body_kind[k] = uint8_t(field_.bodies[k].catches ? catch_kind(field_, last_touch_, int(k)) : FateKind::Body);
 }
 
 std::vector<Vec2> World::predict_path(size_t i, float horizon) const {

@@ -22,6 +22,9 @@ std::vector<std::string> fate_kind_names();  // every kind's name, in order
 constexpr bool at_body(FateKind k) {
   return k == FateKind::Body || k == FateKind::Catch || k == FateKind::Pass || k == FateKind::Intercept;
 }
+// The kind of body `catcher` catching a ball last touched by `thrower` (-1: nobody): Catch,
+// Pass or Intercept as above. The prediction and the match's events name catches alike by it.
+FateKind catch_kind(const Field& field, int thrower, int catcher);
 
 constexpr int kMaxPath = 4;
 
