@@ -23,14 +23,19 @@ Field read_field(Reader& r, int top) {
   lua_State* L = r.L;
   Field f;
   r.only_keys(top, "field",
-              {"name", "ball", "brownian", "max_body_speed", "walls", "goals", "spots", "bodies", "areas", "bounds"});
+              {"name", "ball", "brownian", "max_body_speed", "walls", "goals", "spots", "bodies", "areas", "bounds",
+               "gravity", "ceiling", "hoops", "boards"});
   f.name = r.string(top, "name", "field", "unnamed field", false);
   f.brownian = r.number(top, "brownian", "field", f.brownian, false);
   f.max_body_speed = r.number(top, "max_body_speed", "field", f.max_body_speed, false);
+  f.gravity = r.number(top, "gravity", "field", f.gravity, false);
+  f.ceiling = r.number(top, "ceiling", "field", f.ceiling, false);
   if (r.field(top, "ball")) {
     r.expect(LUA_TTABLE, "ball");
     const int b = lua_gettop(L);
-    r.only_keys(b, "ball", {"radius", "wall_restitution", "body_restitution", "audible_bounce", "friction"});
+    r.only_keys(b, "ball", {"radius", "wall_restitution", "body_restitution", "audible_bounce", "friction",
+                            "floor_restitution"});
+    f.floor_restitution = r.number(b, "floor_restitution", "ball", f.floor_restitution, false);
     f.ball_radius = r.number(b, "radius", "ball", f.ball_radius, false);
     f.wall_restitution = r.number(b, "wall_restitution", "ball", f.wall_restitution, false);
     f.body_restitution = r.number(b, "body_restitution", "ball", f.body_restitution, false);
@@ -41,9 +46,7 @@ Field read_field(Reader& r, int top) {
   r.array(top, "walls", "", [&](int w, const std::string& place) {
     r.only_keys(w, place, {"name", "points"});
     const std::string name = r.string(w, "name", place, "wall " + number_of(place), false);
-    int id = 0;
-    while (id < int(f.wall_names.size()) && f.wall_names[id] != name) ++id;
-    if (id == int(f.wall_names.size())) f.wall_names.push_back(name);
+    const int id = f.wall_id(name);
     if (!r.field(w, "points")) r.fail(place, "missing 'points'");
     r.expect(LUA_TTABLE, place + ".points", "a list of points");
     const int pts = lua_gettop(L);
@@ -67,6 +70,32 @@ Field read_field(Reader& r, int top) {
     goal.b = r.point_at(g, "to", place);
     f.goals.push_back(goal);
   });
+  r.array(top, "hoops", "", [&](int h, const std::string& place) {
+    r.only_keys(h, place, {"name", "team", "at", "height", "radius", "thickness", "restitution", "rim"});
+    Goal hoop;
+    hoop.team = r.string(h, "team", place, "", false);
+    hoop.name = r.string(h, "name", place, hoop.team.empty() ? "hoop " + number_of(place) : hoop.team + " hoop", false);
+    hoop.a = hoop.b = r.point_at(h, "at", place);
+    hoop.rim_height = float(r.number(h, "height", place, 0, true));
+    hoop.rim_radius = float(r.number(h, "radius", place, 0, true));
+    hoop.rim_thickness = float(r.number(h, "thickness", place, hoop.rim_thickness, false));
+    hoop.rim_restitution = float(r.number(h, "restitution", place, hoop.rim_restitution, false));
+    const std::string rim = r.string(h, "rim", place, hoop.name + " rim", false);
+    hoop.rim_wall = f.wall_id(rim);
+    f.goals.push_back(hoop);
+  });
+  r.array(top, "boards", "", [&](int b, const std::string& place) {
+    r.only_keys(b, place, {"name", "from", "to", "bottom", "top", "restitution"});
+    Board board;
+    const std::string name = r.string(b, "name", place, "board " + number_of(place), false);
+    board.wall = f.wall_id(name);
+    board.a = r.point_at(b, "from", place);
+    board.b = r.point_at(b, "to", place);
+    board.bottom = float(r.number(b, "bottom", place, 0, true));
+    board.top = float(r.number(b, "top", place, 0, true));
+    board.restitution = float(r.number(b, "restitution", place, board.restitution, false));
+    f.boards.push_back(board);
+  });
   r.array(top, "spots", "", [&](int s, const std::string& place) {
     r.only_keys(s, place, {"name", "team", "at"});
     Spot spot;
@@ -76,7 +105,7 @@ Field read_field(Reader& r, int top) {
     f.spots.push_back(spot);
   });
   r.array(top, "bodies", "", [&](int b, const std::string& place) {
-    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "role", "track"});
+    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "role", "track", "reach"});
     BodySpec body;
     body.team = r.string(b, "team", place, "", true);
     body.name = r.string(b, "name", place, body.team + " body", false);
@@ -85,6 +114,7 @@ Field read_field(Reader& r, int top) {
     body.catches = r.boolean(b, "catches", place, false);
     body.role = r.string(b, "role", place, "", false);
     body.track = r.string(b, "track", place, "", false);
+    body.reach = float(r.number(b, "reach", place, 0, false));
     f.bodies.push_back(body);
   });
   r.array(top, "areas", "", [&](int a, const std::string& place) {

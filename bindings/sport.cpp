@@ -166,7 +166,7 @@ void Sport::read_sport(int t) {
   if (r.field(t, "throws")) {
     r.expect(LUA_TTABLE, "throws");
     const int w = lua_gettop(L);
-    r.only_keys(w, "throws", {"speed", "spread", "speed_spread"});
+    r.only_keys(w, "throws", {"speed", "spread", "speed_spread", "elevation_spread"});
     throw_speed_ = r.number(w, "speed", "throws", throw_speed_, false);
     if (!(throw_speed_ > 0 && throw_speed_ <= 1000)) r.fail("throws.speed", "must be in (0, 1000] m/s");
     const double degrees = r.number(w, "spread", "throws", throw_spread_.direction / kRadiansPerDegree, false);
@@ -174,6 +174,9 @@ void Sport::read_sport(int t) {
     throw_spread_.direction = float(degrees * kRadiansPerDegree);
     throw_spread_.speed = float(r.number(w, "speed_spread", "throws", throw_spread_.speed, false));
     if (!(throw_spread_.speed >= 0 && throw_spread_.speed <= 1)) r.fail("throws.speed_spread", "must be in [0, 1]");
+    const double up = r.number(w, "elevation_spread", "throws", throw_spread_.elevation / kRadiansPerDegree, false);
+    if (!(up >= 0 && up <= 90)) r.fail("throws.elevation_spread", "must be in [0, 90] degrees");
+    throw_spread_.elevation = float(up * kRadiansPerDegree);
     lua_pop(L, 1);
   }
   if (r.field(t, "teams")) {

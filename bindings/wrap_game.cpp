@@ -169,77 +169,111 @@ int give(lua_State* L) {
   return 0;
 }
 
-// Where a throw at `to` goes: a velocity {vx, vy}, a point {x = .., y = ..}, or the name of a
-// player (where they will be when the ball arrives, as they run now), a goal or a spot.
-Vec2 throw_velocity(lua_State* L, const game::Match& m, int thrower, int to, double speed) {
+// Where a throw at `to` goes: a velocity {vx, vy} ({vx, vy, vz} with height), or at a point
+// {x = .., y = .. [, z = ..]} or the name of a player (where they will be when the ball arrives,
+// as they run now; with height, at their chest), a goal (a hoop's ring) or a spot.
+struct ThrowTarget {
+  bool velocity = false;
+  Vec3 v;      // the velocity, when given
+  Vec3 point;  // else where the ball should go
+};
+
+ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to, double speed) {
+  const Field& f = m.field();
   const Vec2 from = m.players()[size_t(thrower)].position;
-  Vec2 target;
   if (lua_istable(L, to)) {
     lua_rawgeti(L, to, 1);
     lua_rawgeti(L, to, 2);
-    const bool velocity = lua_isnumber(L, -2) && lua_isnumber(L, -1);
-    const Vec2 v{float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
-    lua_pop(L, 2);
-    if (velocity) return v;
+    lua_rawgeti(L, to, 3);
+    const bool velocity = lua_isnumber(L, -3) && lua_isnumber(L, -2);
+    const Vec3 v{float(lua_tonumber(L, -3)), float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
+    lua_pop(L, 3);
+    if (velocity) return {true, v, {}};
     lua_getfield(L, to, "x");
     lua_getfield(L, to, "y");
-    if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1))
+    lua_getfield(L, to, "z");
+    if (!lua_isnumber(L, -3) || !lua_isnumber(L, -2))
       throw ArgError("argument " + std::to_string(script_arg(L, to)) +
                      ": expected a velocity {vx, vy}, a point {x = .., y = ..} or a name");
-    target = {float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
-    lua_pop(L, 2);
-  } else {
-    const std::string name = check_string(L, to);
-    const Field& f = m.field();
-    std::vector<std::string> names;
-    bool found = false;
-    for (const game::Player& p : m.players()) {
-      names.push_back(p.name);
-      if (found || p.name != name) continue;
-      // Friction makes the ball take longer than distance / speed; one too slow ever to arrive
-      // is aimed where the player is going in a second.
-      const double flight = f.travel_time(std::hypot(p.position.x - from.x, p.position.y - from.y), speed);
-      const float lead = float(std::isfinite(flight) ? flight : 1.0);
-      target = {p.position.x + p.velocity.x * lead, p.position.y + p.velocity.y * lead}, found = true;
-    }
-    for (const Goal& g : f.goals) {
-      names.push_back(g.name);
-      if (!found && g.name == name) target = {0.5f * (g.a.x + g.b.x), 0.5f * (g.a.y + g.b.y)}, found = true;
-    }
-    for (const Spot& s : f.spots) {
-      names.push_back(s.name);
-      if (!found && s.name == name) target = s.at, found = true;
-    }
-    if (!found) throw ArgError(unknown_key(name, names, "player, goal or spot"));
+    const Vec3 p{float(lua_tonumber(L, -3)), float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
+    lua_pop(L, 3);
+    return {false, {}, p};
   }
-  const float dx = target.x - from.x, dy = target.y - from.y, d = std::hypot(dx, dy);
-  if (!(d > 0)) throw ArgError("the thrower stands on the point it throws at");
-  return {float(speed * dx / d), float(speed * dy / d)};
+  const std::string name = check_string(L, to);
+  std::vector<std::string> names;
+  for (size_t k = 0; k < m.players().size(); ++k) {
+    const game::Player& p = m.players()[k];
+    names.push_back(p.name);
+    if (p.name != name) continue;
+    // Friction makes the ball take longer than distance / speed; one too slow ever to arrive
+    // is aimed where the player is going in a second.
+    const double flight = f.travel_time(std::hypot(p.position.x - from.x, p.position.y - from.y), speed);
+    const float lead = float(std::isfinite(flight) ? flight : 1.0);
+    const float chest = f.has_height() ? kChestShare * f.reach_of(int(k)) : 0;
+    return {false, {}, {p.position.x + p.velocity.x * lead, p.position.y + p.velocity.y * lead, chest}};
+  }
+  for (const Goal& g : f.goals) {
+    names.push_back(g.name);
+    if (g.name == name) return {false, {}, {0.5f * (g.a.x + g.b.x), 0.5f * (g.a.y + g.b.y), g.rim_height}};
+  }
+  for (const Spot& s : f.spots) {
+    names.push_back(s.name);
+    if (s.name == name) return {false, {}, {s.at.x, s.at.y, f.ball_radius}};
+  }
+  throw ArgError(unknown_key(name, names, "player, goal or spot"));
 }
 
-// game.throw(player, to [, {speed =, spread =, speed_spread =}]): the player, who holds the
-// ball, throws it at `to` (see throw_velocity) at `speed` m/s (the sport's by default; a
-// velocity gives its own), scattered by `spread` degrees of direction and `speed_spread` of
-// speed (the sport's `throws` by default). `throw` is told.
+// game.throw(player, to [, {speed =, spread =, speed_spread =, elevation =, elevation_spread =}]):
+// the player, who holds the ball, throws it at `to` (see throw_target) at `speed` m/s (the
+// sport's by default; a velocity gives its own), scattered by `spread` degrees of direction and
+// `speed_spread` of speed (the sport's `throws` by default). With height the ball flies in an
+// arc through the target: the flattest one at that speed, or the one leaving at `elevation`
+// degrees (its speed follows; at a hoop 52 unless given); `elevation_spread` scatters the angle.
+// `throw` is told.
 int throw_ball(lua_State* L) {
   game::Match& m = acting(L);
+  const Field& f = m.field();
   const int player = player_index(m, check_string(L, 1));
   if (!lua_isnoneornil(L, 3)) check_table(L, 3);
   const game::MatchConfig& c = m.config();
   double speed = c.throw_speed, degrees = c.throw_spread.direction / kRadiansPerDegree, share = c.throw_spread.speed;
+  double up_spread = c.throw_spread.elevation / kRadiansPerDegree, elevation = NAN;
   if (lua_istable(L, 3)) {
     const Reader r(L);
-    r.only_keys(3, "argument 3", {"speed", "spread", "speed_spread"});
+    r.only_keys(3, "argument 3", {"speed", "spread", "speed_spread", "elevation", "elevation_spread"});
     speed = r.number(3, "speed", "argument 3", speed, false);
     degrees = r.number(3, "spread", "argument 3", degrees, false);
     share = r.number(3, "speed_spread", "argument 3", share, false);
+    elevation = r.number(3, "elevation", "argument 3", elevation, false);
+    up_spread = r.number(3, "elevation_spread", "argument 3", up_spread, false);
   }
   if (!(speed > 0 && speed <= 1000)) throw ArgError("speed must be in (0, 1000] m/s");
   if (!(degrees >= 0 && degrees <= 90)) throw ArgError("spread must be in [0, 90] degrees");
   if (!(share >= 0 && share <= 1)) throw ArgError("speed_spread must be in [0, 1]");
+  if (!(up_spread >= 0 && up_spread <= 90)) throw ArgError("elevation_spread must be in [0, 90] degrees");
+  if (!std::isnan(elevation) && !(elevation > 0 && elevation < 90)) throw ArgError("elevation must be in (0, 90) degrees");
+  if (!std::isnan(elevation) && !f.has_height()) throw ArgError("elevation needs a field with height (gravity)");
   if (lua_isnoneornil(L, 2)) throw ArgError("argument 2: expected where to throw");
-  const Vec2 velocity = throw_velocity(L, m, player, 2, speed);
-  const ThrowSpread spread{float(degrees * kRadiansPerDegree), float(share)};
+  const ThrowTarget to = throw_target(L, m, player, 2, speed);
+  const ThrowSpread spread{float(degrees * kRadiansPerDegree), float(share), float(up_spread * kRadiansPerDegree)};
+  Vec3 velocity = to.v;
+  if (!to.velocity) {
+    const Vec2 p = m.players()[size_t(player)].position;
+    if (!(std::hypot(to.point.x - p.x, to.point.y - p.y) > 0)) throw ArgError("the thrower stands on the point it throws at");
+    if (!f.has_height()) {
+      const float dx = to.point.x - p.x, dy = to.point.y - p.y, d = std::hypot(dx, dy);
+      velocity = {float(speed * dx / d), float(speed * dy / d), 0};
+    } else {
+      const Vec3 hand{p.x, p.y, m.world().reach(player)};
+      const bool hoop = lua_type(L, 2) == LUA_TSTRING && m.field().goals.end() !=
+          std::find_if(f.goals.begin(), f.goals.end(), [&](const Goal& g) { return g.hoop() && g.name == lua_tostring(L, 2); });
+      if (std::isnan(elevation) && hoop) elevation = kShotElevation / kRadiansPerDegree;
+      velocity = std::isnan(elevation) ? f.throw_at(hand, to.point, float(speed))
+                                       : f.arc_velocity(hand, to.point, float(elevation * kRadiansPerDegree));
+      if (velocity.x == 0 && velocity.y == 0 && velocity.z == 0)
+        throw ArgError("no throw at " + std::to_string(elevation) + " degrees reaches that point: throw higher");
+    }
+  }
   m.throw_ball(player, velocity, spread);
   return 0;
 }

@@ -285,13 +285,13 @@ int give(lua_State* L) {
   return 0;
 }
 
-// s:throw(player, vx, vy): the holder throws, as from its accelerometer: the sport's spread
-// scatters the cloud, and its rules hear the throw.
+// s:throw(player, vx, vy [, vz]): the holder throws, as from its accelerometer (vz upward, on a
+// field with height): the sport's spread scatters the cloud, and its rules hear the throw.
 int throw_ball(lua_State* L) {
   Scenario& s = self(L);
   const int k = body_index(s, check_string(L, 2));
   if (s.match().holder() != k) throw ArgError(check_string(L, 2) + " does not hold the ball");
-  s.match().throw_ball(k, {float(check_number(L, 3)), float(check_number(L, 4))});
+  s.match().throw_ball(k, {float(check_number(L, 3)), float(check_number(L, 4)), float(opt_number(L, 5, 0))});
   s.session->tell();
   return 0;
 }

@@ -167,9 +167,9 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
       const size_t g = ranked_[r];
       const bool stays = report.groups[g].fate.kind == FateKind::Field;
       const cv::Scalar c = fate_colour(report.groups[g].fate, shade[g]) * (stays ? 0.6 : 1.0);
-      const std::vector<Vec2> path = world.predict_path(report.groups[g].representative, report.horizon);
+      const std::vector<Vec3> path = world.predict_path(report.groups[g].representative, report.horizon);
       for (size_t k = 1; k < path.size(); ++k)
-        cv::line(img, px(path[k - 1]), px(path[k]), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
+        cv::line(img, px({path[k - 1].x, path[k - 1].y}), px({path[k].x, path[k].y}), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
     }
   }
   // A court's lines are its bounds; its areas (goal areas) are outlined in their team's colour.

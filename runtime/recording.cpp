@@ -17,7 +17,10 @@ const char* engine_version() { return QUANTUM_VERSION; }
 
 namespace {
 
-constexpr char kMagic[] = "QGFRAMES2\n";
+// QGFRAMES3: a throw has its upward speed (fields with height). QGFRAMES2 recordings replay
+// with none; QGFRAMES1 (no throws at all) are refused.
+constexpr char kMagic[] = "QGFRAMES3\n";
+constexpr char kFlatThrows[] = "QGFRAMES2\n";
 
 // FNV-1a of a file's bytes: enough to tell a changed file from the recorded one.
 std::string fingerprint(const fs::path& file) {
@@ -110,7 +113,7 @@ void Recorder::frame(PlayerSource::Status status, std::span<const BodyInput> bod
   frames_.write(reinterpret_cast<const char*>(&n_throws), sizeof n_throws);
   for (const game::Throw& t : throws) {
     const int32_t player = t.player;
-    const float v[2] = {t.velocity.x, t.velocity.y};
+    const float v[3] = {t.velocity.x, t.velocity.y, t.up};
     frames_.write(reinterpret_cast<const char*>(&player), sizeof player);
     frames_.write(reinterpret_cast<const char*>(v), sizeof v);
   }
@@ -189,7 +192,9 @@ Replay open_replay(const fs::path& dir) {
 RecordedPlayers::RecordedPlayers(const fs::path& dir, const fs::path& work, size_t bodies)
     : dir_(dir), work_(work), frames_(dir / "frames.bin", std::ios::binary) {
   char magic[sizeof kMagic - 1] = {};
-  if (!frames_.read(magic, sizeof magic) || std::string(magic, sizeof magic) != kMagic) {
+  const bool read = bool(frames_.read(magic, sizeof magic));
+  if (read && std::string(magic, sizeof magic) == kFlatThrows) throw_floats_ = 2;
+  else if (!read || std::string(magic, sizeof magic) != kMagic) {
     // Recordings before throws were recorded (QGFRAMES1) lack each frame's throws.
     const bool older = std::string(magic, 8) == std::string(kMagic, 8);
     throw std::runtime_error((dir / "frames.bin").string() +
@@ -218,11 +223,12 @@ PlayerSource::Status RecordedPlayers::advance(double, const game::Match&, bool) 
   throws_.resize(n_throws);
   for (game::Throw& t : throws_) {
     int32_t player = 0;
-    float v[2];
-    if (!frames_.read(reinterpret_cast<char*>(&player), sizeof player) || !frames_.read(reinterpret_cast<char*>(v), sizeof v) ||
-        player < 0 || size_t(player) >= bodies_.size())
+    float v[3] = {0, 0, 0};
+    if (!frames_.read(reinterpret_cast<char*>(&player), sizeof player) ||
+        !frames_.read(reinterpret_cast<char*>(v), std::streamsize(throw_floats_ * sizeof(float))) || player < 0 ||
+        size_t(player) >= bodies_.size())
       throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is damaged");
-    t = {player, {v[0], v[1]}};
+    t = {player, {v[0], v[1]}, v[2]};
   }
   ++frame_;
   return Status(code);

@@ -99,6 +99,7 @@ class RecordedPlayers final : public PlayerSource {
   std::vector<BodyInput> bodies_;
   std::vector<game::Throw> throws_;
   uint64_t frame_ = 0;  // frames read so far
+  int throw_floats_ = 3;  // per throw: vx, vy and up (2 in QGFRAMES2 recordings, made before height)
 };
 
 }  // namespace quantum::runtime

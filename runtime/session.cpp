@@ -152,7 +152,7 @@ bool Session::frame() {
     if (!paused_) {
       // A throw goes from the player who holds the ball; anyone else's arm swings at nothing.
       for (const game::Throw& t : players_->throws())
-        if (t.player == m.holder()) m.throw_ball(t.player, t.velocity);
+        if (t.player == m.holder()) m.throw_ball(t.player, {t.velocity.x, t.velocity.y, t.up});
       m.step(players_->bodies());
       if (decisions_->stream() && m.decision()) write_decision(*decisions_->stream(), *m.decision(), m.decision_fates(), m.field());
     }

@@ -65,6 +65,70 @@ void BM_Box2DStep(benchmark::State& state) { step_scene(state, true); }
 // re-pairs the bodies that left their fattened boxes. The speed ratio is taken against this.
 void BM_Box2DStepQuiet(benchmark::State& state) { step_scene(state, true, false); }
 
+// Fields with height: a jump shot from 6 m on the basketball half court, with a person's scatter,
+// six players standing (two under the basket). Each step moves the whole arc-flying cloud; near
+// the ring, the board and the floor particles take the exact search, and the rim, the board, the
+// floor and the players draw decisions as in play. A shot that ended is thrown again untimed.
+struct Shot {
+  Field field = lua::load_field(QUANTUM_SOURCE_DIR "/rules/basketball");
+  std::vector<BodyInput> players;
+  Shot() {
+    for (size_t k = 0; k < field.bodies.size(); ++k) players.push_back({field.bodies[k].start, {0, 0}});
+    players[0].position = {-4, 5.6f};                                   // the shooter
+    players[1].position = {1.2f, 2.3f}, players[3].position = {-1.2f, 2.4f};  // under the basket
+  }
+  void shoot(World& world) const {
+    std::vector<Event> events;
+    world.give(0);
+    const Goal& ring = field.goals[0];
+    const Vec3 hand{players[0].position.x, players[0].position.y, world.reach(0)};
+    world.release(0, field.arc_velocity(hand, {ring.a.x, ring.a.y, ring.rim_height}, kShotElevation),
+                  ThrowSpread{0.03f, 0.04f, 0.04f}, events);
+  }
+};
+
+void BM_Step3D(benchmark::State& state) {
+  const Shot shot;
+  const uint32_t n = uint32_t(state.range(0));
+  WorldConfig config;
+  config.particles = n;
+  World world(shot.field, config);
+  world.place_bodies(shot.players);
+  shot.shoot(world);
+  std::vector<Event> events;
+  int64_t particle_steps = 0, realized = 0;
+  for (auto _ : state) {
+    realized += int64_t(events.size());
+    events.clear();
+    particle_steps += int64_t(world.cloud().size());
+    world.step(1.0f / 60, shot.players, events);
+    if (!world.live()) {
+      state.PauseTiming();
+      shot.shoot(world);
+      state.ResumeTiming();
+    }
+  }
+  state.counters["particle_steps/s"] = benchmark::Counter(double(particle_steps), benchmark::Counter::kIsRate);
+  state.counters["events/step"] = benchmark::Counter(double(realized), benchmark::Counter::kAvgIterations);
+}
+
+// The 3D fate report of that shot as it leaves the hand: every particle traced through its arcs,
+// bounces and catches for 3 s.
+void BM_FateReport3D(benchmark::State& state) {
+  const Shot shot;
+  WorldConfig config;
+  config.particles = uint32_t(state.range(0));
+  World world(shot.field, config);
+  world.place_bodies(shot.players);
+  shot.shoot(world);
+  FateReport report;
+  for (auto _ : state) {
+    world.predict(report, 3.0f);
+    benchmark::DoNotOptimize(report.groups.data());
+  }
+  state.counters["groups"] = double(report.groups.size());
+}
+
 void BM_FateReport(benchmark::State& state) {
   const Field& field = airhockey();
   const uint32_t n = uint32_t(state.range(0));
@@ -198,6 +262,9 @@ BENCHMARK(BM_Step)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMicrosecon
 BENCHMARK(BM_StepSilentWalls)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepSilentWalls)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Step3D)->Arg(1'000)->Iterations(3000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step3D)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FateReport3D)->Arg(1'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RealTimePacing)->Iterations(1)->Unit(benchmark::kMillisecond);

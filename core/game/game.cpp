@@ -144,7 +144,7 @@ void Match::hand_over(int k) {
   tell_rules(events_.size() - 1);
 }
 
-void Match::throw_ball(int k, Vec2 velocity, std::optional<ThrowSpread> spread) {
+void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread) {
   if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
   thrown_.clear();
   world_.release(k, velocity, spread.value_or(config_.throw_spread), thrown_);

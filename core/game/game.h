@@ -173,10 +173,11 @@ class Match {
   // event is told when k gets it. Throws std::invalid_argument for a player who does not catch
   // (field.lua: catches = true) or a delay outside [0, 60] s.
   void give(int k, double delay = 0);
-  // Player k, who holds the ball, throws it at `velocity` (m/s), scattered by `spread` (the
+  // Player k, who holds the ball, throws it at `velocity` (m/s; upward velocity.z only on a field
+  // with height), scattered by `spread` (the
   // sport's when none): a `throw` event is told. Throws std::invalid_argument when k does not
   // hold the ball, or for a bad velocity or spread.
-  void throw_ball(int k, Vec2 velocity, std::optional<ThrowSpread> spread = std::nullopt);
+  void throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread = std::nullopt);
   void finish(const std::string& winner);  // "" for a draw
   // Sets player k's own handicap (> 0) from now on: a sport's rules may change it during a match.
   void set_handicap(int k, double handicap);

@@ -239,6 +239,26 @@ Vec2 TeamBots::pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) {
   return float(speed * (1 + 0.05 * noise(b.rng))) * rotated(unit(to - from), b.skill.throw_noise * noise(b.rng));
 }
 
+// On a field with height: the throw `velocity` (its heading and the thrower's error in it) as an
+// arc from the hand through `aim`: at a hoop a shot dropping in at kShotElevation, give or take
+// the thrower's aim; to a teammate the flattest throw at that speed, arriving at chest height.
+Throw TeamBots::arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, bool at_goal) {
+  const Goal* hoop = at_goal && b.their_goal >= 0 && field_.goals[size_t(b.their_goal)].hoop()
+                         ? &field_.goals[size_t(b.their_goal)] : nullptr;
+  const Vec3 hand{from.x, from.y, field_.reach_of(b.body)};
+  const float speed = length(velocity);
+  Vec3 v = hoop ? field_.arc_velocity(hand, {aim.x, aim.y, hoop->rim_height}, kShotElevation)
+                : field_.throw_at(hand, {aim.x, aim.y, kChestShare * field_.reach_of(b.body)}, speed);
+  if (hoop) {
+    // A shot's length is its hardest part: the thrower's error in speed as in direction.
+    std::normal_distribution<double> noise(0, 1);
+    const float s = float(1 + 0.5 * b.skill.throw_noise * noise(b.rng));
+    v = {v.x * s, v.y * s, v.z * s};
+  }
+  const float flat = std::hypot(v.x, v.y);
+  return {b.body, flat > 0 ? flat / std::max(speed, 1e-6f) * velocity : velocity, v.z};
+}
+
 // The holder steps toward the goal it attacks (if any), up to a shooting distance, and when its
 // moment comes shoots or passes.
 Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
@@ -252,20 +272,23 @@ Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   const bool forced = t >= b.got_ball + kMostHold - b.skill.reaction;
   Vec2 aim;
   Vec2 velocity;
+  bool at_goal = false;
   if (me.aim.kind == Aim::Kind::Point || me.aim.kind == Aim::Kind::Goal) {
     aim = me.aim.kind == Aim::Kind::Point ? me.aim.point : centre(field_.goals[size_t(me.aim.index)]);
     velocity = pass_velocity(b, me.position, aim, shot);
   } else if (open_shot(b, players, aim)) {
     std::normal_distribution<double> noise(0, b.skill.throw_noise);
     velocity = float(shot) * rotated(unit(aim - me.position), noise(b.rng));
+    at_goal = true;
   } else if (open_teammate(b, players, aim, forced) >= 0) {
     velocity = pass_velocity(b, me.position, aim, shot);
   } else if (forced) {  // nobody to pass to at all (a team of one): at the goal, from wherever
     velocity = pass_velocity(b, me.position, goal, shot);
+    aim = goal, at_goal = b.their_goal >= 0;
   } else {
     return step;  // nobody open yet: look again next frame
   }
-  throws_.push_back({b.body, velocity});
+  throws_.push_back(field_.has_height() ? arc(b, me.position, aim, velocity, at_goal) : Throw{b.body, velocity});
   b.got_ball = -1;
   return step;
 }

@@ -88,6 +88,7 @@ class TeamBots final : public SimulatedPlayers {
   float shooting_distance(const Bot& b) const;
   int open_teammate(Bot& b, std::span<const Player> players, Vec2& aim, bool forced);
   Vec2 pass_velocity(Bot& b, Vec2 from, Vec2 to, double most);
+  Throw arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, bool at_goal);
   float clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to, float speed, bool keepers) const;
   Vec2 allowed(const Bot& b, Vec2 p) const;
   Vec2 holder_position(const Bot& b, std::span<const Player> players) const;

@@ -16,6 +16,7 @@ struct BodyMotion {
   Vec2 from, to;  // positions at the start and the end of the step
   Vec2 velocity;  // the tracked velocity, handed to the ball on contact
   float radius;
+  float top = 0;  // fields with height: how high the body reaches (its reach, raised by a jump)
 };
 
 struct StepContext {
@@ -53,5 +54,7 @@ class Backend {
 };
 
 std::unique_ptr<Backend> make_fast_backend(const Field& field);
+// The step of a field with height (Field::has_height()).
+std::unique_ptr<Backend> make_height_backend(const Field& field);
 
 }  // namespace quantum

@@ -2,12 +2,13 @@
 
 namespace quantum {
 
-void Cloud::reserve(size_t n) {
+void Cloud::reserve(size_t n, bool height) {
   x.reserve(n), y.reserve(n), vx.reserve(n), vy.reserve(n), w.reserve(n), tw.reserve(n);
+  if (height) z.reserve(n), vz.reserve(n);
 }
 
 void Cloud::clear() {
-  x.clear(), y.clear(), vx.clear(), vy.clear(), w.clear(), tw.clear();
+  x.clear(), y.clear(), vx.clear(), vy.clear(), w.clear(), tw.clear(), z.clear(), vz.clear();
   mass = tmass = 0;
 }
 
@@ -17,7 +18,15 @@ void Cloud::push(float px, float py, float pvx, float pvy, double pw, double ptw
   mass += pw, tmass += ptw;
 }
 
-void Cloud::push_from(const Cloud& o, size_t i) { push(o.x[i], o.y[i], o.vx[i], o.vy[i], o.w[i], o.tw[i]); }
+void Cloud::push(Vec3 p, Vec3 v, double pw, double ptw) {
+  push(p.x, p.y, v.x, v.y, pw, ptw);
+  z.push_back(p.z), vz.push_back(v.z);
+}
+
+void Cloud::push_from(const Cloud& o, size_t i) {
+  push(o.x[i], o.y[i], o.vx[i], o.vy[i], o.w[i], o.tw[i]);
+  if (o.tall()) z.push_back(o.z[i]), vz.push_back(o.vz[i]);
+}
 
 void Cloud::remove_sorted(const std::vector<uint32_t>& indices) {
   size_t last = size();
@@ -34,8 +43,10 @@ void Cloud::remove_sorted(const std::vector<uint32_t>& indices) {
     mass -= w[i], tmass -= tw[i];
     --last;
     x[i] = x[last], y[i] = y[last], vx[i] = vx[last], vy[i] = vy[last], w[i] = w[last], tw[i] = tw[last];
+    if (tall()) z[i] = z[last], vz[i] = vz[last];
   }
   x.resize(last), y.resize(last), vx.resize(last), vy.resize(last), w.resize(last), tw.resize(last);
+  if (tall()) z.resize(last), vz.resize(last);
   if (last == 0) mass = tmass = 0;
 }
 

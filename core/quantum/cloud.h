@@ -6,13 +6,18 @@
 #include <cstdint>
 #include <vector>
 
+#include "quantum/field.h"
+
 namespace quantum {
 
 // Weights are kept unnormalized: `mass` is the sum of `w`, so removing particles costs
 // O(removed) instead of a pass over the whole cloud. weight(i) is the normalized value.
 // `tw` is the tweaked weight (w times the fate factors), `tmass` its sum; decisions draw from it.
+// On a field with height every particle also has `z` (its centre above the floor) and `vz`;
+// on a flat field both stay empty, and the flat step never touches them.
 struct Cloud {
   std::vector<float> x, y, vx, vy;
+  std::vector<float> z, vz;
   std::vector<double> w, tw;
   double mass = 0, tmass = 0;
 
@@ -21,9 +26,12 @@ struct Cloud {
   double weight(size_t i) const { return w[i] / mass; }
   double tweaked(size_t i) const { return tw[i] / tmass; }
 
-  void reserve(size_t n);
+  bool tall() const { return !z.empty(); }
+
+  void reserve(size_t n, bool height = false);
   void clear();
   void push(float px, float py, float pvx, float pvy, double pw, double ptw);
+  void push(Vec3 p, Vec3 v, double pw, double ptw);
   void push_from(const Cloud& other, size_t i);
   // Removes the particles whose indices are listed (ascending, unique) by moving the last live
   // particles into the holes: O(removed), and the same order on every run.

@@ -47,7 +47,7 @@ bool box_is_clear(const Field& f, const Box& box, float r) {
     if (segment_touches_box(s.a, s.b, near_walls)) return false;
   const Box near_goals = grown(box, kMargin);
   for (const Goal& gl : f.goals)
-    if (segment_touches_box(gl.a, gl.b, near_goals)) return false;
+    if (!gl.hoop() && segment_touches_box(gl.a, gl.b, near_goals)) return false;
   return true;
 }
 
@@ -94,7 +94,10 @@ Geometry::Geometry(const Field& f)
   }
   Vec2 centre{0, 0};
   for (const Spot& s : f.spots) centre.x += s.at.x / f.spots.size(), centre.y += s.at.y / f.spots.size();
-  for (const Goal& gl : f.goals) {
+  for (size_t id = 0; id < f.goals.size(); ++id) {
+    const Goal& gl = f.goals[id];
+    if (gl.hoop()) continue;
+    goal_id.push_back(int(id));
     const float dx = gl.b.x - gl.a.x, dy = gl.b.y - gl.a.y, l = norm(dx, dy);
     float gnx_ = -dy / l, gny_ = dx / l;
     // The goal's inside is the side away from the respawn spots.
@@ -135,7 +138,7 @@ void Geometry::build_grid(const Field& f) {
         if (wall_zone.contains(cap_x[k], cap_y[k])) cell_items.push_back(uint16_t(k));
       cell_start.push_back(uint32_t(cell_items.size()));
       for (size_t k = 0; k < gax.size(); ++k)
-        if (segment_touches_box(f.goals[k].a, f.goals[k].b, goal_zone)) cell_items.push_back(uint16_t(k));
+        if (segment_touches_box(f.goals[goal_id[k]].a, f.goals[goal_id[k]].b, goal_zone)) cell_items.push_back(uint16_t(k));
       cell_start.push_back(uint32_t(cell_items.size()));
       cell_near_bounds.push_back(goal_zone.x0 < bounds.x0 || goal_zone.y0 < bounds.y0 || goal_zone.x1 > bounds.x1 ||
                                  goal_zone.y1 > bounds.y1);
@@ -198,7 +201,7 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
     const size_t k = near.goals[q];
     if (g.gx1[k] < bx0 || g.gx0[k] > bx1 || g.gy1[k] < by0 || g.gy0[k] > by1) continue;
     const float dt = goal_time(goal_line(g, k), m.x, m.y, m.ux, m.uy, span);
-    if (dt < best.dt) best = {dt, HitKind::Goal, int(k), g.gnx[k], g.gny[k]};
+    if (dt < best.dt) best = {dt, HitKind::Goal, g.goal_id[k], g.gnx[k], g.gny[k]};
   }
   if (near.near_bounds) {
     const float dt = bounds_time(g.bounds, m.x, m.y, m.ux, m.uy, span);
@@ -268,7 +271,7 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     }
   }
   for (size_t k = 0; k < g.gax.size(); ++k) {
-    const int32_t c = hit_code(HitKind::Goal, int(k));
+    const int32_t c = hit_code(HitKind::Goal, g.goal_id[k]);
     const SegmentParams s = goal_line(g, k);
     // Each iteration reads and writes only particle i.
 #pragma GCC ivdep

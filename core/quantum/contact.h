@@ -9,11 +9,14 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
+#include "quantum/backend.h"
 #include "quantum/field.h"
 
 namespace quantum::detail {
@@ -39,6 +42,7 @@ struct Geometry {
   std::vector<int> cap_wall;                       // the wall each end point belongs to
   std::vector<float> gax, gay, gtx, gty, gnx, gny, glen;  // goal lines; normal points into the goal
   std::vector<float> gx0, gy0, gx1, gy1;
+  std::vector<int> goal_id;  // the field's goal each line is (hoops are goals without a line)
   Box bounds;
   // No wall, goal line or bound within reach of a ball centre inside this box: a particle that
   // starts and ends a step inside it needs no contact search.
@@ -74,6 +78,7 @@ struct BodyPath {
   float stop;
   float vx, vy;  // velocity given to the ball on contact while moving
   float radius;
+  float top = kInf;  // fields with height: how high the body reaches
 };
 
 [[gnu::always_inline]] inline float body_x(const BodyPath& b, float t) { return b.x + b.ux * std::min(t, b.stop); }
@@ -201,6 +206,47 @@ struct Outcome {
   HitKind kind;  // None, Body, Goal, Out or Crushed
   int index;
 };
+
+// The step loops' shared passes over one block of m particles (start ox, oy; end x, y from
+// `base`), written for the vectorizer. Flags every particle whose step can reach a wormhole mouth.
+[[gnu::always_inline]] inline void flag_near_mouths(const Geometry& g, const float* __restrict ox, const float* __restrict oy,
+                                                   const float* __restrict x, const float* __restrict y, int base, int m,
+                                                   uint8_t* __restrict flag) {
+  for (size_t k = 0; k < g.mx.size(); ++k) {
+    const float cx = g.mx[k], cy = g.my[k], reach = g.mr[k] + 1e-3f;
+#pragma GCC ivdep
+    for (int j = 0; j < m; ++j) {
+      const int i = base + j;
+      const float travel = std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]);
+      const float qx = ox[j] - cx, qy = oy[j] - cy, around = reach + travel;
+      flag[j] |= uint8_t(qx * qx + qy * qy < around * around);
+    }
+  }
+}
+
+// The flagged particles of a block, eight flags at a time: most words are all zero, and a
+// branch per particle would mispredict constantly. `flag` has room for m rounded up to 8.
+inline int collect_flagged(uint8_t* flag, int m, int16_t* slow) {
+  std::fill(flag + m, flag + ((m + 7) & ~7), uint8_t(0));
+  int flagged = 0;
+  for (int w = 0; w < m; w += 8) {
+    uint64_t word;
+    std::memcpy(&word, flag + w, 8);
+    for (word &= 0x0101010101010101ull; word; word &= word - 1) slow[flagged++] = int16_t(w + std::countr_zero(word) / 8);
+  }
+  return flagged;
+}
+
+// What a backend reports for a particle's outcome.
+inline Target target_of(Outcome out) {
+  switch (out.kind) {
+    case HitKind::Body: return {TargetKind::Body, uint16_t(out.index)};
+    case HitKind::Goal: return {TargetKind::Goal, uint16_t(out.index)};
+    case HitKind::Out: return {TargetKind::Out, 0};
+    case HitKind::Wall: return {TargetKind::Wall, uint16_t(out.index)};
+    default: return {TargetKind::Crushed, 0};
+  }
+}
 
 // Pushes m out of walls it overlaps. Bodies are at their positions at time t. With
 // `push_from_bodies` a particle inside a body is moved to its surface; otherwise it is reported

@@ -3,9 +3,7 @@
 // followed by an exact swept contact search only for the few particles near a wall, a goal line
 // or a body. See docs/PERFORMANCE.md for what it reaches.
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstring>
 
 #include "quantum/backend.h"
 #include "quantum/contact.h"
@@ -51,7 +49,7 @@ class FastBackend final : public Backend {
     tracer_.begin(paths_.data(), nb, dt);
     auto finish = [&](uint32_t i, const detail::Mover& m, detail::Outcome out) {
       x[i] = m.x, y[i] = m.y, vx[i] = m.vx, vy[i] = m.vy;
-      if (out.kind != detail::HitKind::None) contacts.push_back({i, target_of(out)});
+      if (out.kind != detail::HitKind::None) contacts.push_back({i, detail::target_of(out)});
     };
 
     alignas(64) float ox[kBlock], oy[kBlock];
@@ -92,26 +90,8 @@ class FastBackend final : public Backend {
         }
       }
       // Wormhole mouths may lie inside the safe box: a particle whose step can reach one is searched.
-      for (size_t k = 0; k < g.mx.size(); ++k) {
-        const float cx = g.mx[k], cy = g.my[k], reach = g.mr[k] + 1e-3f;
-#pragma GCC ivdep
-        for (int j = 0; j < m; ++j) {
-          const int i = base + j;
-          const float travel = std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]);
-          const float qx = ox[j] - cx, qy = oy[j] - cy, around = reach + travel;
-          flag[j] |= uint8_t(qx * qx + qy * qy < around * around);
-        }
-      }
-      // Collect the flagged particles eight flags at a time: most words are all zero, and a branch
-      // per particle would mispredict constantly.
-      std::fill(flag + m, flag + ((m + 7) & ~7), uint8_t(0));
-      int flagged = 0;
-      for (int w = 0; w < m; w += 8) {
-        uint64_t word;
-        std::memcpy(&word, flag + w, 8);
-        for (word &= 0x0101010101010101ull; word; word &= word - 1)
-          slow[flagged++] = int16_t(w + std::countr_zero(word) / 8);
-      }
+      detail::flag_near_mouths(g, ox, oy, x, y, base, m, flag);
+      const int flagged = detail::collect_flagged(flag, m, slow);
       for (int q = 0; q < flagged; ++q) {
         const int j = slow[q], i = base + j;
         const detail::Mover mv{ox[j], oy[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i]};
@@ -144,15 +124,6 @@ class FastBackend final : public Backend {
     return false;
   }
 
-  static Target target_of(detail::Outcome out) {
-    switch (out.kind) {
-      case detail::HitKind::Body: return {TargetKind::Body, uint16_t(out.index)};
-      case detail::HitKind::Goal: return {TargetKind::Goal, uint16_t(out.index)};
-      case detail::HitKind::Out: return {TargetKind::Out, 0};
-      case detail::HitKind::Wall: return {TargetKind::Wall, uint16_t(out.index)};
-      default: return {TargetKind::Crushed, 0};
-    }
-  }
 
   detail::Geometry geometry_;
   detail::StepTracer tracer_{geometry_};

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "height.h"
 #include "quantum/contact.h"
 #include "quantum/noise.h"
 #include "quantum/world.h"
@@ -95,6 +96,40 @@ Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int n
     if (ends_at(f, hit.kind, hit.index, ends)) return f;
     if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);  // a wormhole is no wall
     detail::resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
+    ++contact;
+  }
+  return f;
+}
+
+// With height: particle i at the start of the prediction (the drift is horizontal only).
+detail::Mover3 start_of3(const Cloud& c, size_t i, const NextStep& next) {
+  const detail::Mover m = start_of(c, i, next);
+  return {m.x, m.y, c.z[i], m.ux, m.uy, m.vx, m.vy, c.vz[i]};
+}
+
+// trace_fate on a field with height: `fly` sees every free flight (its start and length), so a
+// picture can draw the arcs between the contacts.
+template <class Fly>
+Fate trace_fate3(const detail::Geometry& g, const detail::Sky& sky, const detail::BodyPath* bodies, int nb,
+                 const Endings& ends, detail::Mover3 m, float drift_end, float horizon, Fly&& fly) {
+  Fate f;
+  float t = 0, end = drift_end > 0 && drift_end < horizon ? drift_end : horizon;
+  for (int contact = 0; contact < kMaxFateContacts;) {
+    const detail::Hit3 hit = detail::next_hit3(g, sky, bodies, nb, m, t, end, true);
+    if (hit.kind == detail::HitKind::None) {
+      fly(m, end - t);
+      m = detail::advanced(sky, m, end - t);
+      t = end;
+      if (end == horizon) return f;
+      m.ux = m.vx, m.uy = m.vy, end = horizon;  // the drift is spent: on without noise
+      continue;
+    }
+    fly(m, hit.dt);
+    m = detail::advanced(sky, m, hit.dt);
+    t += hit.dt;
+    if (ends_at(f, hit.kind, hit.index, ends)) return f;
+    if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);
+    detail::resolve3(g, sky, bodies, hit, t, m);
     ++contact;
   }
   return f;
@@ -263,7 +298,7 @@ void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
   const float sweep = stop > 0 ? config_.body_lookahead / stop : 1.0f;
   for (size_t k = 0; k < bodies.size(); ++k) {
     const Vec2 p = body_pos_[k], v = body_vel_[k];
-    bodies[k] = {p.x, p.y, v.x * sweep, v.y * sweep, stop, v.x, v.y, field_.bodies[k].radius};
+    bodies[k] = {p.x, p.y, v.x * sweep, v.y * sweep, stop, v.x, v.y, field_.bodies[k].radius, body_top_[k]};
   }
 }
 
@@ -274,17 +309,32 @@ void World::endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) 
     body_kind[k] = uint8_t(field_.bodies[k].catches ? catch_kind(field_, last_touch_, int(k)) : FateKind::Body);
 }
 
-std::vector<Vec2> World::predict_path(size_t i, float horizon) const {
+std::vector<Vec3> World::predict_path(size_t i, float horizon) const {
   check_horizon(horizon);
   if (i >= cloud_.size()) throw std::out_of_range("no live particle " + std::to_string(i));
   std::vector<detail::BodyPath> bodies;
   predicted_bodies(bodies);
   std::vector<uint8_t> body_kind, own;
   endings(body_kind, own);
-  std::vector<Vec2> path;
+  std::vector<Vec3> path;
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
-  trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), {body_kind.data(), own.data()},
-             start_of(cloud_, i, next), next.dt, flight(horizon), [&](float px, float py) { path.push_back({px, py}); });
+  const Endings ends{body_kind.data(), own.data()};
+  if (!cloud_.tall()) {
+    trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), ends, start_of(cloud_, i, next), next.dt,
+               flight(horizon), [&](float px, float py) { path.push_back({px, py, 0}); });
+    return path;
+  }
+  // An arc is drawn as chords of at most this long in time: smooth at any picture's scale.
+  constexpr float kChord = 0.02f;
+  const detail::Sky& sky = internals_->sky;
+  trace_fate3(internals_->geometry, sky, bodies.data(), int(bodies.size()), ends, start_of3(cloud_, i, next), next.dt,
+              horizon, [&](const detail::Mover3& m, float seconds) {
+                const int pieces = std::max(1, int(std::ceil(seconds / kChord)));
+                for (int k = path.empty() ? 0 : 1; k <= pieces; ++k) {
+                  const detail::Mover3 at = detail::advanced(sky, m, seconds * float(k) / float(pieces));
+                  path.push_back({at.x, at.y, at.z});
+                }
+              });
   return path;
 }
 
@@ -304,9 +354,16 @@ void World::predict(FateReport& report, float horizon) const {
   report.groups.clear();
   report.group_of.resize(cloud_.size());
   s.fates.assign(cloud_.size(), Fate{});
-  trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), {s.body_kind.data(), s.own_goal.data()},
-              cloud_, next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_)), flight(horizon),
-              s.flying, s.later, s.fates);
+  const Endings ends{s.body_kind.data(), s.own_goal.data()};
+  const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
+  if (cloud_.tall()) {
+    for (size_t i = 0; i < cloud_.size(); ++i)
+      s.fates[i] = trace_fate3(s.geometry, s.sky, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends,
+                               start_of3(cloud_, i, next), next.dt, horizon, [](const detail::Mover3&, float) {});
+  } else {
+    trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next, flight(horizon),
+                s.flying, s.later, s.fates);
+  }
   s.index.clear();
   for (size_t i = 0; i < cloud_.size(); ++i) {
     const Fate& f = s.fates[i];

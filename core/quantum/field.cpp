@@ -31,6 +31,38 @@ double Field::travel_time(double distance, double speed) const {
                                      : std::numeric_limits<double>::infinity();
 }
 
+Vec3 Field::arc_velocity(Vec3 from, Vec3 to, float elevation) const {
+  const float dx = to.x - from.x, dy = to.y - from.y, d = std::hypot(dx, dy), rise = to.z - from.z;
+  const float c = std::cos(elevation), s = std::sin(elevation);
+  // z(t) = s v t - g t^2 / 2 at t = d / (c v): v^2 = g d^2 / (2 c^2 (d tan - rise)).
+  const float above = d * s / c - rise;
+  if (!(d > 0 && c > 0 && above > 0)) return {};
+  const float v = std::sqrt(gravity * d * d / (2 * c * c * above));
+  return {v * c * dx / d, v * c * dy / d, v * s};
+}
+
+Vec3 Field::throw_at(Vec3 from, Vec3 to, float speed) const {
+  const float dx = to.x - from.x, dy = to.y - from.y, d = std::hypot(dx, dy), rise = to.z - from.z;
+  if (!(d > 0)) return {0, 0, speed};
+  if (!(gravity > 0)) return {speed * dx / d, speed * dy / d, 0};
+  const float v2 = speed * speed, disc = v2 * v2 - gravity * (gravity * d * d + 2 * rise * v2);
+  const float elevation = disc >= 0 ? std::atan((v2 - std::sqrt(disc)) / (gravity * d)) : 0.785398f;
+  const float c = std::cos(elevation);
+  return {speed * c * dx / d, speed * c * dy / d, speed * std::sin(elevation)};
+}
+
+int Field::wall_id(const std::string& wall) {
+  for (size_t i = 0; i < wall_names.size(); ++i)
+    if (wall_names[i] == wall) return int(i);
+  wall_names.push_back(wall);
+  return int(wall_names.size() - 1);
+}
+
+float Field::reach_of(int body) const {
+  const float r = bodies[size_t(body)].reach;
+  return r > 0 ? r : kDefaultReach;
+}
+
 std::vector<std::string> Field::teams() const {
   std::vector<std::string> out;
   auto add = [&](const std::string& t) {
@@ -77,6 +109,50 @@ void check_range(float v, float lo, float hi, const std::string& place) {
 
 float length(Vec2 a, Vec2 b) { return std::hypot(b.x - a.x, b.y - a.y); }
 
+// Height, hoops and boards: checked, and their surfaces named as walls so a fate's path and a
+// bounce say "rim", "backboard" or "floor".
+void finish_height(Field& f) {
+  check_range(f.gravity, 0.0f, 100.0f, "gravity");
+  const bool tall = f.has_height();
+  for (size_t i = 0, nth = 0; i < f.goals.size(); ++i) {
+    Goal& g = f.goals[i];
+    if (!g.hoop()) continue;
+    const std::string place = "hoops[" + std::to_string(++nth) + "] (" + g.name + ")";
+    if (!tall) throw FieldError(place, "a hoop needs height: give the field `gravity` (9.81)");
+    check_range(g.rim_radius, 0.01f, 10.0f, place + ".radius");
+    check_range(g.rim_thickness, 0.0f, g.rim_radius, place + ".thickness");
+    check_range(g.rim_height, 0.0f, 100.0f, place + ".height");
+    check_range(g.rim_restitution, 0.0f, 1.0f, place + ".restitution");
+    if (g.rim_radius - g.rim_thickness / 2 <= f.ball_radius)
+      throw FieldError(place, "the ring is too narrow for the ball to pass");
+    if (g.rim_wall < 0) g.rim_wall = f.wall_id(g.name + " rim");
+  }
+  for (size_t i = 0; i < f.boards.size(); ++i) {
+    const Board& b = f.boards[i];
+    const std::string place = "boards[" + std::to_string(i + 1) + "] (" + f.wall_names.at(b.wall) + ")";
+    if (!tall) throw FieldError(place, "a board needs height: give the field `gravity` (9.81)");
+    check_point(b.a, place);
+    check_point(b.b, place);
+    if (length(b.a, b.b) < 1e-3f) throw FieldError(place, "a board is narrower than 1 mm");
+    check_range(b.bottom, 0.0f, 100.0f, place + ".bottom");
+    check_range(b.top, b.bottom + 1e-3f, 100.0f, place + ".top");
+    check_range(b.restitution, 0.0f, 1.0f, place + ".restitution");
+  }
+  if (!tall) {
+    if (f.ceiling != 0) throw FieldError("ceiling", "a ceiling needs height: give the field `gravity` (9.81)");
+    return;
+  }
+  // Friction is a flat field's slowing; an arc slowed alike in every direction would no longer be
+  // a parabola the prediction can solve in closed form.
+  if (f.friction != 0) throw FieldError("ball.friction", "a field with gravity has no friction (the ball flies in arcs)");
+  check_range(f.floor_restitution, 0.0f, 1.0f, "ball.floor_restitution");
+  if (f.ceiling != 0) check_range(f.ceiling, 2 * f.ball_radius + 0.01f, 1000.0f, "ceiling");
+  for (size_t i = 0; i < f.bodies.size(); ++i)
+    check_range(f.bodies[i].reach, 0.0f, 100.0f, "bodies[" + std::to_string(i + 1) + "] (" + f.bodies[i].name + ").reach");
+  if (f.floor_wall < 0) f.floor_wall = f.wall_id("floor");
+  if (f.ceiling > 0 && f.ceiling_wall < 0) f.ceiling_wall = f.wall_id("ceiling");
+}
+
 }  // namespace
 
 void finish_field(Field& f) {
@@ -94,12 +170,16 @@ void finish_field(Field& f) {
     check_point(s.b, place);
     if (length(s.a, s.b) < 1e-4f) throw FieldError(place, "a wall piece is shorter than 0.1 mm");
   }
-  for (size_t i = 0; i < f.goals.size(); ++i) {
-    const std::string place = "goals[" + std::to_string(i + 1) + "] (" + f.goals[i].name + ")";
+  finish_height(f);
+  for (size_t i = 0, lines = 0, hoops = 0; i < f.goals.size(); ++i) {
+    // The field file lists goal lines and hoops apart: number each in its own list.
+    const size_t nth = ++(f.goals[i].hoop() ? hoops : lines);
+    const std::string place = (f.goals[i].hoop() ? "hoops[" : "goals[") + std::to_string(nth) + "] (" + f.goals[i].name + ")";
     check_point(f.goals[i].a, place);
     check_point(f.goals[i].b, place);
-    if (length(f.goals[i].a, f.goals[i].b) < 1e-3f) throw FieldError(place, "a goal mouth is shorter than 1 mm");
+    if (f.goals[i].hoop()) continue;  // a hoop both teams shoot at defends no team
     if (f.goals[i].team.empty()) throw FieldError(place, "a goal needs the team that defends it");
+    if (length(f.goals[i].a, f.goals[i].b) < 1e-3f) throw FieldError(place, "a goal mouth is shorter than 1 mm");
   }
   if (f.spots.empty()) throw FieldError("spots", "a field needs at least one respawn spot");
   for (size_t i = 0; i < f.spots.size(); ++i)
@@ -134,6 +214,7 @@ void finish_field(Field& f) {
     };
     for (const Segment& s : f.segments) grow(s.a), grow(s.b);
     for (const Goal& g : f.goals) grow(g.a), grow(g.b);
+    for (const Board& b : f.boards) grow(b.a), grow(b.b);
     for (const Spot& s : f.spots) grow(s.at);
     const float m = 2 * f.ball_radius;
     f.bounds_min = {lo.x - m, lo.y - m};

@@ -12,6 +12,10 @@ struct Vec2 {
   float x = 0, y = 0;
 };
 
+struct Vec3 {
+  float x = 0, y = 0, z = 0;
+};
+
 // One straight piece of wall. Chains in the field file become several segments that share the
 // chain's wall id, so a fate's path reads "via left wall" whichever piece was touched.
 struct Segment {
@@ -20,9 +24,24 @@ struct Segment {
 };
 
 // A goal mouth is the line the ball's centre must cross; `team` is the team defending it.
+// A hoop (fields with height) is a goal too: a rim ring of `rim_radius` (to the middle of the
+// rod, `rim_thickness` thick) at `rim_height` around a = b, scored when the ball's centre comes
+// down through the ring; touching the rod bounces the ball (the wall `rim_wall`, for paths).
 struct Goal {
   std::string name, team;
   Vec2 a, b;
+  float rim_height = 0, rim_radius = 0, rim_thickness = 0.02f, rim_restitution = 0.6f;
+  int rim_wall = -1;
+
+  bool hoop() const { return rim_radius > 0; }
+};
+
+// A vertical rectangle standing on the floor line a-b between `bottom` and `top` (fields with
+// height): a backboard. The ball bounces off its faces; past its edges it flies on.
+struct Board {
+  Vec2 a, b;
+  float bottom = 0, top = 0, restitution = 0.7f;
+  int wall = 0;  // index into Field::wall_names
 };
 
 // Two round mouths on the field: a ball whose centre enters one leaves the other, at the same
@@ -46,6 +65,9 @@ struct BodySpec {
   bool catches = false;
   std::string role;   // the sport's word for the player's part ("goalkeeper"); the core ignores it
   std::string track;  // the tracking id that moves this body ("blue 1" for a hat); "" for its name
+  // Fields with height: the body is a vertical cylinder up to this height (m), the highest its
+  // hands get standing; a throw leaves its hand there. 0 takes kDefaultReach.
+  float reach = 0;
 
   const std::string& tracked_as() const { return track.empty() ? name : track; }
 };
@@ -61,6 +83,13 @@ struct Area {
   bool contains(Vec2 p) const;
 };
 
+// How high a player reaches standing, arms up, when the field does not say (m).
+constexpr float kDefaultReach = 2.3f;
+// Aimed throws on a field with height: a pass arrives at this share of the catcher's reach (the
+// chest), and a shot at a hoop leaves the hand this steeply (rad; a usual jump shot's arc).
+constexpr float kChestShare = 0.6f;
+constexpr float kShotElevation = 0.9f;
+
 struct Field {
   std::string name;
   float ball_radius = 0.03f;
@@ -73,6 +102,14 @@ struct Field {
   float max_body_speed = 30.0f;  // m/s; faster input is a tracking fault, not a player
   // 1/s: a rolling or flying ball's speed falls as e^(-friction t). 0 (an air table) is none.
   float friction = 0.0f;
+  // Height. A field with gravity (m/s^2) gives the ball a height above the floor: it flies in
+  // arcs, bounces off the floor (the wall "floor") with `floor_restitution` and off a ceiling
+  // (the wall "ceiling") when one is given (> 0 m). Without gravity the field is flat.
+  float gravity = 0.0f;
+  float floor_restitution = 0.8f;
+  float ceiling = 0.0f;
+  int floor_wall = -1, ceiling_wall = -1;  // set by finish_field()
+  std::vector<Board> boards;
   std::vector<std::string> wall_names;
   std::vector<Segment> segments;
   std::vector<Goal> goals;
@@ -91,6 +128,12 @@ struct Field {
   bool catching() const;
   // The first area containing p, or -1.
   int area_at(Vec2 p) const;
+  bool has_height() const { return gravity > 0; }
+  // The wall of that name, added to wall_names when there is none yet (pieces of one wall, a
+  // rim or a board share the name's index).
+  int wall_id(const std::string& wall);
+  // Where a body's throw leaves its hand, and how high it catches: BodySpec::reach, or the default.
+  float reach_of(int body) const;
 
   // Friction slows a ball alike at any speed, v(t) = v0 e^(-kt), so in t seconds it covers
   // v0 (1 - e^(-kt)) / k: the frictionless path, travelled for this "flight time" instead of t
@@ -99,6 +142,13 @@ struct Field {
   float flight_time(float seconds) const;
   // Seconds a ball thrown at `speed` takes to cover `distance`; infinity when it stops short.
   double travel_time(double distance, double speed) const;
+  // Fields with height: the velocity that throws a ball from `from` at `elevation` rad above the
+  // horizontal through `to` (a shot at a hoop, a lob to a player's hands); {0, 0, 0} when no
+  // throw at that elevation gets there (`to` lies above the launch line).
+  Vec3 arc_velocity(Vec3 from, Vec3 to, float elevation) const;
+  // Fields with height: the flattest throw at `speed` from `from` through `to` (a pass); where
+  // no throw that fast gets there, the one at 45 degrees toward it, which gets furthest.
+  Vec3 throw_at(Vec3 from, Vec3 to, float speed) const;
 };
 
 // A field that is not usable. `place` says where, e.g. "walls[2].points[3]".

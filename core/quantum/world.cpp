@@ -50,14 +50,17 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
   internals_->tally.resize(size_t(internals_->targets.size()));
   decision_.options.reserve(internals_->tally.size());
   internals_->resting.resize(field_.bodies.size());
-  backend_ = backend ? std::move(backend) : make_fast_backend(field_);
+  const bool tall = field_.has_height();
+  backend_ = backend ? std::move(backend) : tall ? make_height_backend(field_) : make_fast_backend(field_);
   const size_t nb = field_.bodies.size();
   for (const BodySpec& b : field_.bodies) body_pos_.push_back(b.start), body_vel_.push_back({0, 0});
+  for (size_t k = 0; k < nb; ++k) body_top_.push_back(tall ? field_.reach_of(int(k)) : detail::kInf);
   motion_.resize(nb);
   purgatory_.resize(config_.purgatory_frames);
-  for (PurgatorySlot& slot : purgatory_) slot.touched.reserve(config_.particles), slot.body.reserve(config_.particles);
-  cloud_.reserve(config_.particles);
-  scratch_.reserve(config_.particles);
+  for (PurgatorySlot& slot : purgatory_)
+    slot.touched.reserve(config_.particles, tall), slot.body.reserve(config_.particles);
+  cloud_.reserve(config_.particles, tall);
+  scratch_.reserve(config_.particles, tall);
   contacts_.reserve(config_.particles);
   removed_.reserve(config_.particles);
 }
@@ -80,7 +83,9 @@ void World::drop(int spot, std::vector<Event>& events) {
                                 std::to_string(field_.spots.size()) + ")");
   const Vec2 at = field_.spots[spot].at;
   cloud_.clear();
-  cloud_.push(at.x, at.y, 0, 0, 1, 1);
+  // On a field with height the ball lies on the floor.
+  if (field_.has_height()) cloud_.push(Vec3{at.x, at.y, field_.ball_radius}, Vec3{}, 1, 1);
+  else cloud_.push(at.x, at.y, 0, 0, 1, 1);
   clear_purgatory();
   live_ = true;
   holder_ = -1;
@@ -125,27 +130,34 @@ Vec2 World::release_point(int body, Vec2 direction) const {
   return {m.x + m.ux * t, m.y + m.uy * t};
 }
 
-void World::release(int body, Vec2 velocity, ThrowSpread spread, std::vector<Event>& events) {
+void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Event>& events) {
   if (body < 0 || body != holder_)
     throw std::invalid_argument(
         (body >= 0 && body < int(field_.bodies.size()) ? field_.bodies[body].name : "body " + std::to_string(body)) +
         " does not hold the ball" + (holder_ >= 0 ? " (" + field_.bodies[holder_].name + " does)" : ""));
-  const float speed = std::hypot(velocity.x, velocity.y);
+  const bool tall = field_.has_height();
+  const float flat = std::hypot(velocity.x, velocity.y), speed = std::hypot(flat, velocity.z);
   if (!(std::isfinite(speed) && speed > 0 && speed <= 1000))
     throw std::invalid_argument("a throw's speed must be in (0, 1000] m/s, got " + std::to_string(speed));
-  if (!(spread.direction >= 0 && spread.direction <= 1.6f && spread.speed >= 0 && spread.speed <= 1))
-    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and [0, 1] of speed");
-  const Vec2 at = release_point(body, {velocity.x / speed, velocity.y / speed});
-  const float heading = std::atan2(velocity.y, velocity.x);
-  const uint32_t n = config_.particles;
+  if (!tall && velocity.z != 0)
+    throw std::invalid_argument("a throw upward needs a field with height (gravity); this field is flat");
+  if (!(spread.direction >= 0 && spread.direction <= 1.6f && spread.speed >= 0 && spread.speed <= 1 &&
+        spread.elevation >= 0 && spread.elevation <= 1.6f))
+    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and elevation and [0, 1] of speed");
+  // Straight up, the ball leaves the hand on the side facing the field's middle.
+  const Vec2 middle{0.5f * (field_.bounds_min.x + field_.bounds_max.x), 0.5f * (field_.bounds_min.y + field_.bounds_max.y)};
+  const Vec2 p = body_pos_[size_t(body)];
+  const float to_middle = std::hypot(middle.x - p.x, middle.y - p.y);
+  const Vec2 direction = flat > 0 ? Vec2{velocity.x / flat, velocity.y / flat}
+                         : to_middle > 0 ? Vec2{(middle.x - p.x) / to_middle, (middle.y - p.y) / to_middle}
+                                         : Vec2{1, 0};
+  const Vec2 at = release_point(body, direction);
   cloud_.clear();
-  for (uint32_t i = 0; i < n; ++i) {
-    // Box-Muller: two standard normal numbers from two uniform ones.
-    const double radius = std::sqrt(-2 * std::log(1 - rng_.uniform())), angle = 2 * std::numbers::pi * rng_.uniform();
-    const float a = heading + spread.direction * float(radius * std::cos(angle));
-    // A throw never turns back on itself: the slowest particles keep a twentieth of its speed.
-    const float s = speed * std::max(0.05f, 1 + spread.speed * float(radius * std::sin(angle)));
-    cloud_.push(at.x, at.y, s * std::cos(a), s * std::sin(a), 1, 1);
+  if (tall) {
+    const float hand = std::min(body_top_[size_t(body)], internals_->sky.ceiling - 1e-3f);
+    release_arc({at.x, at.y, hand}, velocity, spread);
+  } else {
+    release_flat(at, {velocity.x, velocity.y}, spread);
   }
   cloud_.normalize();
   clear_purgatory();
@@ -153,13 +165,49 @@ void World::release(int body, Vec2 velocity, ThrowSpread spread, std::vector<Eve
   holder_ = -1;
   last_touch_ = body;
   ++version_;
-  events.push_back({time_, EventType::Throw, body, 1, 1, n, at, velocity});
+  events.push_back({time_, EventType::Throw, body, 1, 1, config_.particles, at, {velocity.x, velocity.y}});
+}
+
+void World::release_flat(Vec2 at, Vec2 velocity, ThrowSpread spread) {
+  const float speed = std::hypot(velocity.x, velocity.y), heading = std::atan2(velocity.y, velocity.x);
+  for (uint32_t i = 0; i < config_.particles; ++i) {
+    // Box-Muller: two standard normal numbers from two uniform ones.
+    const double radius = std::sqrt(-2 * std::log(1 - rng_.uniform())), angle = 2 * std::numbers::pi * rng_.uniform();
+    const float a = heading + spread.direction * float(radius * std::cos(angle));
+    // A throw never turns back on itself: the slowest particles keep a twentieth of its speed.
+    const float s = speed * std::max(0.05f, 1 + spread.speed * float(radius * std::sin(angle)));
+    cloud_.push(at.x, at.y, s * std::cos(a), s * std::sin(a), 1, 1);
+  }
+}
+
+void World::release_arc(Vec3 at, Vec3 velocity, ThrowSpread spread) {
+  const float flat = std::hypot(velocity.x, velocity.y), speed = std::hypot(flat, velocity.z);
+  const float heading = std::atan2(velocity.y, velocity.x), elevation = std::atan2(velocity.z, flat);
+  auto normal_pair = [&](float& a, float& b) {
+    const double radius = std::sqrt(-2 * std::log(1 - rng_.uniform())), angle = 2 * std::numbers::pi * rng_.uniform();
+    a = float(radius * std::cos(angle)), b = float(radius * std::sin(angle));
+  };
+  for (uint32_t i = 0; i < config_.particles; ++i) {
+    float n1, n2, n3, unused;
+    normal_pair(n1, n2);
+    normal_pair(n3, unused);
+    const float h = heading + spread.direction * n1, e = elevation + spread.elevation * n3;
+    const float s = speed * std::max(0.05f, 1 + spread.speed * n2);
+    cloud_.push(at, {s * std::cos(e) * std::cos(h), s * std::cos(e) * std::sin(h), s * std::sin(e)}, 1, 1);
+  }
 }
 
 void World::set_cloud(Cloud c) {
   const detail::Geometry& g = internals_->geometry;
+  const bool tall = field_.has_height();
+  if (tall && (c.z.size() != c.size() || c.vz.size() != c.size()))
+    throw std::invalid_argument("the field has height: every particle needs z and vz");
+  if (!tall && c.tall()) throw std::invalid_argument("the field is flat: particles have no height");
   for (size_t i = 0; i < c.size(); ++i) {
     const std::string which = "particle " + std::to_string(i) + ": ";
+    if (tall && !(std::isfinite(c.z[i]) && std::isfinite(c.vz[i]) && c.z[i] >= g.r - 1e-4f &&
+                  c.z[i] <= internals_->sky.ceiling + 1e-4f))
+      throw std::invalid_argument(which + "height must be finite, the ball above the floor and below the ceiling");
     if (!std::isfinite(c.x[i]) || !std::isfinite(c.y[i]) || !std::isfinite(c.vx[i]) || !std::isfinite(c.vy[i]))
       throw std::invalid_argument(which + "position and velocity must be finite");
     if (!(c.w[i] >= 0 && std::isfinite(c.w[i]) && c.tw[i] >= 0 && std::isfinite(c.tw[i])))
@@ -214,7 +262,7 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   check_input(dt, input);
   const int nb = int(field_.bodies.size());
   for (int k = 0; k < nb; ++k)
-    motion_[k] = {body_pos_[k], input[k].position, input[k].velocity, field_.bodies[k].radius};
+    motion_[k] = {body_pos_[k], input[k].position, input[k].velocity, field_.bodies[k].radius, body_top_[k]};
   ++step_;
   time_ += dt;
   last_dt_ = dt;
@@ -267,6 +315,16 @@ void World::set_wormholes(std::vector<Wormhole> wormholes) {
 void World::place_bodies(std::span<const BodyInput> input) {
   check_bodies(input);
   for (size_t k = 0; k < input.size(); ++k) body_pos_[k] = input[k].position, body_vel_[k] = input[k].velocity;
+  ++version_;
+}
+
+void World::set_reach(int body, float height) {
+  if (!field_.has_height()) throw std::logic_error("a flat field has no heights to reach");
+  if (body < 0 || body >= int(field_.bodies.size()))
+    throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
+                                std::to_string(field_.bodies.size()) + ")");
+  if (!(height > 0 && height <= 100)) throw std::invalid_argument("a reach must be in (0, 100] m");
+  body_top_[size_t(body)] = height;
   ++version_;
 }
 
@@ -407,7 +465,7 @@ void World::realize_body(int body, float dt) {
   std::vector<detail::BodyPath>& now = internals_->resting;
   for (int k = 0; k < nb; ++k) {
     const Vec2 p = motion_[k].to;
-    now[k] = {p.x, p.y, 0, 0, 0, 0, 0, field_.bodies[k].radius};
+    now[k] = {p.x, p.y, 0, 0, 0, 0, 0, field_.bodies[k].radius, body_top_[k]};
   }
   scratch_.clear();
   detail::StepTracer& tracer = internals_->tracer;
@@ -416,6 +474,20 @@ void World::realize_body(int body, float dt) {
     const PurgatorySlot& slot = purgatory_[(step_ - age) % config_.purgatory_frames];
     if (slot.step != step_ - age) continue;
     const Cloud& from = slot.touched;
+    if (from.tall()) {
+      // With height each particle is carried alone: a hit is rare, and its few hundred particles cheap.
+      for (size_t i = 0; i < from.size(); ++i) {
+        if (slot.body[i] != body) continue;
+        detail::Mover3 m{from.x[i], from.y[i], from.z[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i], from.vz[i]};
+        const detail::Outcome out = age == 0 ? detail::Outcome{detail::HitKind::None, -1}
+                                             : detail::trace_step3(g, internals_->sky, nullptr, 0, float(age) * dt, m);
+        if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) continue;
+        detail::Mover flat = m.flat();
+        if (detail::settle(g, now.data(), nb, 0, flat, true).kind != detail::HitKind::None) continue;
+        scratch_.push(Vec3{flat.x, flat.y, m.z}, Vec3{m.vx, m.vy, m.vz}, from.w[i], from.w[i]);
+      }
+      continue;
+    }
     const float slow = field_.friction > 0 ? std::exp(-field_.friction * float(age) * dt) : 1.0f;
     auto keep = [&](uint32_t i, detail::Mover m, detail::Outcome out) {
       // Went in, or out, while catching up; bouncing off a wall meanwhile is part of the flight.
@@ -476,9 +548,12 @@ void World::split_round(bool jitter) {
   const double threshold = cloud_.mass / double(target);
   // Copies are written into room made once: after a rejected bounce this round makes hundreds of
   // thousands of them, and a push_back per array per copy was the round's main cost.
+  const bool tall = cloud_.tall();
   for (auto* v : {&cloud_.x, &cloud_.y, &cloud_.vx, &cloud_.vy}) v->resize(target);
   for (auto* v : {&cloud_.w, &cloud_.tw}) v->resize(target);
+  if (tall) cloud_.z.resize(target), cloud_.vz.resize(target);
   float *x = cloud_.x.data(), *y = cloud_.y.data(), *vx = cloud_.vx.data(), *vy = cloud_.vy.data();
+  float *z = cloud_.z.data(), *vz = cloud_.vz.data();
   double *w = cloud_.w.data(), *tw = cloud_.tw.data();
   size_t end = n;
   // Resume where the last round stopped: particles near the front were split already, and
@@ -496,11 +571,13 @@ void World::split_round(bool jitter) {
       cvx = rx, cvy = ry;
     }
     x[end] = x[i], y[end] = y[i], vx[end] = cvx, vy[end] = cvy, w[end] = w[i], tw[end] = tw[i];
+    if (tall) z[end] = z[i], vz[end] = vz[i];
     ++end;
   }
   // Halving a particle and adding its copy keeps both sums as they were.
   for (auto* v : {&cloud_.x, &cloud_.y, &cloud_.vx, &cloud_.vy}) v->resize(end);
   for (auto* v : {&cloud_.w, &cloud_.tw}) v->resize(end);
+  if (tall) cloud_.z.resize(end), cloud_.vz.resize(end);
   ++version_;
 }
 

@@ -47,8 +47,9 @@ struct Event {
 // How a thrown ball's particles scatter: standard deviations of their direction (rad) and of
 // their speed (a share of the throw's). A person's throw is never exact, and the spread is what
 // lets the engine choose among plausible throws (the paper, section 8.2).
+// On a field with height, `elevation` (rad) scatters the angle above the horizontal too.
 struct ThrowSpread {
-  float direction = 0.06f, speed = 0.1f;
+  float direction = 0.06f, speed = 0.1f, elevation = 0.03f;
 };
 
 // One step's draw: what the particles met, each with the chance that the ball met it, and what
@@ -103,7 +104,15 @@ class World {
   // the throw's direction, as `particles` particles whose directions and speeds scatter around
   // `velocity` by `spread`. Appends a Throw event. Throws std::invalid_argument when `body` does
   // not hold the ball or the velocity is not finite and > 0 (or faster than 1000 m/s).
-  void release(int body, Vec2 velocity, ThrowSpread spread, std::vector<Event>& events);
+  // On a field with height the ball leaves the hand at the body's reach (Field::reach_of) with
+  // the vertical velocity velocity.z; on a flat field velocity.z must be 0.
+  void release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Event>& events);
+
+  // Fields with height: how high `body` reaches from now on (m; its field reach when standing,
+  // more while it jumps). Throws std::invalid_argument for an unknown body or a height outside
+  // (0, 100] m, and std::logic_error on a flat field.
+  void set_reach(int body, float height);
+  float reach(int body) const { return body_top_.at(size_t(body)); }
 
   // Replaces the ball with the given particles (a scene set up by a test, a benchmark or a
   // tool). Throws std::invalid_argument for non-finite values, particles outside the bounds or
@@ -141,7 +150,8 @@ class World {
 
   // The predicted path of one live particle, as predict() traces it: start, contacts, end. Only
   // pictures need it (a fate group's representative particle shows the group's way).
-  std::vector<Vec2> predict_path(size_t particle, float horizon = 3.0f) const;
+  // On a flat field every point's z is 0.
+  std::vector<Vec3> predict_path(size_t particle, float horizon = 3.0f) const;
 
   // Multiplies every particle's Newtonian weight by its group's factor; later decisions draw
   // from the result. Updates the groups' tweaked masses. The report must be of the current cloud.
@@ -169,6 +179,8 @@ class World {
   void realize_body(int body, float dt);
   void realize_catch(int body);
   Vec2 release_point(int body, Vec2 direction) const;
+  void release_flat(Vec2 at, Vec2 velocity, ThrowSpread spread);
+  void release_arc(Vec3 at, Vec3 velocity, ThrowSpread spread);
   float flight(float seconds) const;  // Field::flight_time
   void realize_bounce(Target wall);
   void refill(bool jitter);
@@ -188,6 +200,7 @@ class World {
   std::vector<PurgatorySlot> purgatory_;  // one per step kept, in a ring
   std::vector<Wormhole> wormholes_;
   std::vector<Vec2> body_pos_, body_vel_;
+  std::vector<float> body_top_;  // fields with height: each body's reach now
   std::vector<BodyMotion> motion_;
   std::vector<Contact> contacts_;
   std::vector<uint32_t> removed_;

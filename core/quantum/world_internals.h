@@ -8,6 +8,7 @@
 
 #include "quantum/contact.h"
 #include "quantum/fate.h"
+#include "height.h"
 #include "step_tracer.h"
 
 namespace quantum {
@@ -82,8 +83,9 @@ struct GroupIndex {
 };
 
 struct WorldInternals {
-  explicit WorldInternals(const Field& field) : geometry(field), tracer(geometry) {}
+  explicit WorldInternals(const Field& field) : geometry(field), sky(field), tracer(geometry) {}
   detail::Geometry geometry;
+  detail::Sky sky;
   detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
   std::vector<detail::BodyPath> resting;  // bodies held at their current positions
   std::vector<Tally> tally;               // per decision target, reused every step

@@ -192,6 +192,7 @@ class Box2DBackend final : public Backend {
 }  // namespace
 
 std::unique_ptr<Backend> make_box2d_backend(const Field& field) {
+  if (field.has_height()) throw FieldError("gravity", "the Box2D reference replays flat fields only");
   if (field.ball_radius <= kSkin)
     throw FieldError("ball.radius", "the Box2D reference needs a ball radius above its skin of " +
                                         std::to_string(kSkin) + " m");

@@ -17,18 +17,9 @@ namespace {
 
 constexpr float kDt = 1.0f / 60;
 
-Field hall() {
-  Field f = lua::load_field(QUANTUM_SOURCE_DIR "/rules/handball");
-  f.brownian = 0;  // trajectories exactly as predicted
-  return f;
-}
+Field hall() { return test::quiet("handball"); }
 
-int body(const Field& f, const std::string& name) {
-  for (size_t k = 0; k < f.bodies.size(); ++k)
-    if (f.bodies[k].name == name) return int(k);
-  ADD_FAILURE() << "no player " << name;
-  return 0;
-}
+int body(const Field& f, const std::string& name) { return test::body_named(f, name); }
 
 // Everyone at rest in a far corner but the players placed.
 std::vector<BodyInput> parked(const Field& f, std::initializer_list<std::pair<const char*, Vec2>> placed) {

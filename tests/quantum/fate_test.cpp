@@ -145,7 +145,7 @@ TEST(Fate, ReportGroupsCountsMassesAndPaths) {
     EXPECT_DOUBLE_EQ(group.mass, group.tweaked_mass);  // nothing tweaked yet
     EXPECT_EQ(r.group_of[group.representative], g);
     // The representative's path, drawn on demand, shows the group's way.
-    const std::vector<Vec2> path = world.predict_path(group.representative, 3.0f);
+    const std::vector<Vec3> path = world.predict_path(group.representative, 3.0f);
     ASSERT_GE(path.size(), 2u);
     EXPECT_FLOAT_EQ(path.front().x, 0.2f);
     EXPECT_GE(path.size(), size_t(group.fate.path_len) + 2);  // start, walls, end

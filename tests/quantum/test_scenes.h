@@ -5,10 +5,27 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "field_loader.h"
 #include "quantum/world.h"
 
 namespace quantum::test {
+
+// The field of a sport with Brownian motion off: trajectories are exactly what prediction says.
+inline Field quiet(const std::string& sport) {
+  Field f = lua::load_field(QUANTUM_SOURCE_DIR "/rules/" + sport);
+  f.brownian = 0;
+  return f;
+}
+
+// The index of the body of that name (a test failure when there is none).
+inline int body_named(const Field& f, const std::string& name) {
+  for (size_t k = 0; k < f.bodies.size(); ++k)
+    if (f.bodies[k].name == name) return int(k);
+  ADD_FAILURE() << "no player " << name;
+  return 0;
+}
 
 inline Field airhockey() { return lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey"); }
 
