@@ -29,6 +29,13 @@ function helpers.outcome(events)
   end
 end
 
+-- The first thing the scenario's announcer said that contains `text`, or nil.
+function helpers.heard(s, text)
+  for _, said in ipairs(s:said()) do
+    if said:find(text, 1, true) then return said end
+  end
+end
+
 -- Realized frequencies follow the probabilities the factors compute. A scene is set up n times
 -- with different seeds; its fates, tweaked by the sport's factors, modifiers, power-ups and the
 -- handicaps, give the expected distribution of the first outcome (bounces on the way are

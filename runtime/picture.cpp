@@ -76,6 +76,24 @@ Picture::Picture(const Field& field, PictureOptions options) : field_(field), op
   const float w = field_.bounds_max.x - field_.bounds_min.x, h = field_.bounds_max.y - field_.bounds_min.y;
   scale_ = double(options_.width - 2 * margin_) / w;
   field_height_ = int(h * scale_) + 2 * margin_;
+  if (field_.has_height()) {
+    // The side view looks across the axis on which the hoops sit nearest an end (a basket by its
+    // baseline), else across the longer one; it is as high as the tallest thing on the field.
+    side_axis_ = w >= h ? 0 : 1;
+    for (const Goal& g : field_.goals) {
+      if (!g.hoop()) continue;
+      const float ex = std::min(g.a.x - field_.bounds_min.x, field_.bounds_max.x - g.a.x) / w;
+      const float ey = std::min(g.a.y - field_.bounds_min.y, field_.bounds_max.y - g.a.y) / h;
+      side_axis_ = ex < ey ? 0 : 1;
+    }
+    float top = 4;
+    for (const Goal& g : field_.goals) top = std::max(top, g.rim_height + 1);
+    for (const Board& b : field_.boards) top = std::max(top, b.top + 0.5f);
+    for (size_t k = 0; k < field_.bodies.size(); ++k) top = std::max(top, field_.reach_of(int(k)) + 1);
+    if (field_.ceiling > 0) top = field_.ceiling;
+    floor_row_ = field_height_ + int(top * scale_) + margin_;
+    field_height_ = floor_row_ + margin_;
+  }
   size_t k = 0;
   for (const std::string& team : field_.teams()) team_colours_[team] = kTeams[k++ % std::size(kTeams)];
 }
@@ -83,6 +101,11 @@ Picture::Picture(const Field& field, PictureOptions options) : field_(field), op
 cv::Point Picture::px(Vec2 p) const {
   // Field y points to the left of a player facing +x; image rows go down.
   return {margin_ + int((p.x - field_.bounds_min.x) * scale_), margin_ + int((field_.bounds_max.y - p.y) * scale_)};
+}
+
+cv::Point Picture::px_side(Vec3 p) const {
+  const float u = side_axis_ == 0 ? p.x : p.y, u0 = side_axis_ == 0 ? field_.bounds_min.x : field_.bounds_min.y;
+  return {margin_ + int((u - u0) * scale_), floor_row_ - int(p.z * scale_)};
 }
 
 Vec2 Picture::to_field(int x, int y) const {
@@ -168,10 +191,13 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
       const bool stays = report.groups[g].fate.kind == FateKind::Field;
       const cv::Scalar c = fate_colour(report.groups[g].fate, shade[g]) * (stays ? 0.6 : 1.0);
       const std::vector<Vec3> path = world.predict_path(report.groups[g].representative, report.horizon);
-      for (size_t k = 1; k < path.size(); ++k)
+      for (size_t k = 1; k < path.size(); ++k) {
         cv::line(img, px({path[k - 1].x, path[k - 1].y}), px({path[k].x, path[k].y}), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
+        if (side_axis_ >= 0) cv::line(img, px_side(path[k - 1]), px_side(path[k]), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
+      }
     }
   }
+  if (side_axis_ >= 0) draw_side(world, report, fated, shade, img);
   // A court's lines are its bounds; its areas (goal areas) are outlined in their team's colour.
   if (field_.has_bounds) cv::rectangle(img, px(field_.bounds_min), px(field_.bounds_max), kDim, 1, cv::LINE_AA);
   for (const Area& a : field_.areas) {
@@ -204,6 +230,45 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
     const int r = std::max(4, int(field_.ball_radius * scale_));
     cv::circle(img, at, r, kText, cv::FILLED, cv::LINE_AA);
     cv::circle(img, at, r, kBackground, 1, cv::LINE_AA);
+  }
+}
+
+// Fields with height: the view from the side, under the top view. The floor, the boards and the
+// rings edge-on, the players as high as they reach, every particle at its height in its fate's
+// colour (the predicted paths are drawn with the top view's).
+void Picture::draw_side(const World& world, const FateReport& report, bool fated, const std::vector<size_t>& shade,
+                        cv::Mat& img) {
+  const Vec2 lo = field_.bounds_min, hi = field_.bounds_max;
+  cv::line(img, px_side({lo.x, lo.y, 0}), px_side({hi.x, hi.y, 0}), kDim, 2, cv::LINE_AA);
+  text(img, side_axis_ == 0 ? "from the side (across x)" : "from the side (across y)", px_side({lo.x, lo.y, 0}) + cv::Point(0, 20),
+       kDim, 0.45);
+  if (field_.ceiling > 0)
+    cv::line(img, px_side({lo.x, lo.y, field_.ceiling}), px_side({hi.x, hi.y, field_.ceiling}), kDim, 1, cv::LINE_AA);
+  for (const Board& b : field_.boards)
+    cv::rectangle(img, px_side({std::min(b.a.x, b.b.x), std::min(b.a.y, b.b.y), b.bottom}),
+                  px_side({std::max(b.a.x, b.b.x), std::max(b.a.y, b.b.y), b.top}), kWall, 2, cv::LINE_AA);
+  for (size_t k = 0; k < field_.bodies.size(); ++k) {
+    const Vec2 p = world.body_positions()[k];
+    const float r = field_.bodies[k].radius;
+    cv::rectangle(img, px_side({p.x - r, p.y - r, 0}), px_side({p.x + r, p.y + r, world.reach(int(k))}),
+                  team_colour(field_.bodies[k].team) * 0.7, 1, cv::LINE_AA);
+  }
+  const Cloud& cloud = world.cloud();
+  for (size_t i = 0; i < cloud.size() && cloud.tall(); ++i) {
+    const size_t g = fated ? report.group_of[i] : 0;
+    const cv::Point p = px_side({cloud.x[i], cloud.y[i], cloud.z[i]});
+    if (p.x < 0 || p.y < 0 || p.x >= img.cols || p.y >= img.rows) continue;
+    const cv::Scalar c = fated ? fate_colour(report.groups[g].fate, shade[g]) : kStays;
+    img.at<cv::Vec3b>(p) = {cv::saturate_cast<uint8_t>(c[0]), cv::saturate_cast<uint8_t>(c[1]), cv::saturate_cast<uint8_t>(c[2])};
+  }
+  for (const Goal& g : field_.goals)
+    if (g.hoop())
+      cv::line(img, px_side({g.a.x - g.rim_radius, g.a.y - g.rim_radius, g.rim_height}),
+               px_side({g.a.x + g.rim_radius, g.a.y + g.rim_radius, g.rim_height}), kGoal, 3, cv::LINE_AA);
+  if (world.holder() >= 0) {
+    const Vec2 p = world.body_positions()[size_t(world.holder())];
+    cv::circle(img, px_side({p.x, p.y, world.reach(world.holder())}), std::max(4, int(field_.ball_radius * scale_)), kText,
+               cv::FILLED, cv::LINE_AA);
   }
 }
 

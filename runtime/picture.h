@@ -84,6 +84,9 @@ class Picture {
   };
   void draw_field(const World& world, const FateReport& report, cv::Mat& field_area);
   cv::Point px(Vec2 p) const;
+  cv::Point px_side(Vec3 p) const;  // the side view's pixel of a point at height p.z
+  void draw_side(const World& world, const FateReport& report, bool fated, const std::vector<size_t>& shade,
+                 cv::Mat& field_area);
   void header(cv::Mat& image, const std::string& s, const cv::Scalar& colour);  // the next piece of the header line
   cv::Scalar fate_colour(const Fate& fate, size_t rank) const;
   cv::Scalar team_colour(const std::string& team) const;
@@ -92,6 +95,7 @@ class Picture {
   PictureOptions options_;
   double scale_ = 1;  // pixels per metre
   int margin_ = 30, field_height_ = 0, header_x_ = 0;
+  int side_axis_ = -1, floor_row_ = 0;  // fields with height: the side view's axis (0 x, 1 y) and its floor's row
   std::map<std::string, cv::Scalar> team_colours_;
   std::vector<size_t> ranked_;  // group indices, likeliest (tweaked) first
   cv::Mat density_, tint_;      // the cloud's weight and colour per pixel

@@ -6,6 +6,7 @@ local SPORT = "rules/basketball"
 
 local helpers = require "spec_helpers"
 local outcome = helpers.outcome
+local heard = helpers.heard
 
 local G, HAND, RIM = 9.81, 2.4, 3.05
 local RING = { 0, 1.575 }
@@ -46,12 +47,6 @@ local function chance(s, kind)
     if f.kind == kind then tweaked, newtonian = tweaked + f.tweaked, newtonian + f.mass end
   end
   return tweaked, newtonian
-end
-
-local function heard(s, text)
-  for _, said in ipairs(s:said()) do
-    if said:find(text, 1, true) then return said end
-  end
 end
 
 describe("Quantum basketball", function()

@@ -6,6 +6,7 @@ local SPORT = "rules/handball"
 local helpers = require "spec_helpers"
 local first = helpers.first
 local outcome = helpers.outcome
+local heard = helpers.heard
 
 -- Everyone but the named players out of the way, by the far side line and away from any line
 -- of play the specs use.
@@ -16,13 +17,6 @@ local function clear(s, except)
   }
   for name, at in pairs(parked) do
     if not except[name] then s:place(name, at[1], at[2]) end
-  end
-end
-
--- Something said that contains `text`.
-local function heard(s, text)
-  for _, said in ipairs(s:said()) do
-    if said:find(text, 1, true) then return said end
   end
 end
 
