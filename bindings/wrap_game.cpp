@@ -264,7 +264,8 @@ int throw_ball(lua_State* L) {
       const float dx = to.point.x - p.x, dy = to.point.y - p.y, d = std::hypot(dx, dy);
       velocity = {float(speed * dx / d), float(speed * dy / d), 0};
     } else {
-      const Vec3 hand{p.x, p.y, m.world().reach(player)};
+      const Vec2 arm = f.release_point(player, p, {to.point.x, to.point.y});
+      const Vec3 hand{arm.x, arm.y, m.world().reach(player)};
       const bool hoop = lua_type(L, 2) == LUA_TSTRING && m.field().goals.end() !=
           std::find_if(f.goals.begin(), f.goals.end(), [&](const Goal& g) { return g.hoop() && g.name == lua_tostring(L, 2); });
       if (std::isnan(elevation) && hoop) elevation = kShotElevation / kRadiansPerDegree;

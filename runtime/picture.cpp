@@ -75,7 +75,7 @@ void Ticker::mark(std::span<const std::string> dropped, std::span<const std::str
 Picture::Picture(const Field& field, PictureOptions options) : field_(field), options_(options) {
   const float w = field_.bounds_max.x - field_.bounds_min.x, h = field_.bounds_max.y - field_.bounds_min.y;
   scale_ = double(options_.width - 2 * margin_) / w;
-  field_height_ = int(h * scale_) + 2 * margin_;
+  field_height_ = top_height_ = int(h * scale_) + 2 * margin_;
   if (field_.has_height()) {
     // The side view looks across the axis on which the hoops sit nearest an end (a basket by its
     // baseline), else across the longer one; it is as high as the tallest thing on the field.
@@ -134,7 +134,9 @@ cv::Scalar Picture::fate_colour(const Fate& f, size_t rank) const {
   return c * (1.0 - 0.12 * double(std::min<size_t>(rank, 4)));
 }
 
-void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& img) {
+void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& whole) {
+  // The view from above keeps to its own rows; with height the side view is drawn under it.
+  cv::Mat img = side_axis_ >= 0 ? whole(cv::Rect(0, 0, whole.cols, top_height_)) : whole;
   const Cloud& cloud = world.cloud();
   // The report describes this cloud only when it has a group for every particle.
   const bool fated = world.live() && report.group_of.size() == cloud.size();
@@ -193,11 +195,11 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
       const std::vector<Vec3> path = world.predict_path(report.groups[g].representative, report.horizon);
       for (size_t k = 1; k < path.size(); ++k) {
         cv::line(img, px({path[k - 1].x, path[k - 1].y}), px({path[k].x, path[k].y}), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
-        if (side_axis_ >= 0) cv::line(img, px_side(path[k - 1]), px_side(path[k]), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
+        if (side_axis_ >= 0) cv::line(whole, px_side(path[k - 1]), px_side(path[k]), c, r < 3 && !stays ? 3 : 1, cv::LINE_AA);
       }
     }
   }
-  if (side_axis_ >= 0) draw_side(world, report, fated, shade, img);
+  if (side_axis_ >= 0) draw_side(world, report, fated, shade, whole);
   // A court's lines are its bounds; its areas (goal areas) are outlined in their team's colour.
   if (field_.has_bounds) cv::rectangle(img, px(field_.bounds_min), px(field_.bounds_max), kDim, 1, cv::LINE_AA);
   for (const Area& a : field_.areas) {
@@ -272,6 +274,37 @@ void Picture::draw_side(const World& world, const FateReport& report, bool fated
   }
 }
 
+std::string outcome_summary(const FateReport& report, const Field& field) {
+  // Kept in first-seen order of the likeliest fates, so the line reads from the likeliest.
+  std::vector<std::pair<std::string, std::pair<double, double>>> rows;
+  auto add = [&](const std::string& what, const FateGroup& g) {
+    auto it = std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.first == what; });
+    if (it == rows.end()) it = rows.insert(rows.end(), {what, {0, 0}});
+    it->second.first += g.mass, it->second.second += g.tweaked_mass;
+  };
+  std::vector<const FateGroup*> order;
+  for (const FateGroup& g : report.groups) order.push_back(&g);
+  std::stable_sort(order.begin(), order.end(), [](const FateGroup* a, const FateGroup* b) { return a->tweaked_mass > b->tweaked_mass; });
+  for (const FateGroup* g : order) {
+    const Fate& f = g->fate;
+    const bool bounced = f.path_len > 0;
+    if (f.kind == FateKind::Goal || f.kind == FateKind::OwnGoal) add(field.goals[size_t(f.target)].name, *g);
+    else if (f.kind == FateKind::Out) add("out", *g);
+    else if (f.kind == FateKind::Field) add("in play", *g);
+    else if (bounced) add("rebound " + field.bodies[size_t(f.target)].name, *g);
+    else if (f.kind == FateKind::Intercept) add("blocked by " + field.bodies[size_t(f.target)].name, *g);
+    else add("caught by " + field.bodies[size_t(f.target)].name, *g);
+  }
+  std::string line;
+  for (const auto& [what, p] : rows) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s%s %.1f%% -> %.1f%%", line.empty() ? "" : " | ", what.c_str(), 100 * p.first,
+                  100 * p.second);
+    line += buf;
+  }
+  return line;
+}
+
 void Picture::header(cv::Mat& image, const std::string& s, const cv::Scalar& colour) {
   int baseline = 0;
   const cv::Size size = cv::getTextSize(s, cv::FONT_HERSHEY_SIMPLEX, 0.6, 1, &baseline);
@@ -293,7 +326,8 @@ void Picture::draw(const game::Match& match, const Overlay& overlay, cv::Mat& im
 
 void Picture::draw(const World& world, const FateReport& report, const Overlay& overlay, cv::Mat& image) {
   const size_t ticker = overlay.ticker ? 6 : 0;
-  const int rows = int(std::max<size_t>(size_t(options_.top_fates) + 3, ticker + 1)) + 4;
+  const int outcomes = side_axis_ >= 0 ? 2 : 0;  // fields with height: the outcomes line, two rows
+  const int rows = int(std::max<size_t>(size_t(options_.top_fates) + 3 + size_t(outcomes), ticker + 1)) + 4;
   image.create(field_height_ + rows * kLine + 10, options_.width, CV_8UC3);
   image.setTo(kBackground);
   cv::Mat field_area = image(cv::Rect(0, 0, image.cols, field_height_));
@@ -332,6 +366,12 @@ void Picture::draw(const World& world, const FateReport& report, const Overlay& 
                   ranked_.size() - size_t(options_.top_fates));
     text(image, buf, {margin_ + 22, y}, kDim, 0.45);
   }
+  if (outcomes > 0 && fated) {
+    std::string line = outcome_summary(report, world.field());
+    const size_t cut = line.size() > 110 ? line.rfind(" | ", 110) : std::string::npos;
+    text(image, line.substr(0, cut), {margin_ + 22, y + kLine}, kText, 0.45);
+    if (cut != std::string::npos) text(image, line.substr(cut + 3), {margin_ + 22, y + 2 * kLine}, kText, 0.45);
+  }
   if (!fated) {
     const std::string why = world.live()           ? "(no prediction yet)"
                             : world.holder() >= 0 ? "(the ball is in " + world.field().bodies[size_t(world.holder())].name + "'s hands)"
@@ -340,7 +380,7 @@ void Picture::draw(const World& world, const FateReport& report, const Overlay& 
   }
   // Every colour the picture uses, the rarer fates' included.
   int x = margin_;
-  const int key_y = field_height_ + 22 + kLine * (options_.top_fates + 3) + 6;
+  const int key_y = field_height_ + 22 + kLine * (options_.top_fates + 3 + outcomes) + 6;
   auto key = [&](const std::string& name, const cv::Scalar& c) {
     cv::rectangle(image, cv::Rect(x, key_y - 11, 14, 12), c, cv::FILLED);
     text(image, name, {x + 20, key_y}, kDim, 0.45);

@@ -53,6 +53,12 @@ struct Overlay {
 // with their tweaked chances, for a person asking why.
 std::string describe_draw(const Decision& d, const Field& field);
 
+// Fields with height: a report's outcomes as a person reads a shot, Newtonian -> tweaked:
+// "basket 8.5% -> 21.8% | rebound Pia 46.0% -> 39.3% | blocked by Quinn ... | out ... | in play ...".
+// A catch after the ball touched a wall, the rim, a board or the floor is a rebound; an
+// opponent's catch before that a block.
+std::string outcome_summary(const FateReport& report, const Field& field);
+
 struct PictureOptions {
   int width = 1100;    // pixels across the image
   int top_fates = 6;   // the likeliest fates drawn and listed first
@@ -95,6 +101,7 @@ class Picture {
   PictureOptions options_;
   double scale_ = 1;  // pixels per metre
   int margin_ = 30, field_height_ = 0, header_x_ = 0;
+  int top_height_ = 0;  // rows of the view from above
   int side_axis_ = -1, floor_row_ = 0;  // fields with height: the side view's axis (0 x, 1 y) and its floor's row
   std::map<std::string, cv::Scalar> team_colours_;
   std::vector<size_t> ranked_;  // group indices, likeliest (tweaked) first

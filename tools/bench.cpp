@@ -81,7 +81,8 @@ struct Shot {
     std::vector<Event> events;
     world.give(0);
     const Goal& ring = field.goals[0];
-    const Vec3 hand{players[0].position.x, players[0].position.y, world.reach(0)};
+    const Vec2 arm = field.release_point(0, players[0].position, ring.a);
+    const Vec3 hand{arm.x, arm.y, world.reach(0)};
     world.release(0, field.arc_velocity(hand, {ring.a.x, ring.a.y, ring.rim_height}, kShotElevation),
                   ThrowSpread{0.03f, 0.04f, 0.04f}, events);
   }

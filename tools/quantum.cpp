@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 
   quantum::tools::SimulateOptions sim;
-  CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets and report every event");
+  CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets (on a field with a hoop: a shooting practice) and report every event");
   simulate->add_option("FIELD", sim.field, "field file, or a sport folder such as rules/airhockey")->required();
   simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str();
   simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str()
@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   simulate->add_option("--decisions", sim.decisions, "write every draw the core makes as a JSON line to FILE "
                                                      "(- for stdout; docs/decisions.md)");
   simulate->add_option("--fps", sim.fps, "steps per second")->capture_default_str();
+  simulate->add_option("--shooter", sim.shooter, "on a field with a hoop: the player who shoots (default: the first who catches)");
   simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
       ->capture_default_str()->check(CLI::Range(1u, 600u));
 

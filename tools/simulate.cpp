@@ -2,6 +2,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <iostream>
 #include <map>
 
@@ -42,6 +43,36 @@ int respawn_spot(const Field& f, const Event& e) {
   return best;
 }
 
+// Fields with height and a hoop: the shooter, by name (or the first player who catches), or -1.
+int shooter_of(const Field& f, const std::string& name) {
+  const bool hoop = std::any_of(f.goals.begin(), f.goals.end(), [](const Goal& g) { return g.hoop(); });
+  if (!hoop) {
+    if (!name.empty()) throw std::invalid_argument("--shooter needs a field with a hoop");
+    return -1;
+  }
+  for (size_t k = 0; k < f.bodies.size(); ++k)
+    if (f.bodies[k].catches && (name.empty() || f.bodies[k].name == name)) return int(k);
+  throw std::invalid_argument(name.empty() ? "a field with a hoop needs a player who catches, to shoot"
+                                           : "--shooter " + name + ": no player of that name catches on this field");
+}
+
+// A good shooter's scatter: about a degree and a half of direction and of elevation and 2 % of
+// speed (a shot's length is its hardest part; 2 % is 15 cm over 7 m).
+constexpr ThrowSpread kShotSpread{0.025f, 0.02f, 0.025f};
+
+// The shooter's jump shot at the first hoop from where it stands: an arc at kShotElevation
+// through the ring's centre, scattered as a good shooter's is.
+void shoot(World& world, int shooter, std::vector<Event>& events) {
+  const Field& f = world.field();
+  const Goal& hoop = *std::find_if(f.goals.begin(), f.goals.end(), [](const Goal& g) { return g.hoop(); });
+  const Vec2 p = world.body_positions()[size_t(shooter)];
+  world.give(shooter);
+  const Vec2 arm = f.release_point(shooter, p, hoop.a);
+  const Vec3 v = f.arc_velocity({arm.x, arm.y, world.reach(shooter)}, {hoop.a.x, hoop.a.y, hoop.rim_height}, kShotElevation);
+  if (v.x == 0 && v.y == 0 && v.z == 0) throw std::invalid_argument("the shooter stands where no arc reaches the hoop");
+  world.release(shooter, v, kShotSpread, events);
+}
+
 }  // namespace
 
 void write_event(std::ostream& out, const Event& e, const Field& f) {
@@ -68,6 +99,11 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   config.seed = o.seed;
   config.purgatory_frames = o.purgatory;
   World world(field, config, o.backend == "box2d" ? make_box2d_backend(field) : nullptr);
+  // With height and a hoop the scene is a shooting practice: the players stand where the field
+  // puts them, and the shooter shoots again a second after each shot ends (the paper's Figure 4).
+  const int shooter = shooter_of(world.field(), o.shooter);
+  std::vector<BodyInput> standing;
+  for (const BodySpec& b : world.field().bodies) standing.push_back({b.start, {0, 0}});
 
   runtime::LineFile log(o.events), decisions(o.decisions);
   FateReport report;  // the fates the draws are tweaked by
@@ -85,7 +121,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       if (log.stream()) write_event(*log.stream(), e, world.field());
       ++counts[to_string(e.type)];
       if (e.type == EventType::Goal || e.type == EventType::OwnGoal) ++conceded[world.field().goals[e.actor].name];
-      if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out) {
+      if (e.type == EventType::Goal || e.type == EventType::OwnGoal || e.type == EventType::Out ||
+          (shooter >= 0 && e.type == EventType::Catch)) {
         respawn_at = world.time() + kRespawnDelay;
         respawn_to = respawn_spot(world.field(), e);
       }
@@ -96,11 +133,21 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   const uint64_t steps = uint64_t(o.seconds * o.fps + 0.5);
   for (uint64_t s = 0; s < steps; ++s) {
     events.clear();
+    bool shot = false;
     if (respawn_at >= 0 && world.time() >= respawn_at - 1e-9) {
-      world.drop(respawn_to, events);
+      if (shooter >= 0) shoot(world, shooter, events), shot = true;
+      else world.drop(respawn_to, events);
       respawn_at = -1;
     }
-    world.step(dt, scripted_mallets(world.field(), world.time() + dt), events);
+    if (shot) retweak(world, o.factors, report);
+    // The picture of a shot is taken as it leaves the hand.
+    if (shot && !o.snapshot.empty() && !have_snapshot_moment) {
+      picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
+      if (!cv::imwrite(o.snapshot, image)) throw std::runtime_error("cannot write snapshot " + o.snapshot);
+      have_snapshot_moment = true;
+    }
+    world.step(dt, shooter >= 0 ? std::span<const BodyInput>(standing) : scripted_mallets(world.field(), world.time() + dt),
+               events);
     if (decisions.stream() && world.decision()) runtime::write_decision(*decisions.stream(), *world.decision(), report.groups, world.field());
     const bool decided = !events.empty();
     flush();
@@ -113,7 +160,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       next_tweak = world.time() + kRepredictEvery;
     }
     // The picture is taken right after the last realized hit: a fresh shot fanning out.
-    if (!o.snapshot.empty() && world.live()) {
+    if (!o.snapshot.empty() && world.live() && shooter < 0) {
       bool hit = false;
       for (const Event& e : events) hit |= e.type == EventType::Hit;
       if (hit || (!have_snapshot_moment && s + 1 == steps)) {
@@ -130,6 +177,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
           << o.particles << " particles, seed " << o.seed << ")\n";
   summary << "events:";
   for (const char* type : {"drop", "hit", "goal", "own_goal", "out"}) summary << ' ' << type << ' ' << counts[type];
+  if (shooter >= 0)
+    for (const char* type : {"throw", "bounce", "catch"}) summary << ' ' << type << ' ' << counts[type];
   summary << '\n';
   if (!conceded.empty()) {
     summary << "conceded:";

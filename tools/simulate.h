@@ -1,5 +1,6 @@
 // `quantum simulate`: a field, a cloud and two scripted mallets, with decisions, fate factors
-// and respawns, written out as JSON-lines events and a short summary.
+// and respawns, written out as JSON-lines events and a short summary. On a field with a hoop,
+// a shooting practice instead: one player shoots at it again and again.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +24,7 @@ struct SimulateOptions {
   double fps = 60;
   uint32_t purgatory = 3;
   KindFactors factors;
+  std::string shooter;         // fields with a hoop: who shoots ("" for the first player who catches)
 };
 
 // Runs the simulation; the summary goes to `summary`. Throws on bad options or a bad field.

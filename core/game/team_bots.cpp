@@ -245,7 +245,8 @@ Vec2 TeamBots::pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) {
 Throw TeamBots::arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, bool at_goal) {
   const Goal* hoop = at_goal && b.their_goal >= 0 && field_.goals[size_t(b.their_goal)].hoop()
                          ? &field_.goals[size_t(b.their_goal)] : nullptr;
-  const Vec3 hand{from.x, from.y, field_.reach_of(b.body)};
+  const Vec2 arm = field_.release_point(b.body, from, aim);
+  const Vec3 hand{arm.x, arm.y, field_.reach_of(b.body)};
   const float speed = length(velocity);
   Vec3 v = hoop ? field_.arc_velocity(hand, {aim.x, aim.y, hoop->rim_height}, kShotElevation)
                 : field_.throw_at(hand, {aim.x, aim.y, kChestShare * field_.reach_of(b.body)}, speed);

@@ -58,6 +58,12 @@ int Field::wall_id(const std::string& wall) {
   return int(wall_names.size() - 1);
 }
 
+Vec2 Field::release_point(int body, Vec2 at, Vec2 toward) const {
+  const float dx = toward.x - at.x, dy = toward.y - at.y, d = std::hypot(dx, dy);
+  const float arm = bodies[size_t(body)].radius + ball_radius + 1e-3f;
+  return d > 0 ? Vec2{at.x + arm * dx / d, at.y + arm * dy / d} : at;
+}
+
 float Field::reach_of(int body) const {
   const float r = bodies[size_t(body)].reach;
   return r > 0 ? r : kDefaultReach;

@@ -146,6 +146,9 @@ struct Field {
   // horizontal through `to` (a shot at a hoop, a lob to a player's hands); {0, 0, 0} when no
   // throw at that elevation gets there (`to` lies above the launch line).
   Vec3 arc_velocity(Vec3 from, Vec3 to, float elevation) const;
+  // Where body `body`, standing at `at`, lets go of a throw toward `toward`: at arm's length, just
+  // outside its reach (World::release starts a throw there; aim from here, not from the body).
+  Vec2 release_point(int body, Vec2 at, Vec2 toward) const;
   // Fields with height: the flattest throw at `speed` from `from` through `to` (a pass); where
   // no throw that fast gets there, the one at 45 degrees toward it, which gets furthest.
   Vec3 throw_at(Vec3 from, Vec3 to, float speed) const;

@@ -13,6 +13,7 @@ constexpr float kSkin = 2e-6f;
 // prediction reach the rod from different starts: the tighter this, the closer their contacts.
 constexpr float kRingTolerance = 1e-6f;
 constexpr int kMaxRingSteps = 400;
+constexpr float kNewtonZone = 0.01f;  // m: within this of the rod the search takes Newton's steps
 constexpr int kMaxContacts = 8;  // as the flat step: a particle rattling in a corner stops where it is
 
 float hypot2(float x, float y) { return std::sqrt(x * x + y * y); }
@@ -76,19 +77,32 @@ float ring_time(const Sky& s, size_t k, const Mover3& m, float g, float span) {
     // Horizontally: never within reach of the ring line, or all the time well inside the ring.
     const float closest = uu > 0 ? std::clamp(-(qx * m.ux + qy * m.uy) / uu, lo, hi) : lo;
     if (distance(closest) > s.hring[k] + reach || std::max(distance(lo), distance(hi)) < s.hring[k] - reach) continue;
-    const float fastest = std::sqrt(uu) + std::max(std::fabs(m.vz - g * lo), std::fabs(m.vz - g * hi));
+    const float fastest = std::sqrt(uu + std::max((m.vz - g * lo) * (m.vz - g * lo), (m.vz - g * hi) * (m.vz - g * hi)));
     if (!(fastest > 0)) continue;
     float t = lo;
     for (int i = 0; i < kMaxRingSteps && t <= hi; ++i) {
       const float z = m.z + m.vz * t - 0.5f * g * t * t;
-      const float gap = ring_gap(s, k, m.x + m.ux * t, m.y + m.uy * t, z);
+      const float px = qx + m.ux * t, py = qy + m.uy * t, pz = z - s.hz[k], rho = hypot2(px, py);
+      const float radial = rho - s.hring[k], gap = hypot2(radial, pz) - reach;
+      // How fast the gap closes: the velocity along the direction from the rod to the ball.
+      const float nx = rho > 0 ? radial * px / rho : 0, ny = rho > 0 ? radial * py / rho : 0;
+      const float closing = -(nx * m.ux + ny * m.uy + pz * (m.vz - g * t)) / (gap + reach);
       if (gap < kRingTolerance) {
-        if (t > 0) return t;
-        // Touching at the start (just bounced off it): a contact only while closing in.
-        const float rho = hypot2(qx, qy);
-        const float nx = rho > 0 ? qx - s.hring[k] * qx / rho : qx, ny = rho > 0 ? qy - s.hring[k] * qy / rho : qy;
-        if (nx * m.vx + ny * m.vy + (m.z - s.hz[k]) * m.vz < 0) return 0;
-        t += 2 * kRingTolerance / fastest + 1e-6f;
+        if (t > 0 || closing > 0) return t;
+        t += 2 * kRingTolerance / fastest + 1e-6f;  // just bounced off it, moving away
+        continue;
+      }
+      // Close in and closing steeply: Newton's step to where the gap would be zero. Near the rod
+      // the gap along the path curves up (a convex surface seen from outside), so the step
+      // falls short of the contact rather than past it; a step that would cross it is bisected.
+      if (gap < kNewtonZone && closing > 0.1f * fastest) {
+        float next = t + gap / closing;
+        for (int halve = 0; halve < 30; ++halve) {
+          const float zn = m.z + m.vz * next - 0.5f * g * next * next;
+          if (ring_gap(s, k, m.x + m.ux * next, m.y + m.uy * next, zn) > -kRingTolerance) break;
+          next = 0.5f * (t + next);
+        }
+        t = std::max(next, t + gap / fastest);
         continue;
       }
       t += gap / fastest;

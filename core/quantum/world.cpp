@@ -123,8 +123,9 @@ Vec2 World::release_point(int body, Vec2 direction) const {
   const Vec2 p = body_pos_[size_t(body)];
   detail::Mover m{std::clamp(p.x, b.x0 + inset, b.x1 - inset), std::clamp(p.y, b.y0 + inset, b.y1 - inset), 0, 0, 0, 0};
   detail::settle(g, nullptr, 0, 0, m, false);
-  const float reach = field_.bodies[size_t(body)].radius + g.r + 1e-3f;
-  m.ux = m.vx = direction.x * reach, m.uy = m.vy = direction.y * reach;
+  // Toward the point at arm's length (Field::release_point), stopping short of a wall or the bounds.
+  const Vec2 arm = field_.release_point(body, p, {p.x + direction.x, p.y + direction.y});
+  m.ux = m.vx = arm.x - p.x, m.uy = m.vy = arm.y - p.y;
   const detail::Hit hit = detail::next_hit(g, nullptr, 0, m, 0, 1, false);
   const float t = hit.kind == detail::HitKind::None ? 1.0f : hit.dt;
   return {m.x + m.ux * t, m.y + m.uy * t};

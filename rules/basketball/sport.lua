@@ -17,9 +17,10 @@ local sport = {
   -- scatter and the players' reach make possible.
   factors = { goal = 3, pass = 3, intercept = 2, catch = 2, out = 0.4, field = 1 },
 
-  -- A pass leaves the hand at 8 m/s unless it says otherwise; every throw scatters by 2 degrees
-  -- of direction and of elevation and by 4 % of its speed.
-  throws = { speed = 8, spread = 2, speed_spread = 0.04, elevation_spread = 2 },
+  -- A pass leaves the hand at 8 m/s unless it says otherwise; every throw scatters by 1.5 degrees
+  -- of direction and of elevation and by 2 % of its speed (a shot's length is its hardest part:
+  -- 2 % is 15 cm over 7 m, about what a good shooter misses by).
+  throws = { speed = 8, spread = 1.5, speed_spread = 0.02, elevation_spread = 1.5 },
 
   teams = { home = "Home", away = "Away" },
 

@@ -207,7 +207,8 @@ TEST(Height, RealizedShotsFollowTheTweakedProbabilities) {
   scene.place_bodies(in);
   scene.give(maya);
   std::vector<Event> thrown;
-  const Vec3 hand{-3, 5.5f, f.reach_of(maya)}, ring{hoop(f).a.x, hoop(f).a.y, hoop(f).rim_height};
+  const Vec2 arm = f.release_point(maya, {-3, 5.5f}, hoop(f).a);
+  const Vec3 hand{arm.x, arm.y, f.reach_of(maya)}, ring{hoop(f).a.x, hoop(f).a.y, hoop(f).rim_height};
   scene.release(maya, f.arc_velocity(hand, ring, 0.9f), ThrowSpread{0.03f, 0.04f, 0.04f}, thrown);
   FateReport report = scene.predict(3.0f);
   std::vector<double> factors;
