@@ -279,6 +279,14 @@ int throw_ball(lua_State* L) {
   return 0;
 }
 
+// game.jump(player [, height [, seconds]]): on a field with height the player reaches `height`
+// m higher (0.5 by default) for `seconds` (0.5): a block, a rebound.
+int jump(lua_State* L) {
+  game::Match& m = acting(L);
+  m.jump(player_index(m, check_string(L, 1)), opt_number(L, 2, 0.5), opt_number(L, 3, 0.5));
+  return 0;
+}
+
 // game.holder(): who holds the ball, or nil.
 int holder(lua_State* L) {
   const game::Match& m = reading(L);
@@ -370,7 +378,7 @@ void push_game_api(lua_State* L, Sport* sport) {
                {"cancel", guard<cancel>},     {"turn", guard<turn>},         {"aim", guard<aim>},
                {"score", guard<score>},       {"time", guard<time>},         {"teams", guard<teams>},
                {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
-               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>},
+               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>}, {"jump", guard<jump>},
                {"holder", guard<holder>},     {"area", guard<area>},         {"field", guard<field>}},
               sport);
 }

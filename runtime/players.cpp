@@ -94,12 +94,15 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
 void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) {
   for (BodyInput& b : bodies_) b.velocity = {0, 0};  // no input: the body holds still
   const float slack = 0.5f * std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
+  // A flat field throws along the floor; one with height takes the throw's upward share too.
+  const double tall = field_.has_height() ? 1.0 : 0.0;
   for (const tracking::TrackedAction& a : f.actions) {
-    const double l = std::hypot(a.dx, a.dy);
+    const double l = std::hypot(std::hypot(a.dx, a.dy), tall * a.dz);
     if (a.type != "throw" || !(l > 0)) continue;
     for (size_t k = 0; k < field_.bodies.size(); ++k)
       if (field_.bodies[k].tracked_as() == a.player)
-        throws_.push_back({int(k), {float(throw_speed * a.dx / l), float(throw_speed * a.dy / l)}});
+        throws_.push_back({int(k), {float(throw_speed * a.dx / l), float(throw_speed * a.dy / l)},
+                           float(throw_speed * tall * a.dz / l)});
   }
   for (const tracking::TrackedPlayer& p : f.players) {
     for (size_t k = 0; k < field_.bodies.size(); ++k) {

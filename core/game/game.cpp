@@ -254,10 +254,22 @@ void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_to
 
 void Match::report_error(std::string message) { errors_.push_back(std::move(message)); }
 
+void Match::jump(int k, double height, double seconds) {
+  if (!field().has_height()) throw std::logic_error("jumping needs a field with height (gravity)");
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  if (!(height > 0 && height <= 3)) throw std::invalid_argument("a jump's height must be in (0, 3] m");
+  if (!(seconds > 0 && seconds <= 2)) throw std::invalid_argument("a jump must last (0, 2] s");
+  landing_.resize(players_.size(), -1);
+  world_.set_reach(k, field().reach_of(k) + float(height));
+  landing_[size_t(k)] = time() + seconds;
+}
+
 void Match::step(std::span<const BodyInput> input) {
   if (finished_) return;
   const float dt = float(1.0 / config_.fps);
   core_events_.clear();
+  for (size_t k = 0; k < landing_.size(); ++k)
+    if (landing_[k] >= 0 && time() >= landing_[k] - 1e-9) world_.set_reach(int(k), field().reach_of(int(k))), landing_[k] = -1;
   if (respawn_at_ >= 0 && time() >= respawn_at_ - 1e-9) {
     respawn_at_ = -1;
     if (respawn_holder_ >= 0) {

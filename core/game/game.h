@@ -184,6 +184,10 @@ class Match {
   // Hints to simulated players: whether it is player k's turn, and where player k aims.
   void set_turn(int k, bool turn);
   void set_aim(int k, Aim aim);
+  // Fields with height: player k jumps, reaching `height` m higher for `seconds` (a block, a
+  // rebound). Throws std::invalid_argument for an unknown player, a height outside (0, 3] m or
+  // seconds outside (0, 2], and std::logic_error on a flat field.
+  void jump(int k, double height, double seconds);
 
   // Opens these wormholes on the field, replacing any (an empty list closes them). Throws
   // std::invalid_argument for wormholes the core refuses.
@@ -265,6 +269,7 @@ class Match {
   MatchConfig config_;
   Rules* rules_;
   std::vector<Player> players_;
+  std::vector<double> landing_;  // per player: when its jump ends (-1: on the floor)
   std::vector<std::string> teams_;
   std::vector<ActivePowerup> powerups_;
   std::map<std::string, int> score_;

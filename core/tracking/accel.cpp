@@ -13,6 +13,9 @@
 namespace quantum::tracking {
 namespace {
 
+constexpr double kSteepest = 1.3;  // rad, 75 degrees: a throw straighter up is the sensor's noise
+constexpr double kGravity = 9.81;
+
 // "t,player,ax,ay,az"; false when the line does not have that shape.
 bool parse_sample(const std::string& line, AccelSample& s) {
   std::stringstream in(line);
@@ -95,7 +98,11 @@ void ThrowDetector::add(const std::vector<AccelSample>& samples, TrackedFrame& f
       if (speed > 0.3) dx = p->vx / speed, dy = p->vy / speed;
       else dx = p->team == "blue" ? 1 : -1;  // standing: toward the other end (blue attacks +x)
     }
-    frame.actions.push_back({"throw", s.player, dx, dy});
+    // The whip's share along the sensor's z axis (worn z up; gravity, which the sensor feels at
+    // rest, taken off) lifts the throw: a shot goes up, a chest pass flat. Never steeper than
+    // kSteepest, never down.
+    const double up = std::clamp(std::atan2(s.az - kGravity, std::hypot(s.ax, s.ay)), 0.0, kSteepest);
+    frame.actions.push_back({"throw", s.player, dx * std::cos(up), dy * std::cos(up), std::sin(up)});
   }
 }
 

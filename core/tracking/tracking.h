@@ -28,10 +28,11 @@ struct TrackedPlayer {
   double x = 0, y = 0, vx = 0, vy = 0;  // field metres and m/s
 };
 
-// Something a player did: a throw, with its direction on the field (a unit vector).
+// Something a player did: a throw, with its direction (a unit vector): along the field (dx, dy)
+// and upward (dz, from the accelerometer's vertical axis; a flat field ignores it).
 struct TrackedAction {
   std::string type, player;
-  double dx = 0, dy = 0;
+  double dx = 0, dy = 0, dz = 0;
 };
 
 struct TrackedFrame {

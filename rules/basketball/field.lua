@@ -11,8 +11,8 @@ local W, L = 15, 14
 local basket = { 0, 1.575 }   -- the ring's centre: 1.2 m to the board, 0.375 m to the ring's middle
 local ARC = 6.75              -- the three-point line, from the basket's centre
 
--- Players: names for the announcer. Hats are tracked as "home 1", "home 2", ... in order of
--- their distance from the basket as they stand at the first frame (docs/tracking.md).
+-- Players: names for the announcer. Hats are tracked as "home 1", "home 2", ... (how a hat gets
+-- its number: docs/tracking.md); TUIO and accelerometers use the same ids.
 local names = {
   home = { "Maya", "Noah", "Omar", "Lena", "Ivo" },
   away = { "Pia", "Quinn", "Rosa", "Sven", "Tara" },
@@ -20,12 +20,13 @@ local names = {
 local bodies = {}
 for t, team in ipairs({ "home", "away" }) do
   for i = 1, per_team do
-    -- Spread around the arc, each team on its own side of the court's middle line.
-    local angle = math.rad(30 + 120 * (i - 0.5) / per_team)
-    local depth = t == 1 and ARC + 1.5 or ARC - 1.5
+    -- Around the basket inside the arc; Away's places are Home's mirrored across the court's
+    -- middle line, so neither team has the better ones (the simulated players keep to them).
+    local angle = math.rad(35 + 110 * (i - 0.5) / per_team)
+    local side = t == 1 and 1 or -1
     bodies[#bodies + 1] = {
       name = names[team][i], team = team, catches = true, track = team .. " " .. i,
-      at = { depth * math.cos(angle) * (t == 1 and 1 or -1) * 0.9, basket[2] + depth * math.sin(angle) },
+      at = { side * (ARC - 0.75) * math.cos(angle), basket[2] + (ARC - 0.75) * math.sin(angle) },
       radius = 0.5,    -- how far the hands get around a player
       reach = 2.4,     -- how high they get standing, arms up (a jump adds to it)
     }

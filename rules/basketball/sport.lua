@@ -52,6 +52,7 @@ local sport = {
 }
 
 local BASKET = "basket"
+local CONTEST = 1.5   -- m: a defender this near the shot jumps at it
 
 -- What the rules remember across events and a reload: the shot in the air (who, from where, and
 -- whether it has touched the rim or the board yet).
@@ -102,6 +103,10 @@ sport.on = {
     local three = game.area(e.x, e.y) == nil
     sport.state.shot = { by = e.actor, team = e.team, points = three and 3 or 2, touched = false }
     game.say(three and "downtown" or "shot", { player = e.actor })
+    -- The nearest opponent within CONTEST of the ball contests the shot: a jump, hands 0.5 m
+    -- higher for 0.6 s. (Tracked players' jumps have no input yet: the rules assume this one.)
+    local d = nearest(game, two_teams.other(game, e.team), e.x, e.y)
+    if d and (d.x - e.x) ^ 2 + (d.y - e.y) ^ 2 < CONTEST ^ 2 then game.jump(d.name, 0.5, 0.6) end
   end,
 
   bounce = function(game, e)

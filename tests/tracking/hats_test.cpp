@@ -181,3 +181,22 @@ TEST(Hats, AccelerometerSamplesArriveOverUdp) {
 
 }  // namespace
 }  // namespace quantum
+
+// A whip's share along the sensor's z axis lifts the throw (gravity taken off); a level whip is
+// a flat throw. Directions stay unit vectors, along the player's run.
+TEST(Hats, AnUpwardWhipThrowsUp) {
+  quantum::tracking::ThrowDetector detector;
+  quantum::tracking::TrackedFrame frame;
+  frame.players.push_back({"home 1", "home", 0, 5, 2, 0});  // running along +x
+  frame.players.push_back({"home 2", "home", 3, 5, 0, 2});  // running along +y
+  const double g = 9.81;
+  detector.add({{0.0, "home 1", 20, 0, g + 20}, {0.0, "home 2", 0, 30, g}}, frame);
+  ASSERT_EQ(frame.actions.size(), 2u);
+  const quantum::tracking::TrackedAction& shot = frame.actions[0];
+  const quantum::tracking::TrackedAction& pass = frame.actions[1];
+  EXPECT_NEAR(std::atan2(shot.dz, std::hypot(shot.dx, shot.dy)), std::atan2(20.0, 20.0), 1e-9);  // 45 degrees
+  EXPECT_NEAR(shot.dx * shot.dx + shot.dy * shot.dy + shot.dz * shot.dz, 1.0, 1e-9);
+  EXPECT_GT(shot.dx, 0.7);
+  EXPECT_EQ(pass.dz, 0.0);
+  EXPECT_NEAR(pass.dy, 1.0, 1e-9);
+}
