@@ -163,12 +163,8 @@ TEST(Catch, RealizedCatchesFollowTheTweakedProbabilities) {
   const int kWorlds = 4000;
   std::map<std::string, double> seen;
   for (int seed = 0; seed < kWorlds; ++seed) {
-    WorldConfig c = config;
-    c.seed = uint64_t(seed) + 1;
-    World world(f, c);
-    world.place_bodies(in);
-    world.set_cloud(scene.cloud());
-    world.set_last_touch(ben);
+    const std::unique_ptr<World> scene_of_seed = test::scene_world(f, config, uint64_t(seed) + 1, in, scene.cloud(), ben);
+    World& world = *scene_of_seed;
     std::vector<Event> events;
     for (int s = 0; s < 180 && events.empty(); ++s) world.step(kDt, in, events);
     std::string outcome = "none";

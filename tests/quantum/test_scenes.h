@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,18 @@ inline int body_named(const Field& f, const std::string& name) {
     if (f.bodies[k].name == name) return int(k);
   ADD_FAILURE() << "no player " << name;
   return 0;
+}
+
+// A world of seed `seed` set up as a scene: the bodies placed, the ball replaced by `cloud`,
+// `last_touch` the last to touch it. For statistical tests that replay one scene many times.
+inline std::unique_ptr<World> scene_world(const Field& f, WorldConfig config, uint64_t seed,
+                                          const std::vector<BodyInput>& bodies, const Cloud& cloud, int last_touch) {
+  config.seed = seed;
+  auto world = std::make_unique<World>(f, config);
+  world->place_bodies(bodies);
+  world->set_cloud(cloud);
+  world->set_last_touch(last_touch);
+  return world;
 }
 
 inline Field airhockey() { return lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey"); }
