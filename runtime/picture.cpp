@@ -214,7 +214,11 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
     cv::polylines(img, outline, true, team_colour(a.team) * 0.6, 1, cv::LINE_AA);
   }
   for (const Segment& s : field_.segments) cv::line(img, px(s.a), px(s.b), kWall, 3, cv::LINE_AA);
-  for (const Goal& g : field_.goals) cv::line(img, px(g.a), px(g.b), team_colour(g.team), 5, cv::LINE_AA);
+  for (const Goal& g : field_.goals) {
+    if (g.hoop()) cv::circle(img, px(g.a), std::max(3, int(g.rim_radius * scale_)), kGoal, 2, cv::LINE_AA);
+    else cv::line(img, px(g.a), px(g.b), team_colour(g.team), 5, cv::LINE_AA);
+  }
+  for (const Board& b : field_.boards) cv::line(img, px(b.a), px(b.b), kWall, 3, cv::LINE_AA);
   for (const Spot& s : field_.spots) cv::drawMarker(img, px(s.at), kDim, cv::MARKER_CROSS, 12, 1);
   for (const Wormhole& w : world.wormholes())
     for (Vec2 m : {w.a, w.b}) cv::circle(img, px(m), int(w.radius * scale_), kOut, 2, cv::LINE_AA);
