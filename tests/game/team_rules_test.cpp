@@ -19,12 +19,14 @@ namespace fs = std::filesystem;
 
 // A sport on the keep-away court whose match starts in Ann's hands and whose `give` handler (the
 // first give is the match's start) runs `body`.
-std::string court_with(const std::string& name, const std::string& body, const std::string& more = "") {
+// On another sport's field (`field_of`) the match starts with `starter` holding the ball.
+std::string court_with(const std::string& name, const std::string& body, const std::string& more = "",
+                       const std::string& field_of = "keepaway", const std::string& starter = "Ann") {
   const fs::path dir = fs::temp_directory_path() / ("quantum_team_rules_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
-  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/keepaway/field.lua", dir / "field.lua");
-  std::ofstream(dir / "sport.lua") << "local given = 0\nreturn { match = { start = 'Ann' }, " << more
+  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/" + field_of + "/field.lua", dir / "field.lua");
+  std::ofstream(dir / "sport.lua") << "local given = 0\nreturn { match = { start = '" << starter << "' }, " << more
                                    << " on = { give = function(game, e)\n  given = given + 1\n  if given > 1 then return end\n"
                                    << body << "\nend } }\n";
   return dir.string();
@@ -77,6 +79,23 @@ TEST(TeamRules, MisusedCallsAreErrorsThatNameTheMistake) {
   EXPECT_HAS(play(court_with("bad_key", "game.throw('Ann', 'Bo', { sped = 9 })")).errors, "sped");
   EXPECT_HAS(play(court_with("nobody", "game.give('Nobody')")).errors, "unknown player 'Nobody'");
   EXPECT_HAS(play(court_with("late", "game.give('Bo', 100)")).errors, "delay must be in [0, 60] s");
+  EXPECT_HAS(play(court_with("flat_jump", "game.jump('Ann')")).errors, "jumping needs a field with height");
+  EXPECT_HAS(play(court_with("flat_lob", "game.throw('Ann', 'Bo', { elevation = 40 })")).errors,
+             "elevation needs a field with height");
+}
+
+// On the basketball court a rule's shot at the hoop arcs up to it: it ends at the ring (a
+// basket, or off the rim or the board) within two seconds, and a jump is no error there.
+TEST(TeamRules, AShotAtAHoopArcsToTheRing) {
+  const Played p = play(court_with("shot", R"(
+  game.jump("Pia", 0.5, 0.5)
+  game.throw("Maya", "basket", { spread = 0, speed_spread = 0, elevation_spread = 0 }))", "", "basketball", "Maya"), 2.5);
+  EXPECT_EQ(p.errors, "");
+  bool at_ring = false;
+  for (size_t k = 0; k < p.events.size(); ++k)
+    at_ring |= p.events[k].type == game::EventKind::Goal ||
+               (p.events[k].type == game::EventKind::Bounce && (p.actors[k] == "rim" || p.actors[k] == "backboard"));
+  EXPECT_TRUE(at_ring);
 }
 
 TEST(TeamRules, AGiveWithADelayHandsTheBallOverLater) {
