@@ -4,6 +4,9 @@
 // halfway; a replay says which files changed since.
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <iterator>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -226,6 +229,35 @@ return {
 
 // Handball from a filmed rally and its accelerometers: the throws are part of each recorded
 // frame, and the hall's --param's part of the recording.
+// Rewrites a recording's frames as QGFRAMES2 did: each throw without its third number (its upward
+// speed). False when the frames are not QGFRAMES3 or a throw has an upward speed.
+bool as_flat_throws(const fs::path& frames) {
+  std::ifstream in(frames, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string magic = "QGFRAMES3\n";
+  if (bytes.compare(0, magic.size(), magic) != 0) return false;
+  std::string out = "QGFRAMES2\n";
+  size_t at = magic.size();
+  auto take = [&](size_t n) { out.append(bytes, at, n), at += n; };
+  auto u32 = [&]() { uint32_t v; std::memcpy(&v, bytes.data() + at, 4); return v; };
+  while (at < bytes.size()) {
+    take(1);  // status
+    const uint32_t bodies = u32();
+    take(4 + 16 * size_t(bodies));
+    const uint32_t throws = u32();
+    take(4);
+    for (uint32_t k = 0; k < throws; ++k) {
+      take(4 + 8);  // player, vx, vy
+      float up;
+      std::memcpy(&up, bytes.data() + at, 4);
+      if (up != 0) return false;
+      at += 4;
+    }
+  }
+  std::ofstream(frames, std::ios::binary | std::ios::trunc) << out;
+  return true;
+}
+
 TEST(Recording, AHandballRallyWithThrowsReplaysByteForByte) {
   const fs::path dir = scratch("rally");
   tools::HatSceneOptions scene;
@@ -245,6 +277,11 @@ TEST(Recording, AHandballRallyWithThrowsReplaysByteForByte) {
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
   EXPECT_EQ(replayed.warnings, "");
+  // The same recording as an engine before height wrote it (QGFRAMES2: a throw without its
+  // upward speed, which a flat field's throws never have) replays the same match.
+  ASSERT_TRUE(as_flat_throws(fs::path(o.record) / "frames.bin"));
+  const Logs older = replay(o.record, dir / "older");
+  EXPECT_EQ(older.events, played.events);
 }
 
 TEST(Recording, ARecordingGoesIntoANewFolder) {
