@@ -13,7 +13,6 @@ constexpr float kSkin = 2e-6f;
 // prediction reach the rod from different starts: the tighter this, the closer their contacts.
 constexpr float kRingTolerance = 1e-6f;
 constexpr int kMaxRingSteps = 400;
-constexpr float kNewtonZone = 0.01f;  // m: within this of the rod the search takes Newton's steps
 constexpr int kMaxContacts = 8;  // as the flat step: a particle rattling in a corner stops where it is
 
 float hypot2(float x, float y) { return std::sqrt(x * x + y * y); }
@@ -37,12 +36,6 @@ float ascent_time(float z0, float vz, float g, float level) {
   return std::max(0.0f, (vz - std::sqrt(disc)) / g);
 }
 
-// Distance of the ball's centre from hoop k's rod, less the rod's and the ball's radii.
-float ring_gap(const Sky& s, size_t k, float x, float y, float z) {
-  const float px = x - s.hx[k], py = y - s.hy[k], pz = z - s.hz[k];
-  return hypot2(hypot2(px, py) - s.hring[k], pz) - s.htube[k] - s.r;
-}
-
 // When the height z0 + vz t - g t^2 / 2 is at least `level`: on [t0, t1] (g > 0); false if never.
 bool above(float z0, float vz, float g, float level, float& t0, float& t1) {
   const float disc = vz * vz + 2 * g * (z0 - level);
@@ -53,10 +46,14 @@ bool above(float z0, float vz, float g, float level, float& t0, float& t1) {
 }
 
 // When the ball first touches hoop k's rod within `span`. The rod is a torus: its contact with a
-// parabola has no closed form, so the search advances by the gap over the fastest the ball can
-// close it (conservative advancement): never past a contact, and a few steps for a clear miss.
+// parabola has no closed form, so the search advances by the largest step that cannot pass a
+// contact (conservative advancement). Two bounds give such a step, and it takes the longer: the
+// gap closes no faster than the ball's speed; and the gap's rate of change falls no faster than
+// gravity plus the horizontal speed bent around the hoop's axis (the distance from a ring curves
+// down only along the ring, by at most 1/rho). The second makes a ball moving away from the rod,
+// or past it, take a few long steps, and one closing in converge as Newton's method would.
 // It runs only while the ball is level with the rod (one or two stretches of the arc) and
-// passes within reach of it horizontally, over the fastest the ball goes in that stretch.
+// passes within reach of it horizontally.
 float ring_time(const Sky& s, size_t k, const Mover3& m, float g, float span) {
   if (!(g > 0)) return kInf;  // a ball on the floor never reaches a ring
   const float reach = s.htube[k] + s.r;
@@ -76,36 +73,27 @@ float ring_time(const Sky& s, size_t k, const Mover3& m, float g, float span) {
     const float lo = stretch[piece][0], hi = stretch[piece][1];
     // Horizontally: never within reach of the ring line, or all the time well inside the ring.
     const float closest = uu > 0 ? std::clamp(-(qx * m.ux + qy * m.uy) / uu, lo, hi) : lo;
-    if (distance(closest) > s.hring[k] + reach || std::max(distance(lo), distance(hi)) < s.hring[k] - reach) continue;
+    const float nearest = distance(closest);
+    if (nearest > s.hring[k] + reach || std::max(distance(lo), distance(hi)) < s.hring[k] - reach) continue;
     const float fastest = std::sqrt(uu + std::max((m.vz - g * lo) * (m.vz - g * lo), (m.vz - g * hi) * (m.vz - g * hi)));
     if (!(fastest > 0)) continue;
+    const float bend = g + uu / std::max(nearest, 1e-3f);
     float t = lo;
     for (int i = 0; i < kMaxRingSteps && t <= hi; ++i) {
       const float z = m.z + m.vz * t - 0.5f * g * t * t;
       const float px = qx + m.ux * t, py = qy + m.uy * t, pz = z - s.hz[k], rho = hypot2(px, py);
       const float radial = rho - s.hring[k], gap = hypot2(radial, pz) - reach;
-      // How fast the gap closes: the velocity along the direction from the rod to the ball.
+      // How fast the gap grows: the velocity along the direction from the rod to the ball.
       const float nx = rho > 0 ? radial * px / rho : 0, ny = rho > 0 ? radial * py / rho : 0;
-      const float closing = -(nx * m.ux + ny * m.uy + pz * (m.vz - g * t)) / (gap + reach);
+      const float rate = (nx * m.ux + ny * m.uy + pz * (m.vz - g * t)) / (gap + reach);
       if (gap < kRingTolerance) {
-        if (t > 0 || closing > 0) return t;
+        if (t > 0 || rate < 0) return t;
         t += 2 * kRingTolerance / fastest + 1e-6f;  // just bounced off it, moving away
         continue;
       }
-      // Close in and closing steeply: Newton's step to where the gap would be zero. Near the rod
-      // the gap along the path curves up (a convex surface seen from outside), so the step
-      // falls short of the contact rather than past it; a step that would cross it is bisected.
-      if (gap < kNewtonZone && closing > 0.1f * fastest) {
-        float next = t + gap / closing;
-        for (int halve = 0; halve < 30; ++halve) {
-          const float zn = m.z + m.vz * next - 0.5f * g * next * next;
-          if (ring_gap(s, k, m.x + m.ux * next, m.y + m.uy * next, zn) > -kRingTolerance) break;
-          next = 0.5f * (t + next);
-        }
-        t = std::max(next, t + gap / fastest);
-        continue;
-      }
-      t += gap / fastest;
+      // The later root of gap + rate dt - bend dt^2 / 2, in the form that keeps its digits.
+      const float root = std::sqrt(rate * rate + 2 * bend * gap);
+      t += std::max(gap / fastest, rate >= 0 ? (rate + root) / bend : 2 * gap / (root - rate));
     }
   }
   return kInf;
