@@ -29,12 +29,10 @@ class FastBackend final : public Backend {
       const BodyMotion& b = ctx.bodies[k];
       const float ux = (b.to.x - b.from.x) / ctx.dt, uy = (b.to.y - b.from.y) / ctx.dt;
       paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius};
-      const float reach = b.radius + g.r + 1e-3f, touch = b.radius + g.r - detail::kTolerance;
       // Anything a particle can do within a step stays within its own travel of where it started:
       // beyond this distance of the body's sweep (plus that travel) no bounce can bring it in.
       const float sweep = std::hypot(b.to.x - b.from.x, b.to.y - b.from.y);
-      near_[k] = {b.from.x, b.from.y, b.to.x - b.from.x, b.to.y - b.from.y, reach * reach, touch * touch,
-                  reach + sweep};
+      near_[k] = {detail::body_sweep(b, g.r), b.radius + g.r + 1e-3f + sweep};
     }
 
     const int n = int(cloud.size());
@@ -69,24 +67,12 @@ class FastBackend final : public Backend {
         flag[j] = uint8_t((x0 < s.x0) | (x0 > s.x1) | (y0 < s.y0) | (y0 > s.y1) | (x1 < s.x0) | (x1 > s.x1) |
                           (y1 < s.y0) | (y1 > s.y1));
       }
-      // Closest approach of the particle to the body over the step, both moving linearly: exact
-      // up to a millimetre, so only particles that really touch a body take the slow path. A
-      // separating pair (a shot just leaving the mallet) can only touch if it overlaps already.
       for (int k = 0; k < nb; ++k) {
-        const Near c = near_[k];
+        const detail::BodySweep c = near_[k].sweep;
 #pragma GCC ivdep
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
-          const float qx = ox[j] - c.x, qy = oy[j] - c.y;
-          const float wx = (x[i] - ox[j]) - c.dx, wy = (y[i] - oy[j]) - c.dy;
-          const float qq = qx * qx + qy * qy, ww = wx * wx + wy * wy, qw = qx * wx + qy * wy;
-          // min over t in [0, 1] of |q + t w|^2 < R^2, without a division: at t = 0 when
-          // separating, at t = 1 when still closing at the end, else (qq - R^2) ww < qw^2.
-          const bool separating = qw >= 0, closing_at_end = -qw >= ww;
-          const bool touches = (separating & (qq < c.touch2)) |
-                               (!separating & closing_at_end & (qq + 2 * qw + ww < c.reach2)) |
-                               (!separating & !closing_at_end & ((qq - c.reach2) * ww < qw * qw));
-          flag[j] |= uint8_t(touches);
+          flag[j] |= uint8_t(detail::sweeps_touch(c, ox[j], oy[j], x[i], y[i]));
         }
       }
       // Wormhole mouths may lie inside the safe box: a particle whose step can reach one is searched.
@@ -105,10 +91,7 @@ class FastBackend final : public Backend {
 
  private:
   struct Near {
-    float x, y;    // body at the start of the step
-    float dx, dy;  // its displacement over the step
-    float reach2;  // squared contact distance, plus a millimetre
-    float touch2;  // squared distance below which a particle overlaps the body
+    detail::BodySweep sweep;
     float around;  // a particle starting further than this plus twice its travel cannot touch it
   };
 
@@ -118,7 +101,7 @@ class FastBackend final : public Backend {
     const float travel = 2 * (std::fabs(m.ux) + std::fabs(m.uy)) * dt;
     for (int k = 0; k < nb; ++k) {
       const Near& c = near_[k];
-      const float qx = m.x - c.x, qy = m.y - c.y, around = c.around + travel;
+      const float qx = m.x - c.sweep.x, qy = m.y - c.sweep.y, around = c.around + travel;
       if (qx * qx + qy * qy < around * around) return true;
     }
     return false;

@@ -4,6 +4,8 @@
 // a wall or a body; only those take the exact contact search (height.h), one at a time.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 #include "height.h"
 #include "quantum/backend.h"
@@ -14,9 +16,48 @@ namespace {
 
 constexpr int kBlock = 256;  // as the flat step: amortizes the per-block checks, scratch stays in L1
 
+// Floats as integers of the same order: integer min and max reductions vectorize, float ones do
+// not (their NaN rules keep the compiler from reordering them).
+inline int32_t order_key(float f) {
+  int32_t k;
+  std::memcpy(&k, &f, sizeof k);
+  return k ^ ((k >> 31) & 0x7FFFFFFF);
+}
+inline float from_order_key(int32_t k) {
+  k ^= (k >> 31) & 0x7FFFFFFF;
+  float f;
+  std::memcpy(&f, &k, sizeof f);
+  return f;
+}
+
+struct Box3 {
+  float x0, y0, z0, x1, y1, z1;
+  bool overlaps(const Box3& o) const {
+    return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1 && z0 <= o.z1 && o.z0 <= z1;
+  }
+};
+
 class HeightBackend final : public Backend {
  public:
-  explicit HeightBackend(const Field& field) : geometry_(field), sky_(field) {}
+  explicit HeightBackend(const Field& field) : geometry_(field), sky_(field) {
+    const detail::Sky& s = sky_;
+    for (size_t k = 0; k < s.hx.size(); ++k) {
+      const float reach = s.htube[k] + s.r + kMargin;
+      const float outer = s.hring[k] + reach;
+      rims_.push_back({s.hx[k], s.hy[k], s.hz[k], s.hz[k] - reach, s.hz[k] + reach,
+                       std::max(0.0f, s.hring[k] - reach), outer,
+                       {s.hx[k] - outer, s.hy[k] - outer, s.hz[k] - reach, s.hx[k] + outer, s.hy[k] + outer,
+                        s.hz[k] + reach}});
+    }
+    for (size_t k = 0; k < s.board.size(); ++k) {
+      const detail::SegmentParams& b = s.board[k];
+      const float near = s.r + kMargin, z0 = s.bbottom[k] - near, z1 = s.btop[k] + near;
+      const float ex = b.ax + b.tx * b.len, ey = b.ay + b.ty * b.len;
+      boards_.push_back({b.ax, b.ay, b.tx, b.ty, b.nx, b.ny, b.len, near, z0, z1,
+                         {std::min(b.ax, ex) - near, std::min(b.ay, ey) - near, z0, std::max(b.ax, ex) + near,
+                          std::max(b.ay, ey) + near, z1}});
+    }
+  }
 
   void advance(Cloud& cloud, const StepContext& ctx, std::vector<Contact>& contacts) override {
     const detail::Geometry& g = geometry_;
@@ -28,9 +69,10 @@ class HeightBackend final : public Backend {
       const BodyMotion& b = ctx.bodies[k];
       const float ux = (b.to.x - b.from.x) / ctx.dt, uy = (b.to.y - b.from.y) / ctx.dt;
       paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius, b.top};
-      const float sweep = std::hypot(b.to.x - b.from.x, b.to.y - b.from.y);
-      near_[k] = {b.from.x + 0.5f * (b.to.x - b.from.x), b.from.y + 0.5f * (b.to.y - b.from.y),
-                  b.radius + g.r + 0.5f * sweep + 1e-3f, b.top + g.r + 1e-3f};
+      const float reach = b.radius + g.r + kMargin;
+      near_[k] = {detail::body_sweep(b, g.r), b.top + g.r + kMargin,
+                  {std::min(b.from.x, b.to.x) - reach, std::min(b.from.y, b.to.y) - reach, -kInf,
+                   std::max(b.from.x, b.to.x) + reach, std::max(b.from.y, b.to.y) + reach, b.top + g.r + kMargin}};
     }
 
     const int n = int(cloud.size());
@@ -40,46 +82,90 @@ class HeightBackend final : public Backend {
     float* __restrict vx = cloud.vx.data();
     float* __restrict vy = cloud.vy.data();
     float* __restrict vz = cloud.vz.data();
+    // Everything the loops read is a local: the flags are bytes, which may alias any member, so
+    // a member read inside a loop would be reloaded every particle and keep it from vectorizing.
     const float dt = ctx.dt, amp = ctx.noise_amplitude, gravity = s.g, ground = s.r + detail::kGroundSkin;
-    const float floor_line = s.r, ceiling_line = s.ceiling;
+    const float floor_line = s.r, ceiling_line = s.ceiling, bulge = 0.125f * gravity * dt * dt;
     const uint32_t key = ctx.noise_key;
     const detail::Box safe = g.safe;
 
-    alignas(64) float ox[kBlock], oy[kBlock], oz[kBlock], ovz[kBlock];
+    alignas(64) float ox[kBlock], oy[kBlock], oz[kBlock], ovz[kBlock], lo[kBlock], hi[kBlock];
     alignas(64) uint8_t flag[kBlock];
     int16_t slow[kBlock];
     for (int base = 0; base < n; base += kBlock) {
       const int m = std::min(kBlock, n - base);
+      // Each iteration reads and writes only particle i (too many arrays for the compiler to
+      // prove it by run-time checks).
+#pragma GCC ivdep
       for (int j = 0; j < m; ++j) {
         const int i = base + j;
         float dx, dy;
         noise_offsets(noise_bits(uint32_t(i), key), amp, dx, dy);
         const float x0 = x[i], y0 = y[i], z0 = z[i], w0 = vz[i];
         // A ball resting on the floor rolls: the floor holds gravity.
-        const float fall = (w0 == 0) & (z0 <= ground) ? 0.0f : gravity;
+        const bool resting = (w0 == 0) & (z0 <= ground);
+        const float fall = resting ? 0.0f : gravity;
         const float x1 = x0 + vx[i] * dt + dx, y1 = y0 + vy[i] * dt + dy;
         const float z1 = z0 + w0 * dt - 0.5f * fall * dt * dt;
         ox[j] = x0, oy[j] = y0, oz[j] = z0, ovz[j] = w0;
         x[i] = x1, y[i] = y1, z[i] = z1, vz[i] = w0 - fall * dt;
-        // A step's arc bulges above its chord by at most g dt^2 / 8: well under the margins below.
-        const float lo = std::min(z0, z1), hi = std::max(z0, z1) + 0.125f * gravity * dt * dt;
-        const float bx0 = std::min(x0, x1), bx1 = std::max(x0, x1), by0 = std::min(y0, y1), by1 = std::max(y0, y1);
+        // A step's arc bulges above its chord by at most g dt^2 / 8.
+        lo[j] = std::min(z0, z1), hi[j] = std::max(z0, z1) + bulge;
         flag[j] = uint8_t((x0 < safe.x0) | (x0 > safe.x1) | (y0 < safe.y0) | (y0 > safe.y1) | (x1 < safe.x0) |
-                          (x1 > safe.x1) | (y1 < safe.y0) | (y1 > safe.y1) | ((z1 < floor_line) & (fall > 0)) |
-                          (hi > ceiling_line) |
-                          ((bx1 >= s.ox0) & (bx0 <= s.ox1) & (by1 >= s.oy0) & (by0 <= s.oy1) & (hi >= s.oz0) &
-                           (lo <= s.oz1)));
+                          (x1 > safe.x1) | (y1 < safe.y0) | (y1 > safe.y1) | ((z1 < floor_line) & !resting) |
+                          (hi[j] > ceiling_line));
       }
-      // Bodies: a particle whose step passes within reach of a body's middle position (grown by
-      // half its sweep), below its reach, is searched. Conservative like the flat step's test.
-      for (int k = 0; k < nb; ++k) {
-        const Near c = near_[k];
+      // The box around every path of the block: a hoop, a board or a body outside it is near none
+      // of them, and its pass is skipped (a block far from the basket and below no one's reach
+      // takes none).
+      int32_t kx0 = kMaxKey, ky0 = kMaxKey, kz0 = kMaxKey, kx1 = kMinKey, ky1 = kMinKey, kz1 = kMinKey;
+      for (int j = 0; j < m; ++j) {
+        const int i = base + j;
+        kx0 = std::min(kx0, order_key(std::min(ox[j], x[i]))), kx1 = std::max(kx1, order_key(std::max(ox[j], x[i])));
+        ky0 = std::min(ky0, order_key(std::min(oy[j], y[i]))), ky1 = std::max(ky1, order_key(std::max(oy[j], y[i])));
+        kz0 = std::min(kz0, order_key(lo[j])), kz1 = std::max(kz1, order_key(hi[j]));
+      }
+      const Box3 block{from_order_key(kx0), from_order_key(ky0), from_order_key(kz0),
+                       from_order_key(kx1), from_order_key(ky1), from_order_key(kz1)};
+      // Hoops: a particle level with the rod (within reach, over the step) whose path passes
+      // within reach of the ring line horizontally, or one coming down through the ring. The
+      // path is a straight line horizontally, so its distance from the hoop's axis stays within
+      // its travel of where it started.
+      for (const Rim& c : rims_) {
+        if (!block.overlaps(c.box)) continue;
 #pragma GCC ivdep
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
           const float travel = std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]);
-          const float qx = ox[j] - c.x, qy = oy[j] - c.y, around = c.reach + travel;
-          flag[j] |= uint8_t((qx * qx + qy * qy < around * around) & (std::min(oz[j], z[i]) < c.top));
+          const float qx = ox[j] - c.x, qy = oy[j] - c.y, d = std::sqrt(qx * qx + qy * qy);
+          const bool level = (hi[j] >= c.z0) & (lo[j] <= c.z1);
+          const bool through = (hi[j] >= c.z) & (z[i] < c.z);
+          flag[j] |= uint8_t(level & (d - travel < c.outer) & ((d + travel > c.inner) | through));
+        }
+      }
+      // Boards: a particle whose path comes within a ball's radius of the board's plane (or
+      // crosses it) beside the board, level with it.
+      for (const Pane& c : boards_) {
+        if (!block.overlaps(c.box)) continue;
+#pragma GCC ivdep
+        for (int j = 0; j < m; ++j) {
+          const int i = base + j;
+          const float px0 = ox[j] - c.ax, py0 = oy[j] - c.ay, px1 = x[i] - c.ax, py1 = y[i] - c.ay;
+          const float d0 = px0 * c.nx + py0 * c.ny, d1 = px1 * c.nx + py1 * c.ny;
+          const float a0 = px0 * c.tx + py0 * c.ty, a1 = px1 * c.tx + py1 * c.ty;
+          const bool close = (std::min(std::fabs(d0), std::fabs(d1)) < c.near) | (d0 * d1 <= 0);
+          const bool beside = (std::max(a0, a1) > -c.near) & (std::min(a0, a1) < c.len + c.near);
+          flag[j] |= uint8_t(close & beside & (hi[j] >= c.z0) & (lo[j] <= c.z1));
+        }
+      }
+      // Bodies: a particle whose path comes within reach of a body's, below its reach.
+      for (int k = 0; k < nb; ++k) {
+        const Near c = near_[k];
+        if (!block.overlaps(c.box)) continue;
+#pragma GCC ivdep
+        for (int j = 0; j < m; ++j) {
+          const int i = base + j;
+          flag[j] |= uint8_t(detail::sweeps_touch(c.sweep, ox[j], oy[j], x[i], y[i]) & (lo[j] < c.top));
         }
       }
       detail::flag_near_mouths(g, ox, oy, x, y, base, m, flag);
@@ -97,15 +183,33 @@ class HeightBackend final : public Backend {
   void set_wormholes(const std::vector<Wormhole>& wormholes) override { geometry_.set_wormholes(wormholes); }
 
  private:
-  struct Near {
-    float x, y;   // the body halfway through the step
-    float reach;  // a particle closer than this plus its travel may touch it
-    float top;    // a particle above this all step cannot
-  };
+  // Every near-test is grown by this, so rounding in a test never skips a contact the search finds.
+  static constexpr float kMargin = 1e-3f;
+  static constexpr int32_t kMaxKey = std::numeric_limits<int32_t>::max(), kMinKey = std::numeric_limits<int32_t>::min();
+  static constexpr float kInf = detail::kInf;
 
+  struct Near {
+    detail::BodySweep sweep;
+    float top;  // a particle above this all step cannot touch the body
+    Box3 box;   // where a particle may touch the body
+  };
+  struct Rim {
+    float x, y, z;       // the ring's centre
+    float z0, z1;        // heights level with the rod, within reach
+    float inner, outer;  // distances from the hoop's axis within reach of the rod
+    Box3 box;            // around the rod, within reach
+  };
+  struct Pane {
+    float ax, ay, tx, ty, nx, ny, len;  // the board's floor line
+    float near;                          // within this of the plane a particle may touch it
+    float z0, z1;                        // heights level with the board, within reach
+    Box3 box;                            // around the board, within reach
+  };
 
   detail::Geometry geometry_;
   detail::Sky sky_;
+  std::vector<Rim> rims_;
+  std::vector<Pane> boards_;
   std::vector<detail::BodyPath> paths_;
   std::vector<Near> near_;
 };
