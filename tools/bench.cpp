@@ -113,6 +113,40 @@ void BM_Step3D(benchmark::State& state) {
   state.counters["events/step"] = benchmark::Counter(double(realized), benchmark::Counter::kAvgIterations);
 }
 
+// The vectorized part of the 3D step alone: a cloud in free flight high over the court, where
+// nothing is near enough to need the exact search.
+void BM_Step3DFlight(benchmark::State& state) {
+  const Shot shot;
+  const uint32_t n = uint32_t(state.range(0));
+  WorldConfig config;
+  config.particles = n;
+  World world(shot.field, config);
+  world.place_bodies(shot.players);
+  auto toss = [&] {
+    DecisionRng rng(world.steps());
+    Cloud c;
+    c.reserve(n, true);
+    for (uint32_t i = 0; i < n; ++i)
+      c.push(Vec3{float(-2 + 4 * rng.uniform()), float(9 + 2 * rng.uniform()), 4.0f},
+             Vec3{float(rng.uniform() - 0.5), float(rng.uniform() - 0.5), 6.0f}, 1.0 / n, 1.0 / n);
+    world.set_cloud(std::move(c));
+  };
+  toss();
+  std::vector<Event> events;
+  int64_t particle_steps = 0;
+  for (auto _ : state) {
+    particle_steps += int64_t(world.cloud().size());
+    world.step(1.0f / 60, shot.players, events);
+    if (world.cloud().z[0] < 4.0f) {
+      state.PauseTiming();
+      toss();
+      state.ResumeTiming();
+    }
+  }
+  state.counters["particle_steps/s"] = benchmark::Counter(double(particle_steps), benchmark::Counter::kIsRate);
+  state.counters["events"] = double(events.size());
+}
+
 // The 3D fate report of that shot as it leaves the hand: every particle traced through its arcs,
 // bounces and catches for 3 s.
 void BM_FateReport3D(benchmark::State& state) {
@@ -265,6 +299,7 @@ BENCHMARK(BM_StepSilentWalls)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::
 BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Step3D)->Arg(1'000)->Iterations(3000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step3D)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step3DFlight)->Arg(10'000)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FateReport3D)->Arg(1'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
