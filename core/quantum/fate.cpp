@@ -206,6 +206,47 @@ void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int 
   }
 }
 
+// trace_fates on a field with height: the same rounds over a chunk, with the batched 3D search.
+void trace_fates3(const detail::Geometry& g, const detail::Sky& sky, const detail::BodyPath* bodies, int nb,
+                  const Endings& ends, const Cloud& c, const NextStep& next, float horizon, Flight3& flying,
+                  Flight3& later, std::vector<Fate>& fates) {
+  constexpr size_t kChunk = Flight3::kChunk;
+  const float drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
+  for (size_t begin = 0; begin < c.size(); begin += kChunk) {
+    flying.n = later.n = 0;
+    for (size_t i = begin; i < std::min(begin + kChunk, c.size()); ++i) flying.push(start_of3(c, i, next), 0, uint32_t(i), 0);
+    for (float end = drift_end;; end = horizon) {
+      while (flying.n > 0) {
+        detail::Mover3Batch& b = flying.b;
+        detail::batch_next_hits3(g, sky, bodies, nb, b, flying.n, end, true);
+        const size_t n = flying.n;
+        flying.n = 0;  // compacted in place: slot j is read before anything is written to it
+        for (size_t j = 0; j < n; ++j) {
+          const detail::Hit3 hit = b.hit(j);
+          if (hit.kind == detail::HitKind::None) {
+            if (end == horizon) continue;  // stays in the field
+            detail::Mover3 m = detail::advanced(sky, b.mover(j), end - b.t[j]);
+            m.ux = m.vx, m.uy = m.vy;  // the drift is spent: on without noise
+            later.push(m, end, flying.id[j], flying.contacts[j]);
+            continue;
+          }
+          Fate& f = fates[flying.id[j]];
+          if (ends_at(f, hit.kind, hit.index, ends)) continue;
+          if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);
+          const uint8_t touched = uint8_t(flying.contacts[j] + 1);
+          if (touched >= kMaxFateContacts) continue;
+          const float t = b.t[j] + hit.dt;
+          detail::Mover3 m = detail::advanced(sky, b.mover(j), hit.dt);
+          detail::resolve3(g, sky, bodies, hit, t, m);
+          flying.push(m, t, flying.id[j], touched);
+        }
+      }
+      if (end == horizon) break;
+      std::swap(flying, later);
+    }
+  }
+}
+
 }  // namespace
 
 FateKind catch_kind(const Field& field, int thrower, int catcher) {
@@ -357,9 +398,8 @@ void World::predict(FateReport& report, float horizon) const {
   const Endings ends{s.body_kind.data(), s.own_goal.data()};
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
   if (cloud_.tall()) {
-    for (size_t i = 0; i < cloud_.size(); ++i)
-      s.fates[i] = trace_fate3(s.geometry, s.sky, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends,
-                               start_of3(cloud_, i, next), next.dt, horizon, [](const detail::Mover3&, float) {});
+    trace_fates3(s.geometry, s.sky, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next,
+                 horizon, s.flying3, s.later3, s.fates);
   } else {
     trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next, flight(horizon),
                 s.flying, s.later, s.fates);

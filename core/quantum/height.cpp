@@ -12,94 +12,179 @@ constexpr float kSkin = 2e-6f;
 // bounce leaves, so a ball that just bounced off the rod is not touching it. The step and the
 // prediction reach the rod from different starts: the tighter this, the closer their contacts.
 constexpr float kRingTolerance = 1e-6f;
-constexpr int kMaxRingSteps = 400;
-constexpr int kMaxContacts = 8;  // as the flat step: a particle rattling in a corner stops where it is
+constexpr int32_t kMaxRingSteps = 400;
 
-float hypot2(float x, float y) { return std::sqrt(x * x + y * y); }
+[[gnu::always_inline]] inline float hypot2(float x, float y) { return std::sqrt(x * x + y * y); }
 
 // The later time at which height z0 + vz t - g t^2 / 2 equals `level` (the ball coming down
 // through it), if it is still to come; kInf otherwise. Without gravity, the linear crossing.
-float descent_time(float z0, float vz, float g, float level) {
-  if (g <= 0) return vz < 0 && z0 >= level ? (z0 - level) / -vz : kInf;
+// Branch-free, for the batched search.
+[[gnu::always_inline]] inline float descent_time(float z0, float vz, float g, float level) {
+  const float linear = (vz < 0) & (z0 >= level) ? (z0 - level) / -vz : kInf;
   const float disc = vz * vz + 2 * g * (z0 - level);
-  if (disc < 0) return kInf;
-  const float t = (vz + std::sqrt(disc)) / g;
-  return t >= 0 ? t : kInf;
+  const float t = (vz + std::sqrt(std::max(disc, 0.0f))) / g;
+  const float falling = (disc >= 0) & (t >= 0) ? t : kInf;
+  return g > 0 ? falling : linear;
 }
 
 // The earlier time at which the height rises to `level`, kInf when it never does.
-float ascent_time(float z0, float vz, float g, float level) {
-  if (vz <= 0) return kInf;
-  if (g <= 0) return z0 <= level ? (level - z0) / vz : kInf;
+[[gnu::always_inline]] inline float ascent_time(float z0, float vz, float g, float level) {
   const float disc = vz * vz - 2 * g * (level - z0);
-  if (disc < 0) return kInf;
-  return std::max(0.0f, (vz - std::sqrt(disc)) / g);
+  const float rising = std::max(0.0f, (vz - std::sqrt(std::max(disc, 0.0f))) / g), linear = (level - z0) / vz;
+  const bool gravity = g > 0;
+  const bool rises = (vz > 0) & gravity & (disc >= 0), climbs = (vz > 0) & !gravity & (z0 <= level);
+  return rises ? rising : climbs ? linear : kInf;
 }
 
-// When the height z0 + vz t - g t^2 / 2 is at least `level`: on [t0, t1] (g > 0); false if never.
-bool above(float z0, float vz, float g, float level, float& t0, float& t1) {
-  const float disc = vz * vz + 2 * g * (z0 - level);
-  if (disc < 0) return false;
-  const float root = std::sqrt(disc);
-  t0 = (vz - root) / g, t1 = (vz + root) / g;
-  return true;
+// A hoop as the rim search sees it.
+struct Ring {
+  float x, y, z;  // centre
+  float radius;   // of the ring line
+  float reach;    // the rod's half thickness plus the ball's radius
+};
+
+// The rod is a torus: its contact with a parabola has no closed form, so the search advances by
+// the largest step that cannot pass a contact (conservative advancement). Two bounds give such a
+// step, and it takes the longer: the gap closes no faster than the ball's speed (`fast`); and the
+// gap's rate of change falls no faster than gravity plus the horizontal speed bent around the
+// hoop's axis (`bend`: the distance from a ring curves down only along the ring, by at most
+// 1/rho). The second makes a ball moving away from the rod, or past it, take a few long steps,
+// and one closing in converge as Newton's method would. Returns the next time to look at, or t
+// itself at a contact.
+[[gnu::always_inline]] inline float ring_probe(const Ring& h, float qx, float qy, float z, float ux, float uy, float vz,
+                                               float g, float t, float fast, float bend, bool& touching) {
+  const float px = qx + ux * t, py = qy + uy * t, pz = z + vz * t - 0.5f * g * t * t - h.z, rho = hypot2(px, py);
+  const float radial = rho - h.radius, gap = hypot2(radial, pz) - h.reach;
+  // How fast the gap grows: the velocity along the direction from the rod to the ball.
+  const float nx = rho > 0 ? radial * px / rho : 0, ny = rho > 0 ? radial * py / rho : 0;
+  const float rate = (nx * ux + ny * uy + pz * (vz - g * t)) / (gap + h.reach);
+  // The later root of gap + rate dt - bend dt^2 / 2, in the form that keeps its digits.
+  const float root = std::sqrt(rate * rate + 2 * bend * gap);
+  const float step = std::max(gap / fast, rate >= 0 ? (rate + root) / bend : 2 * gap / (root - rate));
+  const bool close = gap < kRingTolerance;
+  touching = close & ((t > 0) | (rate < 0));
+  // Close but moving away: it has just bounced off the rod.
+  return touching ? t : close ? t + 2 * kRingTolerance / fast + 1e-6f : t + step;
 }
 
-// When the ball first touches hoop k's rod within `span`. The rod is a torus: its contact with a
-// parabola has no closed form, so the search advances by the largest step that cannot pass a
-// contact (conservative advancement). Two bounds give such a step, and it takes the longer: the
-// gap closes no faster than the ball's speed; and the gap's rate of change falls no faster than
-// gravity plus the horizontal speed bent around the hoop's axis (the distance from a ring curves
-// down only along the ring, by at most 1/rho). The second makes a ball moving away from the rod,
-// or past it, take a few long steps, and one closing in converge as Newton's method would.
-// It runs only while the ball is level with the rod (one or two stretches of the arc) and
-// passes within reach of it horizontally.
-float ring_time(const Sky& s, size_t k, const Mover3& m, float g, float span) {
-  if (!(g > 0)) return kInf;  // a ball on the floor never reaches a ring
-  const float reach = s.htube[k] + s.r;
-  float a0, a1, b0, b1;
-  if (!above(m.z, m.vz, g, s.hz[k] - reach, a0, a1)) return kInf;
-  float stretch[2][2];
-  int n = 0;
-  auto add = [&](float lo, float hi) {
-    lo = std::max(lo, 0.0f), hi = std::min(hi, span);
-    if (lo <= hi) stretch[n][0] = lo, stretch[n][1] = hi, ++n;
+// When each particle i with near[i] first touches hoop h's rod before limit[i] (kInf if never),
+// into found[i]. The search runs only while the ball is level with the rod (one or two stretches
+// of the arc) and passes within reach of it horizontally; the particles still searching probe
+// together, round by round.
+void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) {
+  const Ring h = hoop;  // a local: stores to the float arrays might otherwise alias it
+  const float* __restrict x = b.x.data();
+  const float* __restrict y = b.y.data();
+  const float* __restrict z = b.z.data();
+  const float* __restrict ux = b.ux.data();
+  const float* __restrict uy = b.uy.data();
+  const float* __restrict vz = b.vz.data();
+  const float* __restrict gl = b.g.data();
+  const int32_t* __restrict near = b.near.data();
+  RingScratch& w = b.ring;
+  float* __restrict lo0 = w.lo0.data();
+  float* __restrict hi0 = w.hi0.data();
+  float* __restrict lo1 = w.lo1.data();
+  float* __restrict hi1 = w.hi1.data();
+  float* __restrict fast0 = w.fast0.data();
+  float* __restrict fast1 = w.fast1.data();
+  float* __restrict bend0 = w.bend0.data();
+  float* __restrict bend1 = w.bend1.data();
+  float* __restrict at = w.at.data();
+  float* __restrict found = w.found.data();
+  int32_t* __restrict stage = w.stage.data();
+  int32_t* __restrict steps = w.steps.data();
+  auto distance = [&](size_t i, float t) __attribute__((always_inline)) {
+    return hypot2(x[i] - h.x + ux[i] * t, y[i] - h.y + uy[i] * t);
   };
-  if (above(m.z, m.vz, g, s.hz[k] + reach, b0, b1)) add(a0, b0), add(b1, a1);
-  else add(a0, a1);
-  const float qx = m.x - s.hx[k], qy = m.y - s.hy[k], uu = m.ux * m.ux + m.uy * m.uy;
-  auto distance = [&](float t) { return hypot2(qx + m.ux * t, qy + m.uy * t); };
-  for (int piece = 0; piece < n; ++piece) {
-    const float lo = stretch[piece][0], hi = stretch[piece][1];
+  // A stretch [lo, hi] of the arc, clamped to [0, limit]: whether it can meet the rod, how fast
+  // the ball goes in it at most, and how its gap may bend.
+  int32_t any = 0;
+  auto stretch = [&](size_t i, float& lo, float& hi, float& fast, float& bend) __attribute__((always_inline)) {
+    const float g = gl[i], uu = ux[i] * ux[i] + uy[i] * uy[i];
+    lo = std::max(lo, 0.0f), hi = std::min(hi, limit[i]);
     // Horizontally: never within reach of the ring line, or all the time well inside the ring.
-    const float closest = uu > 0 ? std::clamp(-(qx * m.ux + qy * m.uy) / uu, lo, hi) : lo;
-    const float nearest = distance(closest);
-    if (nearest > s.hring[k] + reach || std::max(distance(lo), distance(hi)) < s.hring[k] - reach) continue;
-    const float fastest = std::sqrt(uu + std::max((m.vz - g * lo) * (m.vz - g * lo), (m.vz - g * hi) * (m.vz - g * hi)));
-    if (!(fastest > 0)) continue;
-    const float bend = g + uu / std::max(nearest, 1e-3f);
-    float t = lo;
-    for (int i = 0; i < kMaxRingSteps && t <= hi; ++i) {
-      const float z = m.z + m.vz * t - 0.5f * g * t * t;
-      const float px = qx + m.ux * t, py = qy + m.uy * t, pz = z - s.hz[k], rho = hypot2(px, py);
-      const float radial = rho - s.hring[k], gap = hypot2(radial, pz) - reach;
-      // How fast the gap grows: the velocity along the direction from the rod to the ball.
-      const float nx = rho > 0 ? radial * px / rho : 0, ny = rho > 0 ? radial * py / rho : 0;
-      const float rate = (nx * m.ux + ny * m.uy + pz * (m.vz - g * t)) / (gap + reach);
-      if (gap < kRingTolerance) {
-        if (t > 0 || rate < 0) return t;
-        t += 2 * kRingTolerance / fastest + 1e-6f;  // just bounced off it, moving away
+    const float qx = x[i] - h.x, qy = y[i] - h.y;
+    const float closest = uu > 0 ? std::clamp(-(qx * ux[i] + qy * uy[i]) / uu, lo, hi) : lo;
+    const float nearest = distance(i, closest);
+    const float w0 = vz[i] - g * lo, w1 = vz[i] - g * hi;
+    fast = std::sqrt(uu + std::max(w0 * w0, w1 * w1));
+    bend = g + uu / std::max(nearest, 1e-3f);
+    return (lo <= hi) & !(nearest > h.radius + h.reach) &
+           !(std::max(distance(i, lo), distance(i, hi)) < h.radius - h.reach) & (fast > 0);
+  };
+#pragma GCC ivdep
+  for (size_t i = 0; i < n; ++i) {
+    const float g = gl[i], v = vz[i];
+    // Level with the rod: the arc above its bottom, less the time above its top.
+    const float low = v * v + 2 * g * (z[i] - (h.z - h.reach)), high = v * v + 2 * g * (z[i] - (h.z + h.reach));
+    const float rl = std::sqrt(std::max(low, 0.0f)), rh = std::sqrt(std::max(high, 0.0f));
+    const float a0 = (v - rl) / g, a1 = (v + rl) / g, b0 = (v - rh) / g, b1 = (v + rh) / g;
+    const bool split = high >= 0;
+    float l0 = a0, h0 = split ? b0 : a1, l1 = b1, h1 = a1;
+    float f0, f1, e0, e1;
+    // A ball on the floor never reaches a ring.
+    const bool level = (near[i] != 0) & (g > 0) & (low >= 0);
+    const bool first = level & stretch(i, l0, h0, f0, e0), second = level & split & stretch(i, l1, h1, f1, e1);
+    lo0[i] = l0, hi0[i] = h0, lo1[i] = second ? l1 : kInf, hi1[i] = h1, fast0[i] = f0, fast1[i] = f1, bend0[i] = e0, bend1[i] = e1;
+    stage[i] = first ? 0 : second ? 1 : 2;
+    at[i] = first ? l0 : l1;
+    steps[i] = 0, found[i] = kInf;
+    any |= int32_t(first | second);
+  }
+  if (!any) return;
+  // The searching particles, gathered to the front with what their probes read: most particles
+  // of a batch never come level with the rod, and most that do finish within a few probes.
+  float* __restrict qx = w.qx.data();
+  float* __restrict qy = w.qy.data();
+  float* __restrict qz = w.qz.data();
+  float* __restrict wx = w.ux.data();
+  float* __restrict wy = w.uy.data();
+  float* __restrict wz = w.vz.data();
+  float* __restrict wg = w.g.data();
+  float* __restrict hit = w.hit.data();
+  int32_t* __restrict lane = w.lane.data();
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    // Slot m is at or before i: what it overwrites has been read.
+    lane[m] = int32_t(i), qx[m] = x[i] - h.x, qy[m] = y[i] - h.y, qz[m] = z[i], wx[m] = ux[i], wy[m] = uy[i];
+    wz[m] = vz[i], wg[m] = gl[i], hit[m] = kInf;
+    hi0[m] = hi0[i], lo1[m] = lo1[i], hi1[m] = hi1[i], fast0[m] = fast0[i], fast1[m] = fast1[i];
+    bend0[m] = bend0[i], bend1[m] = bend1[i], at[m] = at[i], stage[m] = stage[i], steps[m] = 0;
+    m += stage[i] < 2;
+  }
+  while (m > 0) {
+    // One probe for every particle still searching...
+#pragma GCC ivdep
+    for (size_t j = 0; j < m; ++j) {
+      const bool in_first = stage[j] == 0;
+      const float fast = in_first ? fast0[j] : fast1[j], bend = in_first ? bend0[j] : bend1[j];
+      const float hi = in_first ? hi0[j] : hi1[j];
+      bool touching;
+      const float next = ring_probe(h, qx[j], qy[j], qz[j], wx[j], wy[j], wz[j], wg[j], at[j], fast, bend, touching);
+      const bool done = (!touching) & ((next > hi) | (steps[j] + 1 >= kMaxRingSteps));
+      const bool move_on = done & in_first & (lo1[j] <= hi1[j]);
+      hit[j] = touching ? at[j] : kInf;
+      at[j] = move_on ? lo1[j] : next;
+      steps[j] = move_on ? 0 : steps[j] + 1;
+      stage[j] = (touching | (done & !move_on)) ? 2 : stage[j] + int32_t(move_on);
+    }
+    // ...then the finished ones answer and leave.
+    size_t kept = 0;
+    for (size_t j = 0; j < m; ++j) {
+      if (stage[j] == 2) {
+        found[lane[j]] = hit[j];
         continue;
       }
-      // The later root of gap + rate dt - bend dt^2 / 2, in the form that keeps its digits.
-      const float root = std::sqrt(rate * rate + 2 * bend * gap);
-      t += std::max(gap / fastest, rate >= 0 ? (rate + root) / bend : 2 * gap / (root - rate));
+      lane[kept] = lane[j], qx[kept] = qx[j], qy[kept] = qy[j], qz[kept] = qz[j], wx[kept] = wx[j], wy[kept] = wy[j];
+      wz[kept] = wz[j], wg[kept] = wg[j], hi0[kept] = hi0[j], lo1[kept] = lo1[j], hi1[kept] = hi1[j];
+      fast0[kept] = fast0[j], fast1[kept] = fast1[j], bend0[kept] = bend0[j], bend1[kept] = bend1[j];
+      at[kept] = at[j], stage[kept] = stage[j], steps[kept] = steps[j];
+      ++kept;
     }
+    m = kept;
   }
-  return kInf;
 }
-
-Hit3 flat_hit(const Hit& h) { return {h.dt, h.kind, h.index, Surface::Segment, -1, h.nx, h.ny, 0}; }
 
 }  // namespace
 
@@ -144,93 +229,188 @@ Mover3 advanced(const Sky& sky, const Mover3& m, float dt) {
   return out;
 }
 
-Hit3 next_hit3(const Geometry& geo, const Sky& s, const BodyPath* bodies, int n_bodies, const Mover3& m, float t0,
-               float t1, bool with_bodies) {
-  const float g = s.gravity_on(m), r = s.r;
-  auto height_at = [&](float dt) { return m.z + m.vz * dt - 0.5f * g * dt * dt; };
-  Hit3 best{kInf, HitKind::None, -1, Surface::Segment, -1, 0, 0, 0};
+void RingScratch::resize(size_t n) {
+  for (auto* v : {&lo0, &hi0, &lo1, &hi1, &fast0, &fast1, &bend0, &bend1, &at, &found, &limit, &qx, &qy, &qz, &ux,
+                  &uy, &vz, &g, &hit})
+    v->resize(n);
+  stage.resize(n), steps.resize(n), lane.resize(n);
+}
+
+void Mover3Batch::resize(size_t n) {
+  ring.resize(n);
+  for (auto* v : {&x, &y, &z, &ux, &uy, &vx, &vy, &vz, &t, &when, &nx, &ny, &nz, &g, &span, &clear}) v->resize(n);
+  code.resize(n), surface.resize(n), item.resize(n), near.resize(n);
+}
+
+void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies, int n_bodies, Mover3Batch& b,
+                      size_t n, float t1, bool with_bodies) {
+  // Hand-written for the compiler's vectorizer, as batch_next_hits: each loop runs one kind of
+  // surface over all particles, branch-free. Only the rim search and the walls (rare: a path
+  // leaving the safe box) run one particle at a time, each for the particles that need them.
+  const float* __restrict x = b.x.data();
+  const float* __restrict y = b.y.data();
+  const float* __restrict z = b.z.data();
+  const float* __restrict ux = b.ux.data();
+  const float* __restrict uy = b.uy.data();
+  const float* __restrict vz = b.vz.data();
+  const float* __restrict t = b.t.data();
+  float* __restrict when = b.when.data();
+  float* __restrict hnx = b.nx.data();
+  float* __restrict hny = b.ny.data();
+  float* __restrict hnz = b.nz.data();
+  float* __restrict gl = b.g.data();
+  float* __restrict span = b.span.data();
+  int32_t* __restrict code = b.code.data();
+  int32_t* __restrict surface = b.surface.data();
+  int32_t* __restrict item = b.item.data();
+  int32_t* __restrict near = b.near.data();
+  const float r = s.r, gravity = s.g, ground = s.r + kGroundSkin, ceiling = s.ceiling;
+  const int32_t floor_code = hit_code(HitKind::Wall, s.floor_wall), ceiling_code = hit_code(HitKind::Wall, s.ceiling_wall);
+  auto set = [&](size_t i, bool better, float dt, int32_t c, Surface f, int k, float nx, float ny, float nz) {
+    when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+    surface[i] = better ? int32_t(f) : surface[i], item[i] = better ? k : item[i];
+    hnx[i] = better ? nx : hnx[i], hny[i] = better ? ny : hny[i], hnz[i] = better ? nz : hnz[i];
+  };
   // The floor and the ceiling first, in closed form: nothing after the ball meets them counts, so
   // every other search looks only that far (a long prediction's flight ends at the next bounce).
-  if (g > 0) {
-    const float dt = m.z <= r && m.vz < 0 ? 0.0f : descent_time(m.z, m.vz, g, r);
-    if (dt <= t1 - t0) best = {dt, HitKind::Wall, s.floor_wall, Surface::Floor, -1, 0, 0, 1};
+#pragma GCC ivdep
+  for (size_t i = 0; i < n; ++i) {
+    // A ball resting on the floor rolls: the floor holds gravity.
+    const float g = (vz[i] == 0) & (z[i] <= ground) ? 0.0f : gravity;
+    gl[i] = g;
+    when[i] = kInf, code[i] = -1, surface[i] = int32_t(Surface::Segment), item[i] = -1;
+    hnx[i] = 0, hny[i] = 0, hnz[i] = 0;
+    const float left = t1 - t[i];
+    const float down = (z[i] <= r) & (vz[i] < 0) ? 0.0f : descent_time(z[i], vz[i], g, r);
+    set(i, (g > 0) & (down <= left), down, floor_code, Surface::Floor, -1, 0, 0, 1);
+    span[i] = std::min(left, when[i]);
   }
-  if (s.ceiling < kInf) {
-    const float dt = ascent_time(m.z, m.vz, g, s.ceiling);
-    if (dt <= t1 - t0 && dt < best.dt) best = {dt, HitKind::Wall, s.ceiling_wall, Surface::Ceiling, -1, 0, 0, -1};
+  if (ceiling < kInf) {
+    for (size_t i = 0; i < n; ++i) {
+      const float left = t1 - t[i], up = ascent_time(z[i], vz[i], gl[i], ceiling);
+      set(i, (up <= left) & (up < when[i]), up, ceiling_code, Surface::Ceiling, -1, 0, 0, -1);
+      span[i] = std::min(left, when[i]);
+    }
   }
-  const float span = std::min(t1 - t0, best.dt);
-  const float ex = m.x + m.ux * span, ey = m.y + m.uy * span;
   // Walls, goal lines, the bounds and wormholes: only where the path leaves the safe box.
-  if (!geo.mx.empty() || !geo.safe.contains(m.x, m.y) || !geo.safe.contains(ex, ey)) {
-    const Hit flat = next_hit(geo, nullptr, 0, m.flat(), t0, t0 + span, false);
-    if (flat.dt < best.dt) best = flat_hit(flat);
+  const Box safe = geo.safe;
+  const bool mouths = !geo.mx.empty();
+  for (size_t i = 0; i < n; ++i) {
+    const float ex = x[i] + ux[i] * span[i], ey = y[i] + uy[i] * span[i];
+    if (!mouths && safe.contains(x[i], y[i]) && safe.contains(ex, ey)) continue;
+    const Hit flat = next_hit(geo, nullptr, 0, {x[i], y[i], ux[i], uy[i], b.vx[i], b.vy[i]}, t[i], t[i] + span[i], false);
+    set(i, flat.dt < when[i], flat.dt, hit_code(flat.kind, flat.index), Surface::Segment, -1, flat.nx, flat.ny, 0);
   }
 
-  // Hoops and boards, when the path's box comes near theirs.
-  const float peak = g > 0 && m.vz > 0 && m.vz < g * span ? m.z + m.vz * m.vz / (2 * g) : std::max(m.z, height_at(span));
-  const bool near = std::max(m.x, ex) >= s.ox0 && std::min(m.x, ex) <= s.ox1 && std::max(m.y, ey) >= s.oy0 &&
-                    std::min(m.y, ey) <= s.oy1 && peak >= s.oz0 && std::min(m.z, height_at(span)) <= s.oz1;
-  if (near) {
+  // Hoops and boards, for paths whose box comes near theirs.
+  if (s.ox0 <= s.ox1) {
+    const float ox0 = s.ox0, oy0 = s.oy0, oz0 = s.oz0, ox1 = s.ox1, oy1 = s.oy1, oz1 = s.oz1;
+    int32_t any_near = 0;
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float g = gl[i], d = span[i], ex = x[i] + ux[i] * d, ey = y[i] + uy[i] * d;
+      const float end = z[i] + vz[i] * d - 0.5f * g * d * d;
+      const float peak = (g > 0) & (vz[i] > 0) & (vz[i] < g * d) ? z[i] + vz[i] * vz[i] / (2 * g) : std::max(z[i], end);
+      near[i] = int32_t((std::max(x[i], ex) >= ox0) & (std::min(x[i], ex) <= ox1) & (std::max(y[i], ey) >= oy0) &
+                        (std::min(y[i], ey) <= oy1) & (peak >= oz0) & (std::min(z[i], end) <= oz1));
+      any_near |= near[i];
+    }
+    if (!any_near) goto bodies;
     for (size_t k = 0; k < s.board.size(); ++k) {
-      // Beside a board's edge (within a ball's radius of its plane, over, under or past it) the
-      // ball flies on: edges are not modelled, and a ball there must not hit the face from inside.
-      const SegmentParams& b = s.board[k];
-      if (std::fabs((m.x - b.ax) * b.nx + (m.y - b.ay) * b.ny) < r - kTolerance) continue;
-      float nx, ny;
-      const float dt = wall_time(s.board[k], r, m.x, m.y, m.ux, m.uy, span, nx, ny);
-      if (!(dt < best.dt)) continue;
-      const float z = height_at(dt);
-      if (z >= s.bbottom[k] && z <= s.btop[k]) best = {dt, HitKind::Wall, s.bwall[k], Surface::Board, int(k), nx, ny, 0};
+      const SegmentParams p = s.board[k];
+      const float bottom = s.bbottom[k], top = s.btop[k];
+      const int32_t c = hit_code(HitKind::Wall, s.bwall[k]);
+#pragma GCC ivdep
+      for (size_t i = 0; i < n; ++i) {
+        // Beside a board's edge (within a ball's radius of its plane, over, under or past it) the
+        // ball flies on: edges are not modelled, and a ball there must not hit the face from inside.
+        const bool beside = std::fabs((x[i] - p.ax) * p.nx + (y[i] - p.ay) * p.ny) < r - kTolerance;
+        float nx, ny;
+        const float dt = wall_time(p, r, x[i], y[i], ux[i], uy[i], span[i], nx, ny);
+        const float h = z[i] + vz[i] * dt - 0.5f * gl[i] * dt * dt;
+        set(i, near[i] & !beside & (dt < when[i]) & (h >= bottom) & (h <= top), dt, c, Surface::Board, int(k), nx, ny, 0);
+      }
     }
     for (size_t k = 0; k < s.hx.size(); ++k) {
-      const float dt = ring_time(s, k, m, g, std::min(span, best.dt));
-      if (dt < best.dt) {
-        const float px = m.x + m.ux * dt - s.hx[k], py = m.y + m.uy * dt - s.hy[k], pz = height_at(dt) - s.hz[k];
-        const float rho = hypot2(px, py);
-        float nx = rho > 0 ? px - s.hring[k] * px / rho : 0, ny = rho > 0 ? py - s.hring[k] * py / rho : 0, nz = pz;
-        const float l = std::sqrt(nx * nx + ny * ny + nz * nz);
-        if (l > 0) nx /= l, ny /= l, nz /= l;
-        else nz = 1;
-        best = {dt, HitKind::Wall, s.hwall[k], Surface::Rim, int(k), nx, ny, nz};
+      const float cx = s.hx[k], cy = s.hy[k], cz = s.hz[k], ring = s.hring[k];
+      const int32_t rim = hit_code(HitKind::Wall, s.hwall[k]), basket = hit_code(HitKind::Goal, s.hgoal[k]);
+      float* __restrict limit = b.ring.limit.data();
+      for (size_t i = 0; i < n; ++i) limit[i] = std::min(span[i], when[i]);
+      ring_times({cx, cy, cz, ring, s.htube[k] + r}, b, n, limit);
+      const float* __restrict found = b.ring.found.data();
+#pragma GCC ivdep
+      for (size_t i = 0; i < n; ++i) {
+        const float dt = found[i];
+        const float px = x[i] + ux[i] * dt - cx, py = y[i] + uy[i] * dt - cy;
+        const float pz = z[i] + vz[i] * dt - 0.5f * gl[i] * dt * dt - cz, rho = hypot2(px, py);
+        const float nx = rho > 0 ? px - ring * px / rho : 0, ny = rho > 0 ? py - ring * py / rho : 0;
+        const float l = std::sqrt(nx * nx + ny * ny + pz * pz);
+        const bool flat = !(l > 0);
+        set(i, dt < when[i], dt, rim, Surface::Rim, int(k), flat ? 0.0f : nx / l, flat ? 0.0f : ny / l, flat ? 1.0f : pz / l);
       }
       // Through the ring from above: a basket.
-      if (g > 0) {
-        const float down = descent_time(m.z, m.vz, g, s.hz[k]);
-        if (down <= span && down < best.dt &&
-            hypot2(m.x + m.ux * down - s.hx[k], m.y + m.uy * down - s.hy[k]) < s.hring[k])
-          best = {down, HitKind::Goal, s.hgoal[k], Surface::Segment, int(k), 0, 0, -1};
+#pragma GCC ivdep
+      for (size_t i = 0; i < n; ++i) {
+        const float down = descent_time(z[i], vz[i], gl[i], cz);
+        const float hx = x[i] + ux[i] * down - cx, hy = y[i] + uy[i] * down - cy;
+        set(i, near[i] & (gl[i] > 0) & (down <= span[i]) & (down < when[i]) & (hypot2(hx, hy) < ring), down, basket,
+            Surface::Segment, int(k), 0, 0, -1);
       }
     }
   }
 
-  if (!with_bodies) return best;
-  const float bx0 = std::min(m.x, ex) - r, bx1 = std::max(m.x, ex) + r, by0 = std::min(m.y, ey) - r,
-              by1 = std::max(m.y, ey) + r;
+bodies:
+  if (!with_bodies) return;
   for (int k = 0; k < n_bodies; ++k) {
-    const BodyPath& b = bodies[k];
-    // Cull by the box the body sweeps, grown by its radius, as the flat search does.
-    const float cx0 = body_x(b, t0), cx1 = body_x(b, t0 + span), cy0 = body_y(b, t0), cy1 = body_y(b, t0 + span);
-    if (std::max(cx0, cx1) + b.radius < bx0 || std::min(cx0, cx1) - b.radius > bx1 ||
-        std::max(cy0, cy1) + b.radius < by0 || std::min(cy0, cy1) - b.radius > by1)
-      continue;
-    // The side, below the body's reach...
-    const float side = body_time(b, r, m.x, m.y, m.ux, m.uy, t0, t0 + span);
-    if (side < best.dt && height_at(side) <= b.top + r) {
-      float hx = m.x + m.ux * side - body_x(b, t0 + side), hy = m.y + m.uy * side - body_y(b, t0 + side);
-      float l = hypot2(hx, hy);
-      if (l <= 0) hx = 1, hy = 0, l = 1;  // dead centre: any direction is as good
-      best = {side, HitKind::Body, k, Surface::Side, -1, hx / l, hy / l, 0};
+    const BodyPath body = bodies[k];
+    const float reach = body.radius + r, over = body.top + r;
+    const int32_t c = hit_code(HitKind::Body, k);
+    // Cull by the box the body sweeps, grown by its radius, as the flat search does; a body clear
+    // of every path is not searched at all.
+    float* __restrict clear = b.clear.data();
+    int32_t any_close = 0;
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float t0 = t[i], d = span[i], ex = x[i] + ux[i] * d, ey = y[i] + uy[i] * d;
+      const float cx0 = body_x(body, t0), cx1 = body_x(body, t0 + d), cy0 = body_y(body, t0), cy1 = body_y(body, t0 + d);
+      clear[i] = float((std::max(cx0, cx1) + body.radius < std::min(x[i], ex) - r) |
+                         (std::min(cx0, cx1) - body.radius > std::max(x[i], ex) + r) |
+                         (std::max(cy0, cy1) + body.radius < std::min(y[i], ey) - r) |
+                         (std::min(cy0, cy1) - body.radius > std::max(y[i], ey) + r));
+      any_close |= int32_t(clear[i] == 0);
     }
-    // ...or the top, coming down onto the hands.
-    if (m.z > b.top + r) {
-      const float top = descent_time(m.z, m.vz, g, b.top + r);
-      if (top <= span && top < best.dt &&
-          hypot2(m.x + m.ux * top - body_x(b, t0 + top), m.y + m.uy * top - body_y(b, t0 + top)) < b.radius + r)
-        best = {top, HitKind::Body, k, Surface::Top, -1, 0, 0, 1};
+    if (!any_close) continue;
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float t0 = t[i], d = span[i], g = gl[i];
+      // The side, below the body's reach...
+      const float side = body_time(body, r, x[i], y[i], ux[i], uy[i], t0, t0 + d);
+      float hx = x[i] + ux[i] * side - body_x(body, t0 + side), hy = y[i] + uy[i] * side - body_y(body, t0 + side);
+      const float l = hypot2(hx, hy);
+      const bool centred = !(l > 0);  // dead centre: any direction is as good
+      hx = centred ? 1.0f : hx / l, hy = centred ? 0.0f : hy / l;
+      const float h = z[i] + vz[i] * side - 0.5f * g * side * side;
+      set(i, (clear[i] == 0.0f) & (side < when[i]) & (h <= over), side, c, Surface::Side, -1, hx, hy, 0);
+      // ...or the top, coming down onto the hands.
+      const float top = descent_time(z[i], vz[i], g, over);
+      const float tx = x[i] + ux[i] * top - body_x(body, t0 + top), ty = y[i] + uy[i] * top - body_y(body, t0 + top);
+      set(i, (clear[i] == 0.0f) & (z[i] > over) & (top <= d) & (top < when[i]) & (hypot2(tx, ty) < reach), top, c, Surface::Top, -1,
+          0, 0, 1);
     }
   }
-  return best;
+}
+
+Hit3 next_hit3(const Geometry& geo, const Sky& sky, const BodyPath* bodies, int n_bodies, const Mover3& m, float t0,
+               float t1, bool with_bodies) {
+  // One particle is a batch of one: the step, the prediction and a picture's path search alike.
+  thread_local Mover3Batch one = [] {
+    Mover3Batch b;
+    b.resize(1);
+    return b;
+  }();
+  one.set(0, m, t0);
+  batch_next_hits3(geo, sky, bodies, n_bodies, one, 1, t1, with_bodies);
+  return one.hit(0);
 }
 
 void resolve3(const Geometry& geo, const Sky& s, const BodyPath* bodies, const Hit3& hit, float t, Mover3& m) {
@@ -279,30 +459,5 @@ void resolve3(const Geometry& geo, const Sky& s, const BodyPath* bodies, const H
 }
 
 float impact_speed(const Hit3& hit, const Mover3& m) { return -(m.vx * hit.nx + m.vy * hit.ny + m.vz * hit.nz); }
-
-Outcome trace_step3(const Geometry& geo, const Sky& sky, const BodyPath* bodies, int n_bodies, float dt, Mover3& m) {
-  float t = 0;
-  int first_body = -1, first_wall = -1;
-  for (int contact = 0;; ++contact) {
-    if (contact == kMaxContacts) break;
-    const bool with_bodies = first_body < 0 && n_bodies > 0;
-    const Hit3 hit = next_hit3(geo, sky, bodies, n_bodies, m, t, dt, with_bodies);
-    if (hit.kind == HitKind::None) {
-      m = advanced(sky, m, dt - t);
-      break;
-    }
-    m = advanced(sky, m, hit.dt);
-    t += hit.dt;
-    if (hit.kind == HitKind::Goal || hit.kind == HitKind::Out)
-      return first_body >= 0 ? Outcome{HitKind::Body, first_body} : Outcome{hit.kind, hit.index};
-    // The ball's own velocity, not the Brownian drift: knowledge blurring into a wall makes no sound.
-    if (hit.kind == HitKind::Wall && first_wall < 0 && impact_speed(hit, m) > geo.audible_bounce) first_wall = hit.index;
-    resolve3(geo, sky, bodies, hit, t, m);
-    if (hit.kind == HitKind::Body) first_body = hit.index;
-  }
-  if (first_body >= 0) return {HitKind::Body, first_body};
-  if (first_wall >= 0) return {HitKind::Wall, first_wall};
-  return {HitKind::None, -1};
-}
 
 }  // namespace quantum::detail

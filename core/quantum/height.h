@@ -5,8 +5,8 @@
 //
 // The horizontal motion of a flying ball is still a straight line, so walls, goal lines, the
 // bounds and the sides of bodies are the flat search's (contact.h), run on the ball's shadow;
-// only what depends on height is solved here. Scalar code: in a match few particles are near
-// anything at once, and the vectorized part of the step (height_backend.cpp) sorts them out.
+// only what depends on height is solved here. The search runs over batches of particles
+// (batch_next_hits3), written for the vectorizer; one particle is a batch of one.
 #pragma once
 
 #include <cstdint>
@@ -65,6 +65,45 @@ struct Hit3 {
   float nx, ny, nz;
 };
 
+// The rim search's state per particle (height.cpp): two stretches of the arc level with the rod.
+struct RingScratch {
+  std::vector<float> lo0, hi0, lo1, hi1, fast0, fast1, bend0, bend1, at, found, limit;
+  std::vector<int32_t> stage, steps;
+  // The particles still searching, gathered: where they are from the hoop, how they move.
+  std::vector<float> qx, qy, qz, ux, uy, vz, g, hit;
+  std::vector<int32_t> lane;
+  void resize(size_t n);
+};
+
+// Particles with height in structure-of-arrays form, searched together (as MoverBatch).
+struct Mover3Batch {
+  std::vector<float> x, y, z, ux, uy, vx, vy, vz, t;  // each particle at its own time t
+  std::vector<float> when, nx, ny, nz;                // the search's answer: time from t, normal
+  // Also the answer, all 32 bits wide: the vectorizer gives up on loops that mix widths.
+  std::vector<int32_t> code;     // hit_code(kind, index), or -1 for none
+  std::vector<int32_t> surface;  // Surface
+  std::vector<int32_t> item;     // the hoop or board
+  std::vector<float> g, span, clear;  // the search's scratch
+  std::vector<int32_t> near;
+  RingScratch ring;
+  void resize(size_t n);
+  void set(size_t j, const Mover3& m, float at) {
+    x[j] = m.x, y[j] = m.y, z[j] = m.z, ux[j] = m.ux, uy[j] = m.uy, vx[j] = m.vx, vy[j] = m.vy, vz[j] = m.vz;
+    t[j] = at;
+  }
+  Mover3 mover(size_t j) const { return {x[j], y[j], z[j], ux[j], uy[j], vx[j], vy[j], vz[j]}; }
+  Hit3 hit(size_t j) const {
+    const HitKind kind = code_kind(code[j]);
+    return {when[j], kind, kind == HitKind::None ? -1 : code_index(code[j]), Surface(surface[j]), item[j],
+            nx[j], ny[j], nz[j]};
+  }
+};
+
+// next_hit3 for particles [0, n) of the batch, each from its own b.t up to t1. next_hit3 is this
+// search on a batch of one, so both find the same contact to the bit.
+void batch_next_hits3(const Geometry& g, const Sky& sky, const BodyPath* bodies, int n_bodies, Mover3Batch& b,
+                      size_t n, float t1, bool with_bodies);
+
 // m moved on by dt seconds of free flight.
 Mover3 advanced(const Sky& sky, const Mover3& m, float dt);
 
@@ -77,10 +116,5 @@ void resolve3(const Geometry& g, const Sky& sky, const BodyPath* bodies, const H
 
 // The ball's speed into the surface it met (for whether a bounce is heard).
 float impact_speed(const Hit3& hit, const Mover3& m);
-
-// One particle through a step of dt (or a catch-up with no bodies): contact by contact, as
-// StepTracer does on a flat field. The Outcome is the first body, goal or out it met, else the
-// first surface it bounced off audibly, else None; Crushed when it rattled to a stop.
-Outcome trace_step3(const Geometry& g, const Sky& sky, const BodyPath* bodies, int n_bodies, float dt, Mover3& m);
 
 }  // namespace quantum::detail

@@ -1,13 +1,14 @@
 // The step on a field with height. Hand-written for the same reason as the flat one
 // (fast_backend.cpp): a structure-of-arrays pass the compiler vectorizes moves every particle
 // along its arc and flags the few whose step comes near the floor, the ceiling, a hoop, a board,
-// a wall or a body; only those take the exact contact search (height.h), one at a time.
+// a wall or a body; only those take the exact contact search (height.h), in batches.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
 #include "height.h"
+#include "height_tracer.h"
 #include "quantum/backend.h"
 #include "quantum/noise.h"
 
@@ -88,6 +89,12 @@ class HeightBackend final : public Backend {
     const float floor_line = s.r, ceiling_line = s.ceiling, bulge = 0.125f * gravity * dt * dt;
     const uint32_t key = ctx.noise_key;
     const detail::Box safe = g.safe;
+
+    tracer_.begin(paths_.data(), nb, dt);
+    auto finish = [&](uint32_t i, const detail::Mover3& m, detail::Outcome out) {
+      x[i] = m.x, y[i] = m.y, z[i] = m.z, vx[i] = m.vx, vy[i] = m.vy, vz[i] = m.vz;
+      if (out.kind != detail::HitKind::None) contacts.push_back({i, detail::target_of(out)});
+    };
 
     alignas(64) float ox[kBlock], oy[kBlock], oz[kBlock], ovz[kBlock], lo[kBlock], hi[kBlock];
     alignas(64) uint8_t flag[kBlock];
@@ -172,12 +179,11 @@ class HeightBackend final : public Backend {
       const int flagged = detail::collect_flagged(flag, m, slow);
       for (int q = 0; q < flagged; ++q) {
         const int j = slow[q], i = base + j;
-        detail::Mover3 mv{ox[j], oy[j], oz[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i], ovz[j]};
-        const detail::Outcome out = detail::trace_step3(g, s, paths_.data(), nb, dt, mv);
-        x[i] = mv.x, y[i] = mv.y, z[i] = mv.z, vx[i] = mv.vx, vy[i] = mv.vy, vz[i] = mv.vz;
-        if (out.kind != detail::HitKind::None) contacts.push_back({uint32_t(i), detail::target_of(out)});
+        const detail::Mover3 mv{ox[j], oy[j], oz[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i], ovz[j]};
+        tracer_.add(uint32_t(i), mv, finish);
       }
     }
+    tracer_.finish_all(finish);
   }
 
   void set_wormholes(const std::vector<Wormhole>& wormholes) override { geometry_.set_wormholes(wormholes); }
@@ -208,6 +214,7 @@ class HeightBackend final : public Backend {
 
   detail::Geometry geometry_;
   detail::Sky sky_;
+  detail::StepTracer3 tracer_{geometry_, sky_};
   std::vector<Rim> rims_;
   std::vector<Pane> boards_;
   std::vector<detail::BodyPath> paths_;

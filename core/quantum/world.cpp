@@ -476,17 +476,21 @@ void World::realize_body(int body, float dt) {
     if (slot.step != step_ - age) continue;
     const Cloud& from = slot.touched;
     if (from.tall()) {
-      // With height each particle is carried alone: a hit is rare, and its few hundred particles cheap.
+      auto keep = [&](uint32_t i, const detail::Mover3& m, detail::Outcome out) {
+        if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) return;
+        detail::Mover flat = m.flat();
+        if (detail::settle(g, now.data(), nb, 0, flat, true).kind != detail::HitKind::None) return;
+        scratch_.push(Vec3{flat.x, flat.y, m.z}, Vec3{m.vx, m.vy, m.vz}, from.w[i], from.w[i]);
+      };
+      detail::StepTracer3& tracer3 = internals_->tracer3;
+      tracer3.begin(nullptr, 0, float(age) * dt);
       for (size_t i = 0; i < from.size(); ++i) {
         if (slot.body[i] != body) continue;
-        detail::Mover3 m{from.x[i], from.y[i], from.z[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i], from.vz[i]};
-        const detail::Outcome out = age == 0 ? detail::Outcome{detail::HitKind::None, -1}
-                                             : detail::trace_step3(g, internals_->sky, nullptr, 0, float(age) * dt, m);
-        if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) continue;
-        detail::Mover flat = m.flat();
-        if (detail::settle(g, now.data(), nb, 0, flat, true).kind != detail::HitKind::None) continue;
-        scratch_.push(Vec3{flat.x, flat.y, m.z}, Vec3{m.vx, m.vy, m.vz}, from.w[i], from.w[i]);
+        const detail::Mover3 m{from.x[i], from.y[i], from.z[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i], from.vz[i]};
+        if (age == 0) keep(uint32_t(i), m, {detail::HitKind::None, -1});
+        else tracer3.add(uint32_t(i), m, keep);
       }
+      tracer3.finish_all(keep);
       continue;
     }
     const float slow = field_.friction > 0 ? std::exp(-field_.friction * float(age) * dt) : 1.0f;

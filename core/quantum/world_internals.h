@@ -9,6 +9,7 @@
 #include "quantum/contact.h"
 #include "quantum/fate.h"
 #include "height.h"
+#include "height_tracer.h"
 #include "step_tracer.h"
 
 namespace quantum {
@@ -70,6 +71,26 @@ struct Flight {
   }
 };
 
+// The same on a field with height.
+struct Flight3 {
+  static constexpr size_t kChunk = Flight::kChunk;
+  detail::Mover3Batch b;
+  std::vector<uint32_t> id;
+  std::vector<uint8_t> contacts;
+  size_t n = 0;
+
+  Flight3() {
+    b.resize(kChunk);
+    id.resize(kChunk);
+    contacts.resize(kChunk);
+  }
+  void push(const detail::Mover3& m, float t, uint32_t who, uint8_t touched) {
+    b.set(n, m, t);
+    id[n] = who, contacts[n] = touched;
+    ++n;
+  }
+};
+
 // Fate groups by key: open addressing over a power-of-two table, grown (rarely: a frame with more
 // fates than any before) to stay at most half full.
 struct GroupIndex {
@@ -83,10 +104,11 @@ struct GroupIndex {
 };
 
 struct WorldInternals {
-  explicit WorldInternals(const Field& field) : geometry(field), sky(field), tracer(geometry) {}
+  explicit WorldInternals(const Field& field) : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky) {}
   detail::Geometry geometry;
   detail::Sky sky;
   detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
+  detail::StepTracer3 tracer3;            // the same on a field with height
   std::vector<detail::BodyPath> resting;  // bodies held at their current positions
   std::vector<Tally> tally;               // per decision target, reused every step
   TargetSlots targets;
@@ -95,6 +117,7 @@ struct WorldInternals {
   std::vector<uint8_t> body_kind, own_goal;
   std::vector<Fate> fates;
   Flight flying, later;
+  Flight3 flying3, later3;
   GroupIndex index;
 };
 
