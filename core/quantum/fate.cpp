@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 
 #include "height.h"
@@ -207,42 +208,64 @@ void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int 
 }
 
 // trace_fates on a field with height: the same rounds over a chunk, with the batched 3D search.
-void trace_fates3(const detail::Geometry& g, const detail::Sky& sky, const detail::BodyPath* bodies, int nb,
-                  const Endings& ends, const Cloud& c, const NextStep& next, float horizon, Flight3& flying,
-                  Flight3& later, std::vector<Fate>& fates) {
+// Chunks are independent (each writes the fates of its own particles), so two threads share
+// them out: each takes the next chunk from `next` until none is left, with its own scratch.
+struct Fates3 {
+  const detail::Geometry& g;
+  const detail::Sky& sky;
+  const detail::BodyPath* bodies;
+  int nb;
+  const Endings& ends;
+  const Cloud& c;
+  const NextStep& next_step;
+  float horizon;
+  std::vector<Fate>& fates;
+  Flight3* scratch;                // two pairs: flying and later for each thread
+  std::atomic<size_t> next{0};     // the first particle of the next chunk to trace
+  std::atomic<int> threads{0};     // which pair of scratch a thread takes
+};
+
+void trace_fates3(Fates3& job) {
   constexpr size_t kChunk = Flight3::kChunk;
-  const float drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
-  for (size_t begin = 0; begin < c.size(); begin += kChunk) {
-    flying.n = later.n = 0;
-    for (size_t i = begin; i < std::min(begin + kChunk, c.size()); ++i) flying.push(start_of3(c, i, next), 0, uint32_t(i), 0);
+  const int pair = job.threads.fetch_add(1);
+  Flight3& flying = job.scratch[2 * pair];
+  Flight3& later = job.scratch[2 * pair + 1];
+  const detail::Sky& sky = job.sky;
+  const float horizon = job.horizon, dt = job.next_step.dt, drift_end = dt > 0 && dt < horizon ? dt : horizon;
+  for (size_t begin; (begin = job.next.fetch_add(kChunk)) < job.c.size();) {
+    Flight3* fly = &flying;
+    Flight3* land = &later;  // the drift's end, where the flight goes on without noise
+    fly->n = land->n = 0;
+    for (size_t i = begin; i < std::min(begin + kChunk, job.c.size()); ++i)
+      fly->push(start_of3(job.c, i, job.next_step), 0, uint32_t(i), 0);
     for (float end = drift_end;; end = horizon) {
-      while (flying.n > 0) {
-        detail::Mover3Batch& b = flying.b;
-        detail::batch_next_hits3(g, sky, bodies, nb, b, flying.n, end, true);
-        const size_t n = flying.n;
-        flying.n = 0;  // compacted in place: slot j is read before anything is written to it
+      while (fly->n > 0) {
+        detail::Mover3Batch& b = fly->b;
+        detail::batch_next_hits3(job.g, sky, job.bodies, job.nb, b, fly->n, end, true);
+        const size_t n = fly->n;
+        fly->n = 0;  // compacted in place: slot j is read before anything is written to it
         for (size_t j = 0; j < n; ++j) {
           const detail::Hit3 hit = b.hit(j);
           if (hit.kind == detail::HitKind::None) {
             if (end == horizon) continue;  // stays in the field
             detail::Mover3 m = detail::advanced(sky, b.mover(j), end - b.t[j]);
             m.ux = m.vx, m.uy = m.vy;  // the drift is spent: on without noise
-            later.push(m, end, flying.id[j], flying.contacts[j]);
+            land->push(m, end, fly->id[j], fly->contacts[j]);
             continue;
           }
-          Fate& f = fates[flying.id[j]];
-          if (ends_at(f, hit.kind, hit.index, ends)) continue;
+          Fate& f = job.fates[fly->id[j]];
+          if (ends_at(f, hit.kind, hit.index, job.ends)) continue;
           if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);
-          const uint8_t touched = uint8_t(flying.contacts[j] + 1);
+          const uint8_t touched = uint8_t(fly->contacts[j] + 1);
           if (touched >= kMaxFateContacts) continue;
           const float t = b.t[j] + hit.dt;
           detail::Mover3 m = detail::advanced(sky, b.mover(j), hit.dt);
-          detail::resolve3(g, sky, bodies, hit, t, m);
-          flying.push(m, t, flying.id[j], touched);
+          detail::resolve3(job.g, sky, job.bodies, hit, t, m);
+          fly->push(m, t, fly->id[j], touched);
         }
       }
       if (end == horizon) break;
-      std::swap(flying, later);
+      std::swap(fly, land);
     }
   }
 }
@@ -398,8 +421,13 @@ void World::predict(FateReport& report, float horizon) const {
   const Endings ends{s.body_kind.data(), s.own_goal.data()};
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
   if (cloud_.tall()) {
-    trace_fates3(s.geometry, s.sky, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next,
-                 horizon, s.flying3, s.later3, s.fates);
+    Fates3 job{s.geometry, s.sky, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next,
+               horizon, s.fates, s.flights3.data()};
+    // A few chunks are not worth waking a second thread for.
+    if (config_.prediction_threads > 1 && cloud_.size() > 4 * Flight3::kChunk)
+      s.helper.together([](void* j) { trace_fates3(*static_cast<Fates3*>(j)); }, &job);
+    else
+      trace_fates3(job);
   } else {
     trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next, flight(horizon),
                 s.flying, s.later, s.fates);

@@ -292,14 +292,25 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
       span[i] = std::min(left, when[i]);
     }
   }
-  // Walls, goal lines, the bounds and wormholes: only where the path leaves the safe box.
-  const Box safe = geo.safe;
+  // Walls, goal lines, the bounds and wormholes: only where the path leaves the safe box. A court
+  // with lines only (no walls, no goal lines) has just its bounds to search, for every particle
+  // at once.
+  const Box safe = geo.safe, bounds = geo.bounds;
   const bool mouths = !geo.mx.empty();
-  for (size_t i = 0; i < n; ++i) {
-    const float ex = x[i] + ux[i] * span[i], ey = y[i] + uy[i] * span[i];
-    if (!mouths && safe.contains(x[i], y[i]) && safe.contains(ex, ey)) continue;
-    const Hit flat = next_hit(geo, nullptr, 0, {x[i], y[i], ux[i], uy[i], b.vx[i], b.vy[i]}, t[i], t[i] + span[i], false);
-    set(i, flat.dt < when[i], flat.dt, hit_code(flat.kind, flat.index), Surface::Segment, -1, flat.nx, flat.ny, 0);
+  if (geo.ax.empty() && geo.cap_x.empty() && geo.gax.empty() && !mouths) {
+    const int32_t out = hit_code(HitKind::Out, 0);
+#pragma GCC ivdep
+    for (size_t i = 0; i < n; ++i) {
+      const float dt = bounds_time(bounds, x[i], y[i], ux[i], uy[i], span[i]);
+      set(i, dt < when[i], dt, out, Surface::Segment, -1, 0, 0, 0);
+    }
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      const float ex = x[i] + ux[i] * span[i], ey = y[i] + uy[i] * span[i];
+      if (!mouths && safe.contains(x[i], y[i]) && safe.contains(ex, ey)) continue;
+      const Hit flat = next_hit(geo, nullptr, 0, {x[i], y[i], ux[i], uy[i], b.vx[i], b.vy[i]}, t[i], t[i] + span[i], false);
+      set(i, flat.dt < when[i], flat.dt, hit_code(flat.kind, flat.index), Surface::Segment, -1, flat.nx, flat.ny, 0);
+    }
   }
 
   // Hoops and boards, for paths whose box comes near theirs.

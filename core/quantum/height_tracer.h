@@ -17,8 +17,14 @@ namespace quantum::detail {
 
 class StepTracer3 {
  public:
-  StepTracer3(const Geometry& g, const Sky& s) : g_(g), s_(s) {
+  StepTracer3(const Geometry& g, const Sky& s) : g_(g), s_(s) {}
+
+  // Starts a step of length dt; bodies move as `bodies` say (none for a catch-up). The queues
+  // are made at the first step, so a world on a flat field never makes them.
+  void begin(const BodyPath* bodies, int n_bodies, float dt) {
+    bodies_ = bodies, n_bodies_ = n_bodies, dt_ = dt;
     for (Queue* q : {&with_bodies_, &without_}) {
+      if (!q->id.empty()) continue;
       q->batch.resize(kBatch);
       q->id.resize(kBatch);
       q->contacts.resize(kBatch);
@@ -26,9 +32,6 @@ class StepTracer3 {
       q->first_wall.resize(kBatch);
     }
   }
-
-  // Starts a step of length dt; bodies move as `bodies` say (none for a catch-up).
-  void begin(const BodyPath* bodies, int n_bodies, float dt) { bodies_ = bodies, n_bodies_ = n_bodies, dt_ = dt; }
 
   // Queues particle `id`, at m at the start of the step. finish(id, const Mover3&, Outcome) is
   // called for every particle once its step is traced, in no particular order.

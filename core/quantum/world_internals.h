@@ -10,6 +10,7 @@
 #include "quantum/fate.h"
 #include "height.h"
 #include "height_tracer.h"
+#include "helper_thread.h"
 #include "step_tracer.h"
 
 namespace quantum {
@@ -104,7 +105,8 @@ struct GroupIndex {
 };
 
 struct WorldInternals {
-  explicit WorldInternals(const Field& field) : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky) {}
+  explicit WorldInternals(const Field& field)
+      : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky), flights3(field.has_height() ? 4 : 0) {}
   detail::Geometry geometry;
   detail::Sky sky;
   detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
@@ -117,7 +119,8 @@ struct WorldInternals {
   std::vector<uint8_t> body_kind, own_goal;
   std::vector<Fate> fates;
   Flight flying, later;
-  Flight3 flying3, later3;
+  std::vector<Flight3> flights3;  // on a field with height: flying and later, for each of two threads
+  detail::HelperThread helper;    // shares the 3D prediction's chunks
   GroupIndex index;
 };
 

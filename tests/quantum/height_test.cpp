@@ -264,5 +264,48 @@ TEST(Height, RealizedShotsFollowTheTweakedProbabilities) {
   EXPECT_GT(p_value, 0.001);
 }
 
+// A cloud large enough for the prediction to share its chunks with a second thread gets the same
+// fate for every particle as on one thread, as a small cloud (never shared) does, and twice over.
+TEST(Height, ALargeCloudsFatesAreEachParticlesOwn) {
+  Field f = test::quiet("basketball");
+  f.brownian = 0.05f;  // the next step's noise, which depends on each particle's index, is replayed too
+  const int maya = body(f, "Maya");
+  const std::vector<BodyInput> in = parked(f, {{"Maya", {-3, 5.5f}}, {"Pia", {1.2f, 2.2f}}, {"Noah", {-1.3f, 2.4f}}});
+  WorldConfig config;
+  config.particles = 20'000;
+  World thrower(f, config);
+  thrower.place_bodies(in);
+  thrower.give(maya);
+  std::vector<Event> thrown;
+  const Vec2 arm = f.release_point(maya, {-3, 5.5f}, hoop(f).a);
+  const Vec3 hand{arm.x, arm.y, f.reach_of(maya)}, ring{hoop(f).a.x, hoop(f).a.y, hoop(f).rim_height};
+  thrower.release(maya, f.arc_velocity(hand, ring, 0.9f), ThrowSpread{0.03f, 0.04f, 0.04f}, thrown);
+  const Cloud& all = thrower.cloud();
+  Cloud few;
+  for (size_t i = 0; i < 2'000; ++i) few.push_from(all, i);
+
+  const std::unique_ptr<World> large = test::scene_world(f, config, 9, in, all, maya);
+  const std::unique_ptr<World> small = test::scene_world(f, config, 9, in, few, maya);
+  WorldConfig alone = config;
+  alone.prediction_threads = 1;
+  const std::unique_ptr<World> single = test::scene_world(f, alone, 9, in, all, maya);
+  const FateReport big = large->predict(3.0f), again = large->predict(3.0f), little = small->predict(3.0f);
+  const FateReport one_thread = single->predict(3.0f);
+  std::map<std::string, int> kinds;
+  for (size_t i = 0; i < few.size(); ++i) {
+    const std::string fate = describe(big.groups[big.group_of[i]].fate, f);
+    ASSERT_EQ(fate, describe(little.groups[little.group_of[i]].fate, f)) << "particle " << i;
+    ++kinds[fate];
+  }
+  EXPECT_GE(kinds.size(), 4u) << "a shot with a person's scatter has several fates";
+  ASSERT_EQ(big.groups.size(), again.groups.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    const uint64_t key = big.groups[big.group_of[i]].fate.key();
+    ASSERT_EQ(key, again.groups[again.group_of[i]].fate.key()) << "particle " << i;
+    ASSERT_EQ(key, one_thread.groups[one_thread.group_of[i]].fate.key()) << "particle " << i;
+  }
+  EXPECT_THROW(World(f, WorldConfig{.prediction_threads = 3}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace quantum
