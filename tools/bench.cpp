@@ -77,6 +77,14 @@ struct Shot {
     players[0].position = {-4, 5.6f};                                   // the shooter
     players[1].position = {1.2f, 2.3f}, players[3].position = {-1.2f, 2.4f};  // under the basket
   }
+  // A world on this court with the players placed, for clouds of n particles.
+  std::unique_ptr<World> world(uint32_t n) const {
+    WorldConfig config;
+    config.particles = n;
+    auto w = std::make_unique<World>(field, config);
+    w->place_bodies(players);
+    return w;
+  }
   void shoot(World& world) const {
     std::vector<Event> events;
     world.give(0);
@@ -90,11 +98,8 @@ struct Shot {
 
 void BM_Step3D(benchmark::State& state) {
   const Shot shot;
-  const uint32_t n = uint32_t(state.range(0));
-  WorldConfig config;
-  config.particles = n;
-  World world(shot.field, config);
-  world.place_bodies(shot.players);
+  const std::unique_ptr<World> court = shot.world(uint32_t(state.range(0)));
+  World& world = *court;
   shot.shoot(world);
   std::vector<Event> events;
   int64_t particle_steps = 0, realized = 0;
@@ -118,10 +123,8 @@ void BM_Step3D(benchmark::State& state) {
 void BM_Step3DFlight(benchmark::State& state) {
   const Shot shot;
   const uint32_t n = uint32_t(state.range(0));
-  WorldConfig config;
-  config.particles = n;
-  World world(shot.field, config);
-  world.place_bodies(shot.players);
+  const std::unique_ptr<World> court = shot.world(n);
+  World& world = *court;
   auto toss = [&] {
     DecisionRng rng(world.steps());
     Cloud c;

@@ -190,6 +190,9 @@ struct MoverBatch {
   std::vector<float> when, hnx, hny;  // the search's answer: time from t, normal
   std::vector<int32_t> code;          // kind << 16 | index, or -1 for none
   void resize(size_t n);
+  void set(size_t j, const Mover& m, float at) {
+    x[j] = m.x, y[j] = m.y, ux[j] = m.ux, uy[j] = m.uy, vx[j] = m.vx, vy[j] = m.vy, t[j] = at;
+  }
 };
 constexpr int32_t hit_code(HitKind kind, int index) { return int32_t(kind) << 16 | index; }
 inline HitKind code_kind(int32_t code) { return code < 0 ? HitKind::None : HitKind(code >> 16); }

@@ -52,45 +52,29 @@ struct PurgatorySlot {
   uint64_t step = 0;           // the step the slot was filled in
 };
 
-// Particles being traced by the prediction: a batch for the vectorized search, plus who they are.
-struct Flight {
+// Particles being traced by the prediction: a batch for the vectorized search, plus who they are
+// (Flight on a flat field, Flight3 on one with height).
+template <class Batch, class Mover>
+struct FlightOf {
   static constexpr size_t kChunk = 1024;  // enough to fill the vector lanes, few enough to stay in L1/L2
-  detail::MoverBatch b;
+  Batch b;
   std::vector<uint32_t> id;
   std::vector<uint8_t> contacts;
   size_t n = 0;
 
-  Flight() {
+  FlightOf() {
     b.resize(kChunk);
     id.resize(kChunk);
     contacts.resize(kChunk);
   }
-  void push(const detail::Mover& m, float t, uint32_t who, uint8_t touched) {
-    b.x[n] = m.x, b.y[n] = m.y, b.ux[n] = m.ux, b.uy[n] = m.uy, b.vx[n] = m.vx, b.vy[n] = m.vy, b.t[n] = t;
-    id[n] = who, contacts[n] = touched;
-    ++n;
-  }
-};
-
-// The same on a field with height.
-struct Flight3 {
-  static constexpr size_t kChunk = Flight::kChunk;
-  detail::Mover3Batch b;
-  std::vector<uint32_t> id;
-  std::vector<uint8_t> contacts;
-  size_t n = 0;
-
-  Flight3() {
-    b.resize(kChunk);
-    id.resize(kChunk);
-    contacts.resize(kChunk);
-  }
-  void push(const detail::Mover3& m, float t, uint32_t who, uint8_t touched) {
+  void push(const Mover& m, float t, uint32_t who, uint8_t touched) {
     b.set(n, m, t);
     id[n] = who, contacts[n] = touched;
     ++n;
   }
 };
+using Flight = FlightOf<detail::MoverBatch, detail::Mover>;
+using Flight3 = FlightOf<detail::Mover3Batch, detail::Mover3>;
 
 // Fate groups by key: open addressing over a power-of-two table, grown (rarely: a frame with more
 // fates than any before) to stay at most half full.

@@ -192,6 +192,17 @@ TEST(Height, AFlatFieldRefusesHeightAndAHoopNeedsGravity) {
   EXPECT_THROW(finish_field(f), FieldError);
 }
 
+// Maya, at (-3, 5.5) in `in`, shoots at the ring with a person's scatter; `world` holds the shot
+// as it leaves her hand.
+void shoot_from_five_metres(const Field& f, const std::vector<BodyInput>& in, int maya, World& world) {
+  world.place_bodies(in);
+  world.give(maya);
+  std::vector<Event> thrown;
+  const Vec2 arm = f.release_point(maya, in[size_t(maya)].position, hoop(f).a);
+  const Vec3 hand{arm.x, arm.y, f.reach_of(maya)}, ring{hoop(f).a.x, hoop(f).a.y, hoop(f).rim_height};
+  world.release(maya, f.arc_velocity(hand, ring, 0.9f), ThrowSpread{0.03f, 0.04f, 0.04f}, thrown);
+}
+
 // The shot's Figure 4: a jump shot from 5 m with a person's scatter. Its fates are the ones the
 // issue names (basket, off the board, rim and out, rebounds by the players who are there), and
 // realized outcomes follow the tweaked probabilities over 2,000 seeded worlds: chi-square
@@ -204,12 +215,7 @@ TEST(Height, RealizedShotsFollowTheTweakedProbabilities) {
   WorldConfig config;
   config.particles = 400;
   World scene(f, config);
-  scene.place_bodies(in);
-  scene.give(maya);
-  std::vector<Event> thrown;
-  const Vec2 arm = f.release_point(maya, {-3, 5.5f}, hoop(f).a);
-  const Vec3 hand{arm.x, arm.y, f.reach_of(maya)}, ring{hoop(f).a.x, hoop(f).a.y, hoop(f).rim_height};
-  scene.release(maya, f.arc_velocity(hand, ring, 0.9f), ThrowSpread{0.03f, 0.04f, 0.04f}, thrown);
+  shoot_from_five_metres(f, in, maya, scene);
   FateReport report = scene.predict(3.0f);
   std::vector<double> factors;
   for (const FateGroup& g : report.groups) factors.push_back(g.fate.kind == FateKind::Goal ? 3 : 1);
@@ -274,12 +280,7 @@ TEST(Height, ALargeCloudsFatesAreEachParticlesOwn) {
   WorldConfig config;
   config.particles = 20'000;
   World thrower(f, config);
-  thrower.place_bodies(in);
-  thrower.give(maya);
-  std::vector<Event> thrown;
-  const Vec2 arm = f.release_point(maya, {-3, 5.5f}, hoop(f).a);
-  const Vec3 hand{arm.x, arm.y, f.reach_of(maya)}, ring{hoop(f).a.x, hoop(f).a.y, hoop(f).rim_height};
-  thrower.release(maya, f.arc_velocity(hand, ring, 0.9f), ThrowSpread{0.03f, 0.04f, 0.04f}, thrown);
+  shoot_from_five_metres(f, in, maya, thrower);
   const Cloud& all = thrower.cloud();
   Cloud few;
   for (size_t i = 0; i < 2'000; ++i) few.push_from(all, i);
