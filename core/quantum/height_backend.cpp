@@ -123,8 +123,8 @@ class HeightBackend final : public Backend {
                           (hi[j] > ceiling_line));
       }
       // The box around every path of the block: a hoop, a board or a body outside it is near none
-      // of them, and its pass is skipped (a block far from the basket and below no one's reach
-      // takes none).
+      // of them, and its pass is skipped (a block in flight far from the basket, over everyone's
+      // reach, takes none).
       int32_t kx0 = kMaxKey, ky0 = kMaxKey, kz0 = kMaxKey, kx1 = kMinKey, ky1 = kMinKey, kz1 = kMinKey;
       for (int j = 0; j < m; ++j) {
         const int i = base + j;
