@@ -82,7 +82,6 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
   const float* __restrict gl = b.g.data();
   const int32_t* __restrict near = b.near.data();
   RingScratch& w = b.ring;
-  float* __restrict lo0 = w.lo0.data();
   float* __restrict hi0 = w.hi0.data();
   float* __restrict lo1 = w.lo1.data();
   float* __restrict hi1 = w.hi1.data();
@@ -126,7 +125,7 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
     // A ball on the floor never reaches a ring.
     const bool level = (near[i] != 0) & (g > 0) & (low >= 0);
     const bool first = level & stretch(i, l0, h0, f0, e0), second = level & split & stretch(i, l1, h1, f1, e1);
-    lo0[i] = l0, hi0[i] = h0, lo1[i] = second ? l1 : kInf, hi1[i] = h1, fast0[i] = f0, fast1[i] = f1, bend0[i] = e0, bend1[i] = e1;
+    hi0[i] = h0, lo1[i] = second ? l1 : kInf, hi1[i] = h1, fast0[i] = f0, fast1[i] = f1, bend0[i] = e0, bend1[i] = e1;
     stage[i] = first ? 0 : second ? 1 : 2;
     at[i] = first ? l0 : l1;
     steps[i] = 0, found[i] = kInf;
@@ -148,7 +147,7 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
   for (size_t i = 0; i < n; ++i) {
     // Slot m is at or before i: what it overwrites has been read.
     lane[m] = int32_t(i), qx[m] = x[i] - h.x, qy[m] = y[i] - h.y, qz[m] = z[i], wx[m] = ux[i], wy[m] = uy[i];
-    wz[m] = vz[i], wg[m] = gl[i], hit[m] = kInf;
+    wz[m] = vz[i], wg[m] = gl[i];
     hi0[m] = hi0[i], lo1[m] = lo1[i], hi1[m] = hi1[i], fast0[m] = fast0[i], fast1[m] = fast1[i];
     bend0[m] = bend0[i], bend1[m] = bend1[i], at[m] = at[i], stage[m] = stage[i], steps[m] = 0;
     m += stage[i] < 2;
@@ -230,7 +229,7 @@ Mover3 advanced(const Sky& sky, const Mover3& m, float dt) {
 }
 
 void RingScratch::resize(size_t n) {
-  for (auto* v : {&lo0, &hi0, &lo1, &hi1, &fast0, &fast1, &bend0, &bend1, &at, &found, &limit, &qx, &qy, &qz, &ux,
+  for (auto* v : {&hi0, &lo1, &hi1, &fast0, &fast1, &bend0, &bend1, &at, &found, &limit, &qx, &qy, &qz, &ux,
                   &uy, &vz, &g, &hit})
     v->resize(n);
   stage.resize(n), steps.resize(n), lane.resize(n);

@@ -45,8 +45,7 @@ class HeightBackend final : public Backend {
     for (size_t k = 0; k < s.hx.size(); ++k) {
       const float reach = s.htube[k] + s.r + kMargin;
       const float outer = s.hring[k] + reach;
-      rims_.push_back({s.hx[k], s.hy[k], s.hz[k], s.hz[k] - reach, s.hz[k] + reach,
-                       std::max(0.0f, s.hring[k] - reach), outer,
+      rims_.push_back({s.hx[k], s.hy[k], s.hz[k], std::max(0.0f, s.hring[k] - reach), outer,
                        {s.hx[k] - outer, s.hy[k] - outer, s.hz[k] - reach, s.hx[k] + outer, s.hy[k] + outer,
                         s.hz[k] + reach}});
     }
@@ -54,7 +53,7 @@ class HeightBackend final : public Backend {
       const detail::SegmentParams& b = s.board[k];
       const float near = s.r + kMargin, z0 = s.bbottom[k] - near, z1 = s.btop[k] + near;
       const float ex = b.ax + b.tx * b.len, ey = b.ay + b.ty * b.len;
-      boards_.push_back({b.ax, b.ay, b.tx, b.ty, b.nx, b.ny, b.len, near, z0, z1,
+      boards_.push_back({b.ax, b.ay, b.tx, b.ty, b.nx, b.ny, b.len, near,
                          {std::min(b.ax, ex) - near, std::min(b.ay, ey) - near, z0, std::max(b.ax, ex) + near,
                           std::max(b.ay, ey) + near, z1}});
     }
@@ -71,7 +70,7 @@ class HeightBackend final : public Backend {
       const float ux = (b.to.x - b.from.x) / ctx.dt, uy = (b.to.y - b.from.y) / ctx.dt;
       paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius, b.top};
       const float reach = b.radius + g.r + kMargin;
-      near_[k] = {detail::body_sweep(b, g.r), b.top + g.r + kMargin,
+      near_[k] = {detail::body_sweep(b, g.r),
                   {std::min(b.from.x, b.to.x) - reach, std::min(b.from.y, b.to.y) - reach, -kInf,
                    std::max(b.from.x, b.to.x) + reach, std::max(b.from.y, b.to.y) + reach, b.top + g.r + kMargin}};
     }
@@ -145,7 +144,7 @@ class HeightBackend final : public Backend {
           const int i = base + j;
           const float travel = std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]);
           const float qx = ox[j] - c.x, qy = oy[j] - c.y, d = std::sqrt(qx * qx + qy * qy);
-          const bool level = (hi[j] >= c.z0) & (lo[j] <= c.z1);
+          const bool level = (hi[j] >= c.box.z0) & (lo[j] <= c.box.z1);
           const bool through = (hi[j] >= c.z) & (z[i] < c.z);
           flag[j] |= uint8_t(level & (d - travel < c.outer) & ((d + travel > c.inner) | through));
         }
@@ -162,7 +161,7 @@ class HeightBackend final : public Backend {
           const float a0 = px0 * c.tx + py0 * c.ty, a1 = px1 * c.tx + py1 * c.ty;
           const bool close = (std::min(std::fabs(d0), std::fabs(d1)) < c.near) | (d0 * d1 <= 0);
           const bool beside = (std::max(a0, a1) > -c.near) & (std::min(a0, a1) < c.len + c.near);
-          flag[j] |= uint8_t(close & beside & (hi[j] >= c.z0) & (lo[j] <= c.z1));
+          flag[j] |= uint8_t(close & beside & (hi[j] >= c.box.z0) & (lo[j] <= c.box.z1));
         }
       }
       // Bodies: a particle whose path comes within reach of a body's, below its reach.
@@ -172,7 +171,7 @@ class HeightBackend final : public Backend {
 #pragma GCC ivdep
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
-          flag[j] |= uint8_t(detail::sweeps_touch(c.sweep, ox[j], oy[j], x[i], y[i]) & (lo[j] < c.top));
+          flag[j] |= uint8_t(detail::sweeps_touch(c.sweep, ox[j], oy[j], x[i], y[i]) & (lo[j] < c.box.z1));
         }
       }
       detail::flag_near_mouths(g, ox, oy, x, y, base, m, flag);
@@ -196,20 +195,17 @@ class HeightBackend final : public Backend {
 
   struct Near {
     detail::BodySweep sweep;
-    float top;  // a particle above this all step cannot touch the body
-    Box3 box;   // where a particle may touch the body
+    Box3 box;  // where a particle may touch the body (above its top, all step, it cannot)
   };
   struct Rim {
     float x, y, z;       // the ring's centre
-    float z0, z1;        // heights level with the rod, within reach
     float inner, outer;  // distances from the hoop's axis within reach of the rod
-    Box3 box;            // around the rod, within reach
+    Box3 box;            // around the rod, within reach (its heights: level with the rod)
   };
   struct Pane {
     float ax, ay, tx, ty, nx, ny, len;  // the board's floor line
     float near;                          // within this of the plane a particle may touch it
-    float z0, z1;                        // heights level with the board, within reach
-    Box3 box;                            // around the board, within reach
+    Box3 box;                            // around the board, within reach (its heights: level with it)
   };
 
   detail::Geometry geometry_;
