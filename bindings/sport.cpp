@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 
@@ -315,15 +316,30 @@ void Sport::read_audio(const Reader& r, int t) {
   audio_.sounds["bounce"] = resolve("wall.wav");
   audio_.priorities = {{"goal", 3}, {"own_goal", 3}, {"match_end", 3}, {"time_up", 3}, {"drop", 2}, {"out", 2},
                        {"dead", 2}, {"shot", 1},     {"intercept", 1}, {"timer", 1},   {"retouch", 0}, {"bounce", 0}};
+  for (const char* e : {"shot", "intercept", "retouch", "bounce", "catch", "pass", "throw", "give"}) audio_.supersede[e] = true;
   if (!r.field(t, "audio")) return;
   r.expect(LUA_TTABLE, "audio");
   const int a = lua_gettop(L);
-  r.only_keys(a, "audio", {"voice", "rate", "volume", "listener", "facing", "sounds", "recorded", "priorities"});
+  r.only_keys(a, "audio", {"voice", "rate", "volume", "listener", "facing", "sounds", "recorded", "priorities",
+                           "supersede", "duck", "repeat_gap", "wait_for", "keep"});
   audio_.voice = r.string(a, "voice", "audio", audio_.voice, false);
   audio_.rate = int(r.number(a, "rate", "audio", audio_.rate, false));
   audio_.volume = int(r.number(a, "volume", "audio", audio_.volume, false));
   if (r.field(a, "listener")) audio_.listener = r.point("audio.listener");
   if (r.field(a, "facing")) audio_.facing = r.point("audio.facing");
+  auto within = [&](const char* key, double fallback, double most) {
+    const double v = r.number(a, key, "audio", fallback, false);
+    if (!(v >= 0 && v <= most)) {
+      char message[96];
+      std::snprintf(message, sizeof message, "expected a number from 0 to %g, got %g", most, v);
+      r.fail(std::string("audio.") + key, message);
+    }
+    return v;
+  };
+  audio_.duck = float(within("duck", audio_.duck, 1));
+  audio_.repeat_gap = within("repeat_gap", audio_.repeat_gap, 60);
+  audio_.wait_for = within("wait_for", audio_.wait_for, 5);
+  audio_.keep = int(r.number(a, "keep", "audio", audio_.keep, false));
   std::vector<std::string> events = game::event_names();
   if (r.field(a, "sounds")) {
     r.expect(LUA_TTABLE, "audio.sounds");
@@ -343,9 +359,18 @@ void Sport::read_audio(const Reader& r, int t) {
     });
     lua_pop(L, 1);
   }
+  events.push_back("timer");
+  if (r.field(a, "supersede")) {
+    r.expect(LUA_TTABLE, "audio.supersede");
+    r.only_keys(-1, "audio.supersede", events);
+    r.map(-1, "audio.supersede", [&](const std::string& event, const std::string& place) {
+      r.expect(LUA_TBOOLEAN, place);
+      audio_.supersede[event] = lua_toboolean(L, -1);
+    });
+    lua_pop(L, 1);
+  }
   if (r.field(a, "priorities")) {
     r.expect(LUA_TTABLE, "audio.priorities");
-    events.push_back("timer");
     r.only_keys(-1, "audio.priorities", events);
     r.map(-1, "audio.priorities", [&](const std::string& event, const std::string& place) {
       r.expect(LUA_TNUMBER, place);
@@ -370,6 +395,20 @@ void Sport::unknown_phrase(std::string_view key) const {
 void Sport::say_host(game::Match& match, const std::string& key, const std::string& fallback) {
   auto none = [](std::string_view) { return std::optional<PhraseValue>(); };
   say(match, phrases_.find(key) ? key : fallback, none);
+}
+
+double Sport::factor(const std::string& kind) const {
+  lua_State* L = sandbox_.L();
+  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+  raw_field(L, -1, "factors");
+  double value = 1;
+  if (lua_istable(L, -1)) {
+    raw_field(L, -1, kind.c_str());
+    if (lua_type(L, -1) == LUA_TNUMBER) value = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 2);
+  return value;
 }
 
 void Sport::set_factor(const std::string& kind, double value) {

@@ -20,12 +20,18 @@ namespace quantum::lua {
 
 // A sport's sound, from sport.lua's `audio` table (docs/lua-api.md). Paths are resolved.
 struct SportAudio {
-  std::string voice = "en";
+  std::string voice = "en-us";
   int rate = 175, volume = 100;
   Vec2 listener{0, 0}, facing{1, 0};
   std::map<std::string, std::string, std::less<>> sounds;    // event type -> sound file
   std::map<std::string, std::string, std::less<>> recorded;  // phrase key -> sound file spoken instead
   std::map<std::string, int, std::less<>> priorities;        // event type (or "timer") -> announcer priority
+  // Event types (or "timer") whose phrases, while still waiting, give way to newer ones.
+  std::map<std::string, bool, std::less<>> supersede;
+  float duck = 0.1f;       // game sounds' gain while the announcer speaks
+  double repeat_gap = 2;   // seconds within which the same words are not said again
+  int keep = 3;            // phrases of this priority or more wait as long as it takes (never stale)
+  double wait_for = 1;     // a more urgent phrase lets one ending within this many seconds finish
 };
 
 // Where the engine keeps its own rules: power-ups (rules/powerups) and Lua helpers for sports
@@ -72,6 +78,8 @@ class Sport final : public game::Rules {
   // compare a sport's factors with none. Throws std::invalid_argument for an unknown kind or a
   // value that is not a number >= 0.
   void set_factor(const std::string& kind, double value);
+  // The factor sport.lua (or set_factor) gives a fate kind: 1 when it gives none.
+  double factor(const std::string& kind) const;
 
   void factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) override;
   void on_event(const game::GameEvent& event, game::Match& match) override;

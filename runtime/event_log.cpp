@@ -9,19 +9,37 @@
 namespace quantum::runtime {
 namespace {
 
-void write_said(JsonLine& line, std::span<const game::Said> said, int event) {
+void write_phrase(JsonLine& line, const game::Said& s, const audio::PhraseFate& f) {
+  line.object().field("text", s.text).field("fate", audio::to_string(f.kind));
+  if (f.start >= 0) line.field("start", f.start).field("end", f.end).field("length", f.length);
+  if (f.why != audio::PhraseFate::Why::None) line.field("why", audio::to_string(f.why));
+  if (!f.by.empty()) line.field("by", f.by);
+  line.close();
+}
+
+// The phrases of said[from, to) that `belongs` picks: their words, then what became of them.
+template <class Belongs>
+void write_said(JsonLine& line, std::span<const game::Said> said, std::span<const audio::PhraseFate> fates,
+                size_t from, size_t to, Belongs belongs) {
   bool any = false;
-  for (const game::Said& s : said) {
-    if (s.event != event) continue;
+  for (size_t i = from; i < to; ++i) {
+    if (!belongs(said[i])) continue;
     if (!any) line.array("said"), any = true;
-    line.item(s.text);
+    line.item(said[i].text);
   }
-  if (any) line.close();
+  if (!any) return;
+  line.close();
+  if (fates.empty()) return;
+  line.array("phrases");
+  for (size_t i = from; i < to; ++i)
+    if (belongs(said[i])) write_phrase(line, said[i], fates[i]);
+  line.close();
 }
 
 }  // namespace
 
-void write_events(std::ostream& out, std::span<const game::GameEvent> events, std::span<const game::Said> said) {
+void write_events(std::ostream& out, std::span<const game::GameEvent> events, std::span<const game::Said> said,
+                  std::span<const audio::PhraseFate> fates) {
   for (size_t k = 0; k < events.size(); ++k) {
     const game::GameEvent& e = events[k];
     JsonLine line(out);
@@ -33,15 +51,17 @@ void write_events(std::ostream& out, std::span<const game::GameEvent> events, st
     if (!e.holder.empty()) line.field("holder", e.holder);
     line.field("p", e.p).field("p_newtonian", e.p_newtonian).field("particles", uint64_t(e.particles));
     line.field("x", double(e.at.x)).field("y", double(e.at.y));
-    write_said(line, said, int(k));
+    write_said(line, said, fates, 0, said.size(), [k](const game::Said& s) { return s.event == int(k); });
     line.end();
   }
   // Phrases of no event (a timer's, on_reload's): those said at one moment share a line.
   for (size_t i = 0; i < said.size(); ++i) {
     if (said[i].event >= 0 || (i > 0 && said[i - 1].event < 0 && said[i - 1].t == said[i].t)) continue;
+    size_t j = i;
+    while (j < said.size() && said[j].event < 0 && said[j].t == said[i].t) ++j;
     JsonLine line(out);
-    line.field("t", said[i].t).field("type", *said[i].cause ? said[i].cause : "said").array("said");
-    for (size_t j = i; j < said.size() && said[j].event < 0 && said[j].t == said[i].t; ++j) line.item(said[j].text);
+    line.field("t", said[i].t).field("type", *said[i].cause ? said[i].cause : "said");
+    write_said(line, said, fates, i, j, [](const game::Said&) { return true; });
     line.end();
   }
 }
@@ -91,11 +111,22 @@ void write_decision(std::ostream& out, const Decision& d, std::span<const FateGr
   line.end();
 }
 
-void write_transcript(std::ostream& out, std::span<const game::Said> said) {
-  for (const game::Said& s : said) {
+void write_transcript(std::ostream& out, std::span<const game::Said> said, std::span<const audio::PhraseFate> fates) {
+  for (size_t i = 0; i < said.size(); ++i) {
+    const game::Said& s = said[i];
     char stamp[32];
     std::snprintf(stamp, sizeof stamp, "%4d:%05.2f", int(s.t / 60), std::fmod(s.t, 60.0));
-    out << stamp << "  " << s.text << '\n';
+    out << stamp << "  " << s.text;
+    if (!fates.empty()) {
+      const audio::PhraseFate& f = fates[i];
+      char mark[96] = "";
+      if (f.kind == audio::PhraseFate::Kind::Cut)
+        std::snprintf(mark, sizeof mark, "  [cut after %.2f of %.2f s, %s", f.end - f.start, f.length, audio::to_string(f.why));
+      else if (f.kind == audio::PhraseFate::Kind::Dropped)
+        std::snprintf(mark, sizeof mark, "  [dropped, %s", audio::to_string(f.why));
+      if (*mark) out << mark << (f.by.empty() ? "" : ": ") << f.by << ']';
+    }
+    out << '\n';
   }
 }
 

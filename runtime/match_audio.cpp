@@ -25,6 +25,14 @@ audio::Speech* speech(std::ostream& warnings, bool& failed) {
 
 bool speech_failed = false;
 
+audio::AnnouncerRules rules(const lua::SportAudio& sport) {
+  audio::AnnouncerRules r;
+  r.repeat_gap = sport.repeat_gap;
+  r.wait_for = sport.wait_for;
+  r.keep_from = sport.keep;
+  return r;
+}
+
 }  // namespace
 
 MatchAudio::MatchAudio(const std::string& spec, const lua::SportAudio& sport, std::ostream& warnings)
@@ -45,7 +53,12 @@ MatchAudio::MatchAudio(const std::string& spec, const lua::SportAudio& sport, st
     throw std::invalid_argument("--audio " + spec + ": expected none or wav:FILE (or nothing, for the sound card)");
   }
   mixer_->set_listener({sport_.listener, sport_.facing});
-  announcer_ = std::make_unique<audio::Announcer>(*mixer_);
+  announcer_ = std::make_unique<audio::Announcer>(*mixer_, rules(sport_));
+}
+
+void MatchAudio::set_sport(const lua::SportAudio& sport) {
+  sport_ = sport;
+  if (announcer_) announcer_->set_rules(rules(sport_));
 }
 
 MatchAudio::~MatchAudio() = default;
@@ -72,31 +85,69 @@ void MatchAudio::event(const game::GameEvent& e) {
   if (const audio::Clip* c = clip(sound->second)) mixer_->play(*c, e.at);
 }
 
-void MatchAudio::said(const game::Said& s) {
-  if (!announcer_) return;
-  const auto p = sport_.priorities.find(std::string_view(s.cause));
+void MatchAudio::silent(uint64_t id) {
+  audio::PhraseFate f;
+  f.id = id, f.kind = audio::PhraseFate::Kind::Silent;
+  settled({&f, 1});
+}
+
+// Fates are copied into slots kept from frame to frame: a running match allocates nothing.
+void MatchAudio::settled(std::span<const audio::PhraseFate> fates) {
+  for (const audio::PhraseFate& f : fates) {
+    if (n_fates_ == fates_.size()) fates_.emplace_back();
+    audio::PhraseFate& to = fates_[n_fates_++];
+    to.id = f.id, to.kind = f.kind, to.why = f.why, to.start = f.start, to.end = f.end, to.length = f.length;
+    to.by.assign(f.by);
+  }
+}
+
+void MatchAudio::collect() {
+  settled(announcer_->fates());
+  announcer_->clear_fates();
+}
+
+void MatchAudio::said(const game::Said& s, uint64_t id) {
+  if (!announcer_) return silent(id);
+  say(s, id);
+  collect();  // a repeat is skipped, and what it supersedes dropped, at once
+}
+
+void MatchAudio::say(const game::Said& s, uint64_t id) {
+  const std::string_view cause(s.cause);
+  const auto p = sport_.priorities.find(cause);
   const int priority = p == sport_.priorities.end() ? 1 : p->second;
+  const auto supersede = sport_.supersede.find(cause);
+  const bool supersedable = supersede != sport_.supersede.end() && supersede->second;
   if (!s.recording.empty()) {
     if (const audio::Clip* c = clip(s.recording)) {
-      announcer_->say(*c, priority, s.t, s.text);
+      announcer_->say(*c, priority, s.t, s.text, id, supersedable);
       return;
     }  // a missing recording: the text is spoken instead
   }
   audio::Speech* voice = speech(warnings_, speech_failed);
-  if (!voice) return;
+  if (!voice) return silent(id);
   audio::Voice v{sport_.voice, sport_.rate, sport_.volume};
   try {
-    announcer_->say(voice->say(s.text, v), priority, s.t, s.text);
+    announcer_->say(voice->say(s.text, v), priority, s.t, s.text, id, supersedable);
   } catch (const audio::AudioError& e) {
     warn(std::string(e.what()) + "; speaking with the default voice");
-    announcer_->say(voice->say(s.text, audio::Voice{}), priority, s.t, s.text);
+    announcer_->say(voice->say(s.text, audio::Voice{}), priority, s.t, s.text, id, supersedable);
   }
 }
 
 void MatchAudio::frame(double now) {
   if (!announcer_) return;
-  announcer_->clear_fates();
-  announcer_->update(now);
+  // Into a file, what starts now sounds from the last sample written: the phrase's times in the
+  // log are then where it is in the file.
+  announcer_->update(wav_ ? rendered_until_ : now);
+  collect();
+  // Speech first: game sounds duck while the announcer speaks, so a horn or a rally of hits
+  // never buries the words.
+  mixer_->duck(announcer_->speaking().empty() ? 1.0f : sport_.duck);
+  render(now);
+}
+
+void MatchAudio::render(double now) {
   if (!wav_) return;
   // Whole samples up to `now`; rounding both ends keeps the total exact over a match.
   const int frames = int(std::lround(now * mixer_->rate()) - std::lround(rendered_until_ * mixer_->rate()));
@@ -106,25 +157,23 @@ void MatchAudio::frame(double now) {
   wav_->write(chunk_);
 }
 
-std::span<const std::string> MatchAudio::dropped() const {
-  return announcer_ ? announcer_->dropped() : std::span<const std::string>();
-}
-
-std::span<const std::string> MatchAudio::cut() const {
-  return announcer_ ? announcer_->cut() : std::span<const std::string>();
-}
-
 void MatchAudio::finish(double now) {
   if (!announcer_) return;
-  // Let the last phrase and the horn ring out, at most three seconds: on the sound card by
-  // waiting, into the file by rendering.
+  // Let the last phrases and the horn ring out, at most ten seconds: on the sound card by
+  // waiting, into the file by rendering. Nothing newer will come, so nothing waiting is stale.
+  audio::AnnouncerRules last = rules(sport_);
+  last.stale_after = 10;
+  announcer_->set_rules(last);
   double t = now;
-  for (; t < now + 3.0 && !announcer_->speaking().empty(); t += 0.05) {
+  for (; t < now + 10.0 && !announcer_->speaking().empty(); t += 0.05) {
     if (!wav_) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     frame(t);
   }
+  announcer_->finish(t);
+  collect();
   if (!wav_) return;
-  frame(t + 0.5);
+  mixer_->duck(1);
+  render(t + 0.5);
   wav_->close();
 }
 

@@ -27,23 +27,31 @@ class MatchAudio {
   ~MatchAudio();
 
   // The sport's sound settings changed (a reloaded sport.lua).
-  void set_sport(const lua::SportAudio& sport) { sport_ = sport; }
+  void set_sport(const lua::SportAudio& sport);
 
   void event(const game::GameEvent& e);
-  void said(const game::Said& s);
+  // `id` comes back with the phrase's fate.
+  void said(const game::Said& s, uint64_t id);
   // Once per frame: starts due phrases and, for a WAV file, renders up to match time `now`.
   void frame(double now);
-  // Lets the last phrase finish and completes the WAV file, if any.
+  // Lets the last phrases finish (at most 10 s), settles every phrase and completes the WAV file,
+  // if any.
   void finish(double now);
 
   bool on_device() const { return mixer_ && !mixer_->loopback(); }  // the match runs in real time
-  // The phrases the last frame() dropped (stale) or cut off (outranked).
-  std::span<const std::string> dropped() const;
-  std::span<const std::string> cut() const;
+  // What became of phrases, settled since the last clear_fates(): spoken, cut off, dropped, or
+  // silent when there is no sound to speak them with.
+  std::span<const audio::PhraseFate> fates() const { return {fates_.data(), n_fates_}; }
+  void clear_fates() { n_fates_ = 0; }
 
  private:
   const audio::Clip* clip(const std::string& path);
   void warn(const std::string& what);
+  void render(double now);  // a WAV file's samples up to `now`
+  void say(const game::Said& s, uint64_t id);
+  void settled(std::span<const audio::PhraseFate> fates);
+  void collect();  // the announcer's fates, into fates()
+  void silent(uint64_t id);
 
   lua::SportAudio sport_;
   std::ostream& warnings_;
@@ -53,6 +61,8 @@ class MatchAudio {
   std::map<std::string, audio::Clip> clips_;
   std::set<std::string> warned_;
   std::vector<int16_t> chunk_;
+  std::vector<audio::PhraseFate> fates_;  // slots kept, as the announcer's
+  size_t n_fates_ = 0;
   double rendered_until_ = 0;
 };
 

@@ -52,24 +52,18 @@ std::string describe_draw(const Decision& d, const Field& f) {
 }
 
 void Ticker::hear(const News& news) {
-  for (const game::Said& s : news.said) {
-    shown_.push_back({s.t, s.text, Line::Fate::Said});
+  for (size_t i = 0; i < news.said.size(); ++i) {
+    shown_.push_back({news.said[i].t, news.said[i].text, Line::Fate::Said, news.first_phrase + i});
     if (shown_.size() > lines_) shown_.pop_front();
   }
 }
 
-void Ticker::mark(std::span<const std::string> texts, Line::Fate fate) {
-  for (const std::string& text : texts)
-    for (auto it = shown_.rbegin(); it != shown_.rend(); ++it)
-      if (it->text == text && it->fate == Line::Fate::Said) {
-        it->fate = fate;
-        break;
-      }
-}
-
-void Ticker::mark(std::span<const std::string> dropped, std::span<const std::string> cut) {
-  mark(dropped, Line::Fate::Dropped);
-  mark(cut, Line::Fate::Cut);
+void Ticker::mark(std::span<const audio::PhraseFate> fates) {
+  for (const audio::PhraseFate& f : fates) {
+    if (f.kind != audio::PhraseFate::Kind::Cut && f.kind != audio::PhraseFate::Kind::Dropped) continue;
+    for (Line& line : shown_)
+      if (line.id == f.id) line.fate = f.kind == audio::PhraseFate::Kind::Cut ? Line::Fate::Cut : Line::Fate::Dropped;
+  }
 }
 
 Picture::Picture(const Field& field, PictureOptions options) : field_(field), options_(options) {

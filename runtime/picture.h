@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "audio/audio.h"
 #include "game/game.h"
 
 namespace quantum::runtime {
@@ -27,15 +28,15 @@ class Ticker {
     double t;
     std::string text;
     enum class Fate { Said, Cut, Dropped } fate = Fate::Said;
+    uint64_t id = 0;  // the phrase's, as in News::first_phrase
   };
   explicit Ticker(size_t lines = 6) : lines_(lines) {}
   void hear(const News& news);
-  // What the announcer did with the phrases of the last frame (Session::dropped, Session::cut).
-  void mark(std::span<const std::string> dropped, std::span<const std::string> cut);
+  // What the announcer did with phrases during the last frame (Session::fates).
+  void mark(std::span<const audio::PhraseFate> fates);
   const std::deque<Line>& lines() const { return shown_; }
 
  private:
-  void mark(std::span<const std::string> texts, Line::Fate fate);
   size_t lines_;
   std::deque<Line> shown_;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 
 namespace quantum::runtime {
 
@@ -56,8 +57,10 @@ Status HandPlayers::advance(double t, const game::Match& match, bool waiting) {
   return Status::Ready;
 }
 
-TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options)
-    : field_(field), input_(spec, tracking::tracked_field(field), options) {
+TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options,
+                               std::ostream* warnings)
+    : field_(field), spec_(spec), tracked_(tracking::tracked_field(field)), input_(spec, tracked_, options),
+      warnings_(warnings) {
   for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
 }
 
@@ -76,6 +79,8 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
       if (s == TrackingStatus::Waiting) return seen_ ? Status::Ready : Status::Lost;
       if (s == TrackingStatus::Lost) return Status::Lost;
       if (s == TrackingStatus::Ended) return Status::Ended;
+      if (const std::string warning = nobody_.check(f, spec_, tracked_); !warning.empty() && warnings_)
+        *warnings_ << "quantum: warning: " << warning << '\n';
       if (!t0_) t0_ = f.t - t;
       f.t -= *t0_;
       pending_ = std::move(f);

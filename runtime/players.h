@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <span>
@@ -104,8 +105,10 @@ class HandPlayers final : public PlayerSource {
 class TrackedPlayers final : public PlayerSource {
  public:
   // `spec`: fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT (see tracking/input.h);
-  // `options`: accelerometers for throws (any source) and a camera's field of view.
-  TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options = {});
+  // `options`: accelerometers for throws (any source) and a camera's field of view. A source
+  // that sees nobody for its first seconds is told once to `warnings` (tracking::NobodySeen).
+  TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options = {},
+                 std::ostream* warnings = nullptr);
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
   // A tracked throw goes the way the tracker says, at the sport's throw speed.
@@ -117,7 +120,11 @@ class TrackedPlayers final : public PlayerSource {
   void apply(const tracking::TrackedFrame& f, double throw_speed);
 
   Field field_;
+  std::string spec_;
+  tracking::TrackedField tracked_;
   tracking::TrackingInput input_;
+  tracking::NobodySeen nobody_;
+  std::ostream* warnings_;
   std::vector<BodyInput> bodies_;
   std::vector<game::Throw> throws_;
   std::optional<tracking::TrackedFrame> pending_;

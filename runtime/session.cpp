@@ -69,7 +69,8 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
       players_ = std::make_unique<BotPlayers>(match_->field(), per_player(o.skills, skills, *sport_, "--skill", "skills"),
                                               o.seed, config.throw_speed);
     } else {
-      players_ = std::make_unique<TrackedPlayers>(o.input, match_->field(), tracking::SourceOptions{o.accel, o.fov});
+      players_ = std::make_unique<TrackedPlayers>(o.input, match_->field(), tracking::SourceOptions{o.accel, o.fov},
+                                                  &errors_);
     }
   }
   // A replay reloads what its recording reloaded, when it did, and nothing else.
@@ -95,16 +96,16 @@ void Session::reload(const std::string& file) {
 
 void Session::tell() {
   game::Match& m = *match_;
-  const News news{m.events(), m.said(), m.errors()};
+  const News news{m.events(), m.said(), m.errors(), ledger_.next_id()};
   players_->hear(news.events);
   for (const game::GameEvent& e : news.events) audio_->event(e);
-  for (const game::Said& s : news.said) audio_->said(s);
+  for (size_t i = 0; i < news.said.size(); ++i) audio_->said(news.said[i], news.first_phrase + i);
+  ledger_.hold(news.events, news.said);
   // A rule that fails every frame is one line, not thousands: each error once, counted.
   for (const std::string& e : news.errors)
     if (++errors_seen_[e] == 1) errors_ << "quantum: rules error: " << e << '\n';
   rule_errors_ += int(news.errors.size());
-  if (transcript_) write_transcript(*transcript_, news.said);
-  if (log_->stream()) write_events(*log_->stream(), news.events, news.said);
+  write_settled();
   if (watcher_) watcher_(news);
   m.clear_news();
 }
@@ -125,6 +126,7 @@ void Session::pause_or_resume(bool lost) {
 bool Session::frame() {
   if (over_) return false;
   game::Match& m = *match_;
+  audio_->clear_fates();
   tell();  // what happened between frames (a spec's grant, a scene set up)
   if (reloader_) {
     for (const std::filesystem::path& file : players_->files_to_reload()) reloader_->changed(file);
@@ -141,11 +143,7 @@ bool Session::frame() {
   const PlayerSource::Status status = players_->advance(m.time() + dt, m, paused_);
   if (recorder_) recorder_->frame(status, players_->bodies(), players_->throws());
   if (status == PlayerSource::Status::Ended) {
-    if (transcript_) {
-      const game::Said end{m.time(), "(the recording is over)", -1, "", ""};
-      write_transcript(*transcript_, {&end, 1});
-    }
-    over_ = true;
+    over_ = recording_over_ = true;
   } else {
     const bool lost = status == PlayerSource::Status::Lost;
     if (lost != paused_) pause_or_resume(lost);
@@ -159,6 +157,7 @@ bool Session::frame() {
   }
   tell();
   audio_->frame(m.time());
+  write_settled();
   over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9);
   // A camera is asked again while paused, not spun on.
   if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -166,8 +165,12 @@ bool Session::frame() {
   return !over_;
 }
 
-std::span<const std::string> Session::dropped() const { return audio_->dropped(); }
-std::span<const std::string> Session::cut() const { return audio_->cut(); }
+std::span<const audio::PhraseFate> Session::fates() const { return audio_->fates(); }
+
+void Session::write_settled(bool all) {
+  ledger_.settle(audio_->fates());
+  ledger_.write(log_->stream(), transcript_, all);
+}
 
 void Session::report_repeated_errors() {
   for (const auto& [error, count] : errors_seen_)
@@ -194,6 +197,11 @@ void Session::finish() {
   tell();
   report_repeated_errors();
   audio_->finish(match_->time());
+  write_settled(true);
+  if (recording_over_ && transcript_) {
+    const game::Said end{match_->time(), "(the recording is over)", -1, "", ""};
+    write_transcript(*transcript_, {&end, 1});
+  }
   log_->close();
   decisions_->close();
   if (recorder_) recorder_->close();

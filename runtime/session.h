@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "game/game.h"
+#include "phrase_ledger.h"
 #include "players.h"
 #include "sport.h"
 
@@ -60,6 +61,7 @@ struct News {
   std::span<const game::GameEvent> events;
   std::span<const game::Said> said;     // Said::event indexes `events`
   std::span<const std::string> errors;  // rule errors
+  uint64_t first_phrase = 0;            // the id of said[0] (then said[1]'s is one more...), as in fates()
 };
 
 class Session {
@@ -105,9 +107,8 @@ class Session {
   // The sport as it is now: a reload replaces it, so hold no reference across frames.
   lua::Sport& sport() { return *sport_; }
   PlayerSource& players() { return *players_; }
-  // The phrases the announcer dropped (stale) or cut off during the last frame.
-  std::span<const std::string> dropped() const;
-  std::span<const std::string> cut() const;
+  // What became of phrases, settled during the last frame (ids as in News::first_phrase).
+  std::span<const audio::PhraseFate> fates() const;
   bool over() const { return over_; }
   int rule_errors() const { return rule_errors_; }
   // Takes `file` as saved: the next frame reloads it as if inotify had seen it (benchmarks).
@@ -116,6 +117,7 @@ class Session {
  private:
   void pause_or_resume(bool lost);
   void report_repeated_errors();
+  void write_settled(bool all = false);
 
   std::ostream* transcript_;
   std::ostream& errors_;
@@ -126,12 +128,13 @@ class Session {
   std::unique_ptr<Recorder> recorder_;
   std::unique_ptr<MatchAudio> audio_;
   std::unique_ptr<LineFile> log_, decisions_;
+  PhraseLedger ledger_;  // the event log's and the transcript's lines until their phrases are settled
   std::map<std::string, int> errors_seen_;  // each rule error once, with how often it came
   std::function<void(const News&)> watcher_;
   double wall_start_ = 0;  // the steady clock's seconds at match time 0 (at this speed)
   double speed_ = 1;
   double until_;
-  bool real_time_ = false, paused_ = false, over_ = false, finished_ = false;
+  bool real_time_ = false, paused_ = false, over_ = false, finished_ = false, recording_over_ = false;
   int rule_errors_ = 0;
 };
 

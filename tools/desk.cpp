@@ -80,7 +80,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
       }
       if (!paused || step) {
         playing = playing && session.frame();
-        ticker.mark(session.dropped(), session.cut());
+        ticker.mark(session.fates());
         // The last draw that realized something: "why did that happen?" at a glance.
         if (const Decision* d = session.match().decision(); d && d->realized >= 0)
           overlay.last_draw = runtime::describe_draw(*d, session.match().field());

@@ -2,13 +2,10 @@
 
 #include "desk.h"
 
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <ostream>
 #include <sstream>
-#include <thread>
 
 namespace quantum::tools {
 
@@ -60,54 +57,6 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
     out << buf;
   }
   return result;
-}
-
-BalanceResult balance(const runtime::SessionOptions& options, int matches) {
-  if (matches < 1 || matches > 100'000) throw std::invalid_argument("--matches must be in [1, 100000]");
-  runtime::SessionOptions quiet = options;
-  quiet.watch = false;
-  quiet.events.clear();
-  quiet.audio = "none";
-  quiet.pacing = runtime::SessionOptions::Pacing::Fast;
-  std::vector<PlayResult> results(static_cast<size_t>(matches));
-  std::atomic<int> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_lock;
-  auto worker = [&] {
-    for (int m; (m = next++) < matches;) {
-      runtime::SessionOptions o = quiet;
-      o.seed = options.seed + uint64_t(m);
-      std::ostringstream out, errors;
-      try {
-        results[size_t(m)] = play(o, out, errors, false);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failure_lock);
-        if (!failure) failure = std::current_exception();
-        next = matches;
-      }
-    }
-  };
-  std::vector<std::thread> threads;
-  const unsigned cores = std::max(1u, std::min(std::thread::hardware_concurrency(), unsigned(matches)));
-  for (unsigned t = 0; t < cores; ++t) threads.emplace_back(worker);
-  for (std::thread& t : threads) t.join();
-  if (failure) std::rethrow_exception(failure);
-
-  BalanceResult r;
-  r.matches = matches;
-  int rallies = 0, contacts = 0, goals = 0, passes = 0;
-  double seconds = 0;
-  for (const PlayResult& p : results) {
-    if (p.winner.empty()) ++r.draws;
-    else ++r.wins[p.winner];
-    for (const auto& [team, n] : p.score) r.wins.try_emplace(team, 0);
-    rallies += p.stats.rallies, contacts += p.stats.contacts, goals += p.stats.goals, seconds += p.stats.seconds;
-    passes += p.stats.passes, r.possessions += p.stats.possessions;
-  }
-  r.contacts_per_rally = rallies ? double(contacts) / rallies : 0;
-  r.passes_per_possession = r.possessions ? double(passes) / r.possessions : 0;
-  r.goals_per_minute = seconds > 0 ? goals * 60 / seconds : 0;
-  return r;
 }
 
 }  // namespace quantum::tools

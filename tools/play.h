@@ -29,19 +29,6 @@ struct DeskOptions;
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript = true,
                 const DeskOptions* desk = nullptr);
 
-struct BalanceResult {
-  int matches = 0, draws = 0;
-  std::map<std::string, int> wins;  // by team
-  double contacts_per_rally = 0;    // over all rallies of all matches
-  double goals_per_minute = 0;      // over all time played
-  int possessions = 0;              // sports of catching: times a team gained the ball...
-  double passes_per_possession = 0;  // ...and the passes it made, on average, before losing it
-};
-
-// Plays `matches` matches with seeds options.seed, options.seed + 1, ... on every core, without
-// transcripts, sound or logs. The result depends only on the options, not on the number of cores.
-BalanceResult balance(const runtime::SessionOptions& options, int matches);
-
 // "realtime" or "fast", as --pace says it.
 runtime::SessionOptions::Pacing pacing(const std::string& pace);
 

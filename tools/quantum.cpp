@@ -1,9 +1,21 @@
-// The `quantum` command.
+// The `quantum` command. Exit codes, the same for every subcommand: 0 done, 1 bad input (a
+// mistyped command or option, a bad value, a file or sport that cannot be read or written), 2
+// rule specs that failed (quantum test).
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
 #include <iostream>
 
+#include "lua_reader.h"
+#include "recording.h"
+
+#include "balance.h"
 #include "desk.h"
+#include "listen.h"
 #include "play.h"
 #include "quantum/fate.h"
 #include "simulate.h"
@@ -13,13 +25,14 @@
 int main(int argc, char** argv) {
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", quantum::runtime::engine_version());
   // The last of a repeated option counts: `tools/play.sh --seconds 5` overrides the script's own.
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 
   quantum::tools::SimulateOptions sim;
   CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets (on a field with a hoop: a shooting practice) and report every event");
   simulate->add_option("FIELD", sim.field, "field file, or a sport folder such as rules/airhockey")->required();
-  simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str();
+  simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str()->check(CLI::PositiveNumber);
   simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str()
       ->check(CLI::Range(1u, 10'000'000u));
   simulate->add_option("--seed", sim.seed, "seed of every random choice")->capture_default_str();
@@ -43,7 +56,7 @@ int main(int argc, char** argv) {
                                          "(you, in the view, against simulated players), or tracking: fakenect:DIR, "
                                          "kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str();
   play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str();
-  play->add_option("--seconds", game.seconds, "time limit (default: the sport's)");
+  play->add_option("--seconds", game.seconds, "time limit (default: the sport's)")->check(CLI::PositiveNumber);
   play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)")
       ->check(CLI::Range(1u, 10'000'000u));
   play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)");
@@ -112,7 +125,8 @@ int main(int argc, char** argv) {
   balance->add_option("SPORT", study.sport, "sport folder")->capture_default_str();
   balance->add_option("--matches", matches, "how many matches (seeds --seed, --seed + 1, ...)")->capture_default_str();
   balance->add_option("--seed", study.seed, "first seed")->capture_default_str();
-  balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)");
+  balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)")
+      ->check(CLI::PositiveNumber);
   balance->add_option("--particles", study.particles, "particles in the cloud (default: the sport's)")
       ->check(CLI::Range(1u, 10'000'000u));
   balance->add_option("--skill", study_skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
@@ -122,6 +136,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 10.0));
   balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
       ->capture_default_str()->check(CLI::IsMember({"sport", "flat"}));
+  std::string balance_csv, balance_plot;
+  int sweep_matches = 0;
+  balance->add_option("--csv", balance_csv, "write every match as a CSV row to FILE (- for stdout)");
+  balance->add_option("--plot", balance_plot, "sweep the first team's handicap and the fate factors' strength and "
+                                              "write the CSVs, PNG plots (gnuplot) and summary.md to DIR");
+  balance->add_option("--sweep-matches", sweep_matches, "matches per point of a --plot sweep (default: a quarter of "
+                                                        "--matches, at least 10)")->check(CLI::Range(1, 100'000));
   add_params(balance, study.params);
 
   std::vector<std::string> spec_paths;
@@ -144,30 +165,88 @@ int main(int argc, char** argv) {
   track->add_option("--frames", tracking.frames, "stop after this many frames (default: all)");
   add_params(track, tracking.params);
 
-  CLI11_PARSE(app, argc, argv);
+  std::string listen_wav, listen_events;
+  CLI::App* listen = app.add_subcommand("listen", "report which of a match's phrases a listener would miss: a speech "
+                                                  "recognizer over the played phrases of a WAV and its event log");
+  listen->add_option("MATCH.wav", listen_wav, "the match's sound (quantum play --audio wav:FILE)")->required();
+  listen->add_option("EVENTS.jsonl", listen_events, "its event log (quantum play --events FILE)")->required();
+
+  // A mistyped command or option is named, with the nearest one; any parse error exits 1.
+  for (CLI::App* command : app.get_subcommands({})) command->allow_extras();
+  try {
+    std::vector<std::string> names;
+    for (const CLI::App* command : app.get_subcommands({})) names.push_back(command->get_name());
+    if (argc > 1 && argv[1][0] != '-' && std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      throw CLI::ValidationError(quantum::lua::unknown_key(argv[1], names, "command"));
+    }
+    app.parse(argc, argv);
+    for (CLI::App* command : app.get_subcommands()) {
+      const std::vector<std::string> extra = command->remaining();
+      if (extra.empty()) continue;
+      std::vector<std::string> options;
+      for (const CLI::Option* o : command->get_options())
+        if (!o->get_lnames().empty()) options.push_back("--" + o->get_lnames().front());
+      const std::string& first = extra.front();
+      const std::string name = first.substr(0, first.find('='));
+      throw CLI::ValidationError(first.rfind("--", 0) == 0
+                                     ? quantum::lua::unknown_key(name, options, "option") + " for quantum " + command->get_name()
+                                     : "quantum " + command->get_name() + ": unexpected argument '" + first + "'");
+    }
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "quantum: " << e.what() << "\n(quantum --help lists the commands, quantum COMMAND --help their options)\n";
+    return 1;
+  }
   std::string command_line = "quantum";
   for (int k = 1; k < argc; ++k) command_line += std::string(" ") + argv[k];
   game.command = command_line;
   try {
     if (test->parsed()) return quantum::tools::run_specs(spec_paths);
     if (track->parsed()) quantum::tools::track(tracking, std::cout);
+    if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
     if (balance->parsed()) {
       if (!study_skills.empty()) study.skills = quantum::tools::parse_list(study_skills, "--skill");
       if (!study_handicaps.empty()) study.handicaps = quantum::tools::parse_list(study_handicaps, "--handicap");
       if (study_factors == "flat")
         for (const std::string& kind : quantum::fate_kind_names()) study.factors[kind] = 1;
-      const quantum::tools::BalanceResult r = quantum::tools::balance(study, matches);
+      const bool terminal = isatty(STDERR_FILENO);
+      quantum::tools::Progress progress(matches, terminal);
+      const quantum::tools::BalanceResult r =
+          quantum::tools::balance(study, matches, [&](int done) { progress(done); });
+      progress.finish();
       std::cout << r.matches << " matches of " << study.sport << " (seeds " << study.seed << " to "
                 << study.seed + uint64_t(matches) - 1 << ", skills " << (study_skills.empty() ? "0.6 each" : study_skills)
                 << ", handicaps " << (study_handicaps.empty() ? "the sport's" : study_handicaps)
                 << (study.auto_balance >= 0 ? ", auto-balance " + std::to_string(study.auto_balance) : "") << ", "
                 << study_factors << " factors)\n";
+      char figure[160];
       std::cout << "wins:";
-      for (const auto& [team, n] : r.wins) std::cout << ' ' << team << ' ' << n << " (" << 100.0 * n / r.matches << " %)";
-      std::cout << ", draws " << r.draws << "\ncontacts per rally " << r.contacts_per_rally << ", goals per minute "
-                << r.goals_per_minute;
-      if (r.possessions > 0) std::cout << ", passes per possession " << r.passes_per_possession;
+      for (const auto& [team, n] : r.wins) {
+        std::snprintf(figure, sizeof figure, " %s %d (%.0f %%)", team.c_str(), n, 100.0 * n / r.matches);
+        std::cout << figure;
+      }
+      std::snprintf(figure, sizeof figure, ", draws %d\ncontacts per rally %.2f, goals per minute %.2f, points per minute %.2f",
+                    r.draws, r.contacts_per_rally, r.goals_per_minute, r.points_per_minute);
+      std::cout << figure;
+      if (r.possessions > 0) {
+        std::snprintf(figure, sizeof figure, ", passes per possession %.2f", r.passes_per_possession);
+        std::cout << figure;
+      }
       std::cout << '\n';
+      if (balance_csv == "-") quantum::tools::write_csv(std::cout, r);
+      else if (!balance_csv.empty()) {
+        std::ofstream csv(balance_csv);
+        quantum::tools::write_csv(csv, r);
+        if (!csv.flush()) throw std::runtime_error("--csv " + balance_csv + ": cannot be written");
+      }
+      if (!balance_plot.empty())
+        quantum::tools::plot_study(study, r, sweep_matches ? sweep_matches : std::max(10, matches / 4), balance_plot,
+                                   terminal, std::cout);
     }
     if (play->parsed()) {
       if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");

@@ -14,6 +14,7 @@ packages=(
   libluajit-5.1-dev            # field files and rules
   lua-busted                   # rule specs (quantum test)
   libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips
+  libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us libsamplerate0-dev  # quantum listen: a speech recognizer
   ffmpeg                       # the desk's videos (--video); ffprobe checks them in the tests
   xvfb xauth imagemagick       # the tests open the desk's window on a virtual display and photograph it
   libcli11-dev nlohmann-json3-dev

@@ -7,8 +7,9 @@
 
 namespace quantum::tools {
 
-// Runs the specs under `paths` (files or folders; none: rules/). Returns the process exit code:
-// 0 when every spec passed. busted itself exits the process with the failure count otherwise.
+// Runs the specs under `paths` (files or folders; none: rules/), printing each spec file's name
+// and result as it runs, then the total time. Returns the process exit code: 0 when every spec
+// passed, 2 when any failed, 1 when busted could not run (or a path does not exist).
 int run_specs(const std::vector<std::string>& paths);
 
 }  // namespace quantum::tools

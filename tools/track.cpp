@@ -44,6 +44,7 @@ void track(const TrackOptions& o, std::ostream& out) {
   const tracking::TrackedField tracked = tracking::tracked_field(field, size);
   tracking::TrackingInput input(o.source, tracked, {o.accel, o.fov});
   bool lost = false;
+  tracking::NobodySeen nobody;
   tracking::TrackedFrame frame;
   for (int n = 0; o.frames == 0 || n < o.frames;) {
     const tracking::TrackingInput::Status status = input.next(frame, 0.1);
@@ -56,6 +57,8 @@ void track(const TrackOptions& o, std::ostream& out) {
     }
     if (status == tracking::TrackingInput::Status::Waiting) continue;
     lost = false;
+    if (const std::string warning = nobody.check(frame, o.source, tracked); !warning.empty())
+      std::cerr << "quantum: warning: " << warning << '\n';
     write_frame(out, frame);
     out << std::flush;  // other tools read it as it comes
     ++n;

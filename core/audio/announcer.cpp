@@ -4,56 +4,118 @@
 
 namespace quantum::audio {
 
-// Room for a busy stretch of play: phrases waiting, and stale ones to report, keep their slots
-// (and their text's room) once made.
-Announcer::Announcer(Mixer& mixer, double stale_after) : mixer_(mixer), stale_after_(stale_after) {
-  queue_.resize(16);
-  dropped_.resize(16);
-  cut_.resize(16);
+const char* to_string(PhraseFate::Kind kind) {
+  switch (kind) {
+    case PhraseFate::Kind::Spoken: return "spoken";
+    case PhraseFate::Kind::Cut: return "cut";
+    case PhraseFate::Kind::Dropped: return "dropped";
+    case PhraseFate::Kind::Silent: break;
+  }
+  return "silent";
 }
 
-void Announcer::say(const Clip& clip, int priority, double now, std::string_view text) {
+const char* to_string(PhraseFate::Why why) {
+  switch (why) {
+    case PhraseFate::Why::None: return "";
+    case PhraseFate::Why::Outranked: return "outranked";
+    case PhraseFate::Why::Stale: return "stale";
+    case PhraseFate::Why::Superseded: return "superseded";
+    case PhraseFate::Why::Repeat: return "repeat";
+    case PhraseFate::Why::Ended: break;
+  }
+  return "ended";
+}
+
+// Room for a busy stretch of play: phrases waiting and fates to report keep
+// their slots (and their text's room) once made, so a running match allocates nothing here.
+Announcer::Announcer(Mixer& mixer, AnnouncerRules rules) : mixer_(mixer), rules_(rules) {
+  queue_.resize(16);
+  fates_.resize(16);
+}
+
+PhraseFate& Announcer::settle(uint64_t id, PhraseFate::Kind kind, PhraseFate::Why why, double length,
+                              std::string_view by) {
+  if (n_fates_ == fates_.size()) fates_.emplace_back();
+  PhraseFate& f = fates_[n_fates_++];
+  f.id = id, f.kind = kind, f.why = why, f.length = length, f.start = f.end = -1;
+  f.by.assign(by);
+  return f;
+}
+
+// Slots are rotated, never copied, so every string keeps its room.
+void Announcer::drop(size_t k, PhraseFate::Why why, std::string_view by) {
+  settle(queue_[k].id, PhraseFate::Kind::Dropped, why, queue_[k].clip->seconds(), by);
+  std::rotate(queue_.begin() + long(k), queue_.begin() + long(k) + 1, queue_.begin() + long(n_waiting_));
+  --n_waiting_;
+}
+
+void Announcer::say(const Clip& clip, int priority, double now, std::string_view text, uint64_t id, bool supersedable) {
+  const uint64_t follows = now == last_at_ ? last_id_ : 0;
+  last_id_ = id, last_at_ = now;
+  // The same words again, just said or still to come, tell a listener nothing new.
+  bool repeat = rules_.repeat_gap > 0 && now - last_started_at_ < rules_.repeat_gap && last_started_ == text;
+  for (size_t k = 0; k < n_waiting_ && !repeat; ++k) repeat = rules_.repeat_gap > 0 && queue_[k].text == text;
+  if (repeat) {
+    settle(id, PhraseFate::Kind::Dropped, PhraseFate::Why::Repeat, clip.seconds(), text);
+    return;
+  }
+  for (size_t k = 0; k < n_waiting_;)
+    if (queue_[k].supersedable && queue_[k].priority <= priority) drop(k, PhraseFate::Why::Superseded, text);
+    else ++k;
   mixer_.prepare(clip);
   if (n_waiting_ == queue_.size()) queue_.emplace_back();
   Waiting& w = queue_[n_waiting_++];
-  w.clip = &clip, w.priority = priority, w.at = now;
+  w.clip = &clip, w.priority = priority, w.at = now, w.id = id, w.follows = follows, w.supersedable = supersedable;
   w.text.assign(text);
 }
 
 void Announcer::update(double now) {
-  // Stale phrases go first: news that is old by the time it could be spoken is no news. Slots
-  // are swapped, never copied, so every string keeps its room.
-  for (size_t k = 0; k < n_waiting_;) {
-    if (now - queue_[k].at <= stale_after_) {
-      ++k;
-      continue;
-    }
-    if (n_dropped_ == dropped_.size()) dropped_.emplace_back();
-    dropped_[n_dropped_++].assign(queue_[k].text);
-    std::rotate(queue_.begin() + long(k), queue_.begin() + long(k) + 1, queue_.begin() + long(n_waiting_));
-    --n_waiting_;
+  if (current_ && !mixer_.playing(current_)) {
+    PhraseFate& f = settle(current_id_, PhraseFate::Kind::Spoken, PhraseFate::Why::None, current_length_, {});
+    f.start = current_start_, f.end = current_start_ + current_length_;
+    current_ = 0;
+    current_text_.clear();
   }
-  if (n_waiting_ == 0) {
-    if (current_ && !mixer_.playing(current_)) current_ = 0, current_text_.clear();
-    return;
-  }
+  // Stale phrases go first: news that is old by the time it could be spoken is no news.
+  for (size_t k = 0; k < n_waiting_;)
+    if (now - queue_[k].at > rules_.stale_after && queue_[k].priority < rules_.keep_from) drop(k, PhraseFate::Why::Stale, {});
+    else ++k;
+  if (n_waiting_ == 0) return;
   // The most urgent, and among equals the oldest.
   const auto end = queue_.begin() + long(n_waiting_);
   const auto next = std::min_element(queue_.begin(), end, [](const Waiting& a, const Waiting& b) {
     return a.priority != b.priority ? a.priority > b.priority : a.at < b.at;
   });
-  const bool busy = current_ && mixer_.playing(current_);
-  if (busy && next->priority <= current_priority_) return;
-  if (busy) {  // outranked: cut off mid-phrase
+  if (current_) {
+    if (next->priority <= current_priority_) return;
+    if (current_start_ + current_length_ - now <= rules_.wait_for) return;  // nearly done: let it finish
     mixer_.stop(current_);
-    if (n_cut_ == cut_.size()) cut_.emplace_back();
-    cut_[n_cut_++].assign(current_text_);
+    PhraseFate& f = settle(current_id_, PhraseFate::Kind::Cut, PhraseFate::Why::Outranked, current_length_, next->text);
+    f.start = current_start_, f.end = now;
   }
   current_ = mixer_.play_at_listener(*next->clip);
   current_priority_ = next->priority;
+  current_id_ = next->id;
+  current_start_ = now;
+  current_length_ = next->clip->seconds();
   current_text_.assign(next->text);
+  for (size_t k = 0; k < n_waiting_; ++k)
+    if (queue_[k].follows == current_id_) queue_[k].at = now;
+  last_started_.assign(next->text);
+  last_started_at_ = now;
   std::rotate(next, next + 1, end);
   --n_waiting_;
+}
+
+void Announcer::finish(double now) {
+  update(now);
+  while (n_waiting_ > 0) drop(0, PhraseFate::Why::Ended, {});
+  if (!current_) return;
+  mixer_.stop(current_);
+  PhraseFate& f = settle(current_id_, PhraseFate::Kind::Cut, PhraseFate::Why::Ended, current_length_, {});
+  f.start = current_start_, f.end = now;
+  current_ = 0;
+  current_text_.clear();
 }
 
 }  // namespace quantum::audio

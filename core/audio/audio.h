@@ -75,6 +75,9 @@ class Speech {
   // Throws AudioError for an unknown voice or a rate or volume out of range. A phrase said
   // before costs a look-up and nothing else.
   const Clip& say(std::string_view text, const Voice& voice);
+  // How `voice` pronounces `text`, in the IPA ("klˈɑːɹə"): for a listener that must know the
+  // words as they were said (tools/listen.cpp). Throws AudioError for an unknown voice.
+  std::string ipa(const std::string& text, const std::string& voice);
 
  private:
   using Phrases = std::map<std::string, Clip, std::less<>>;
@@ -114,6 +117,9 @@ class Mixer {
   void prepare(const Clip& clip);
   void stop(int handle);
   bool playing(int handle) const;
+  // Sounds played at a place on the field at `gain` times their own (those playing and those to
+  // come) until ducked again; the listener's own (the announcer) keep theirs. 1 undoes it.
+  void duck(float gain);
   // Loopback only: renders the next `frames` frames (interleaved stereo), advancing every source.
   void render(int frames, std::vector<int16_t>& stereo);
   bool loopback() const { return loopback_; }
@@ -126,6 +132,8 @@ class Mixer {
     uint64_t clip = 0;        // the clip whose buffer is attached; 0 for none
     unsigned own_buffer = 0;  // a buffer made for one play (a clip without an id), 0 for none
     int handle = 0;           // the last play's handle
+    float gain = 1;           // the last play's own gain, before any duck
+    bool relative = false;    // at the listener's ears (never ducked)
   };
 
   Mixer() = default;
@@ -138,46 +146,101 @@ class Mixer {
   bool loopback_ = false;
   int rate_ = 0;
   Listener listener_;
+  float duck_ = 1;
   std::vector<Channel> channels_;  // room for kSources, made once
   std::map<uint64_t, unsigned> buffers_;
   int next_handle_ = 1;
   const Channel* find(int handle) const;
 };
 
+// What became of a phrase given to the announcer: spoken in full, cut off part way, or dropped
+// without a sound. Players learn the game by ear, so whoever logs a match says which.
+struct PhraseFate {
+  // Silent: there was no sound to speak it with (no sound card, --audio none, no voice).
+  enum class Kind : uint8_t { Spoken, Cut, Dropped, Silent };
+  enum class Why : uint8_t {
+    None,        // spoken in full
+    Outranked,   // cut off by a more urgent phrase (`by`)
+    Stale,       // waited longer than the announcer's stale_after
+    Superseded,  // still waiting when newer news came (`by`)
+    Repeat,      // the same words were just said, or are waiting (`by`)
+    Ended,       // the match ended first (waiting, or cut off at the end)
+  };
+  uint64_t id = 0;  // the caller's, from say()
+  Kind kind = Kind::Spoken;
+  Why why = Why::None;
+  double start = -1, end = -1;  // when it sounded, in the caller's time; -1 when it never did
+  double length = 0;            // the whole phrase, seconds
+  std::string by;
+};
+const char* to_string(PhraseFate::Kind kind);  // "spoken", "cut", "dropped", "silent"
+const char* to_string(PhraseFate::Why why);    // "", "outranked", "stale", "superseded", "repeat", "ended"
+
+// How the announcer keeps up with play; a sport sets them (docs/lua-api.md, Sound).
+struct AnnouncerRules {
+  // A phrase still waiting after this many seconds is dropped: old news. Phrases said together
+  // (a goal call and the score) count from when the one before them starts.
+  double stale_after = 1.5;
+  int keep_from = 3;  // phrases of this priority or more (goal calls, the score) are never stale
+  // The same words as the last phrase started, again within this many seconds of its start, are
+  // skipped (and so are words already waiting): "Blue shoots" four times in a second is said once.
+  double repeat_gap = 0;
+  // A more urgent phrase lets the one being spoken finish when it ends within this many seconds,
+  // rather than cutting it off into a fragment nobody understands.
+  double wait_for = 0;
+};
+
 // The announcer: one phrase at a time, most urgent first. A phrase of higher priority cuts off
-// the one being spoken ("Goal!" over "Red shoots"); a phrase still waiting when it is older than
-// `stale_after` seconds is dropped instead of piling up.
+// the one being spoken ("Goal!" over "Red shoots") unless that one is nearly done; a phrase still
+// waiting when it is stale is dropped instead of piling up, and play-by-play that newer news makes
+// old (a supersedable phrase) gives way to it.
 class Announcer {
  public:
-  Announcer(Mixer& mixer, double stale_after = 1.5);
+  explicit Announcer(Mixer& mixer, AnnouncerRules rules = {});
+  void set_rules(const AnnouncerRules& rules) { rules_ = rules; }
 
   // `clip` must outlive its turn in the queue (clips from Speech or load_clip are kept for good).
-  void say(const Clip& clip, int priority, double now, std::string_view text = {});
+  // `id` comes back in the phrase's fate.
+  void say(const Clip& clip, int priority, double now, std::string_view text = {}, uint64_t id = 0,
+           bool supersedable = false);
   // Starts the next phrase when the current one has ended or is outranked; call every frame.
   void update(double now);
+  // The match is over: what still waits is dropped, what still sounds is cut off.
+  void finish(double now);
 
   const std::string& speaking() const { return current_text_; }
-  // Since the last clear_fates(): phrases dropped stale, never spoken, and phrases cut off by a
-  // more urgent one, for whoever shows what became of them (the desk's ticker).
-  std::span<const std::string> dropped() const { return {dropped_.data(), n_dropped_}; }
-  std::span<const std::string> cut() const { return {cut_.data(), n_cut_}; }
-  void clear_fates() { n_dropped_ = n_cut_ = 0; }
+  // The fates settled since the last clear_fates(), in the order they were settled.
+  std::span<const PhraseFate> fates() const { return {fates_.data(), n_fates_}; }
+  void clear_fates() { n_fates_ = 0; }
 
  private:
   struct Waiting {
     const Clip* clip;
     int priority;
-    double at;
+    double at;        // when it was said, or when the phrase it follows started: its news is as old as that
+    uint64_t id;
+    uint64_t follows;  // the phrase said just before it at the same moment ("0 to 2" after "Goal for Red!"), 0 for none
+    bool supersedable;
     std::string text;
   };
+  PhraseFate& settle(uint64_t id, PhraseFate::Kind kind, PhraseFate::Why why, double length, std::string_view by);
+  void drop(size_t k, PhraseFate::Why why, std::string_view by);
+
   Mixer& mixer_;
-  double stale_after_;
+  AnnouncerRules rules_;
   // The first n_waiting_ are queued; the others keep their text's room for the next phrases.
   std::vector<Waiting> queue_;
   size_t n_waiting_ = 0;
-  std::vector<std::string> dropped_, cut_;
-  size_t n_dropped_ = 0, n_cut_ = 0;
+  std::vector<PhraseFate> fates_;
+  size_t n_fates_ = 0;
+  std::string last_started_;  // for repeat_gap: the last phrase started, and when
+  double last_started_at_ = -1e300;
+  uint64_t last_id_ = 0;  // the last phrase said, and when
+  double last_at_ = -1;
+  // The phrase being spoken.
   int current_ = 0, current_priority_ = 0;
+  uint64_t current_id_ = 0;
+  double current_start_ = 0, current_length_ = 0;
   std::string current_text_;
 };
 

@@ -140,7 +140,8 @@ int Mixer::start(const Clip& clip, float gain, bool relative, Vec2 at) {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
   if (clip.samples.empty() || clip.rate <= 0) return 0;
   Channel& c = channel_for(clip);
-  alSourcef(c.source, AL_GAIN, gain);
+  c.gain = gain, c.relative = relative;
+  alSourcef(c.source, AL_GAIN, relative ? gain : gain * duck_);
   alSourcei(c.source, AL_SOURCE_RELATIVE, relative ? AL_TRUE : AL_FALSE);
   if (relative) alSource3f(c.source, AL_POSITION, 0, 0, 0);
   else alSource3f(c.source, AL_POSITION, at.x, 0, -at.y);
@@ -168,6 +169,14 @@ bool Mixer::playing(int handle) const {
   alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
   const Channel* c = find(handle);
   return c && busy(*c);
+}
+
+void Mixer::duck(float gain) {
+  if (gain == duck_) return;
+  alcMakeContextCurrent(static_cast<ALCcontext*>(context_));
+  duck_ = gain;
+  for (const Channel& c : channels_)
+    if (!c.relative) alSourcef(c.source, AL_GAIN, c.gain * gain);
 }
 
 void Mixer::render(int frames, std::vector<int16_t>& stereo) {

@@ -65,4 +65,17 @@ const Clip& Speech::say(std::string_view text, const Voice& v) {
   return last_phrases_->emplace(phrase, std::move(clip)).first->second;
 }
 
+std::string Speech::ipa(const std::string& text, const std::string& voice) {
+  if (espeak_SetVoiceByName(voice.c_str()) != EE_OK) throw AudioError("unknown espeak-ng voice '" + voice + "'");
+  constexpr int kIpa = 0x02;  // espeak_TextToPhonemes' phoneme mode: IPA, in UTF-8
+  std::string out;
+  const void* rest = text.c_str();
+  while (rest) {
+    const char* phonemes = espeak_TextToPhonemes(&rest, espeakCHARS_UTF8, kIpa);
+    if (!phonemes) break;
+    out += phonemes;
+  }
+  return out;
+}
+
 }  // namespace quantum::audio

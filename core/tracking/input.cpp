@@ -7,6 +7,7 @@
 #include <opencv2/core/utils/logger.hpp>
 
 #include <chrono>
+#include <cstdio>
 #include <optional>
 
 #include "system/quiet.h"
@@ -163,6 +164,18 @@ Status TrackingInput::next(TrackedFrame& frame, double timeout) {
   const Status status = m.hats ? m.next_hats(frame) : m.next_tuio(frame, timeout);
   if (status == Status::Frame && m.accel) m.throws.add(m.accel->until(frame.t), frame);
   return status;
+}
+
+std::string NobodySeen::check(const TrackedFrame& frame, const std::string& source, const TrackedField& field) {
+  if (first_ < 0) first_ = frame.t;
+  seen_ = seen_ || !frame.players.empty();
+  if (seen_ || told_ || frame.t - first_ < after_) return "";
+  told_ = true;
+  char size[64];
+  std::snprintf(size, sizeof size, "%.2f x %.2f m", field.length, field.width);
+  return source + ": no player seen in the first " + std::to_string(int(after_)) + " s of frames. Check that the " +
+         "markers are at the field's corners " + size + " apart (--field-size L,W when the table is another size), " +
+         "that the camera sees the whole field, and that the players are in view (docs/tracking.md)";
 }
 
 }  // namespace quantum::tracking

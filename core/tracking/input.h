@@ -39,4 +39,19 @@ class TrackingInput {
   std::unique_ptr<Impl> impl_;
 };
 
+// No silent nothing: a source that has seen no player for its first seconds of frames says so
+// once, with what to check (a wrong --field-size maps every player off the field).
+class NobodySeen {
+ public:
+  explicit NobodySeen(double after = 3) : after_(after) {}
+  // The warning, once: at the first frame `after` seconds past the first one while no frame has
+  // had a player; "" otherwise.
+  std::string check(const TrackedFrame& frame, const std::string& source, const TrackedField& field);
+
+ private:
+  double after_;
+  double first_ = -1;
+  bool seen_ = false, told_ = false;
+};
+
 }  // namespace quantum::tracking

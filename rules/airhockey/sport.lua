@@ -17,7 +17,7 @@ local sport = {
   -- The announcer's voice (espeak-ng), and where the listener stands: the table's centre,
   -- facing Red's end as Blue does, so a bounce off the left wall is heard on the left.
   audio = {
-    voice = "en", rate = 170, volume = 100,
+    voice = "en-us", rate = 170, volume = 100,
     listener = { 0, 0 }, facing = { 1, 0 },
     sounds = { shot = "hit.wav", intercept = "hit.wav", bounce = "wall.wav", goal = "goal.wav", drop = "whistle.wav" },
   },
@@ -26,7 +26,7 @@ local sport = {
   teams = { blue = "Blue", red = "Red" },
 
   phrases = {
-    drop = "The puck was dropped {spot}",
+    drop = "Puck to {team}",  -- short: a goal often comes a second after the drop
     shot = "{team} shoots",
     intercept = "intercepted by {team}",
     goal = "Goal for {team}!",
@@ -47,7 +47,7 @@ end
 
 sport.on = {
   drop = function(game, e)
-    game.say("drop", { spot = e.actor })
+    game.say("drop", { team = game.team_name(e.team) })
   end,
 
   shot = function(game, e)

@@ -25,7 +25,7 @@ local sport = {
   teams = { home = "Home", away = "Away" },
 
   audio = {
-    voice = "en", rate = 180,
+    voice = "en-us", rate = 180,
     listener = { 0, 7 }, facing = { 0, -1 },
     sounds = { pass = "hit.wav", intercept = "hit.wav", catch = "hit.wav", bounce = "wall.wav", goal = "goal.wav",
                give = "whistle.wav" },

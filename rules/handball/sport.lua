@@ -23,7 +23,7 @@ local sport = {
   teams = { blue = "Blue", red = "Red" },
 
   audio = {
-    voice = "en", rate = 175,
+    voice = "en-us", rate = 175,
     listener = { 0, 0 }, facing = { 1, 0 },
     sounds = { pass = "hit.wav", intercept = "hit.wav", catch = "hit.wav", bounce = "wall.wav", goal = "goal.wav",
                give = "whistle.wav" },

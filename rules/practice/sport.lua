@@ -10,12 +10,12 @@ local sport = {
   factors = { goal = 3, body = 2, field = 1 },
 
   -- The listener stands behind the shooter, facing the goal.
-  audio = { voice = "en", rate = 180, listener = { -0.5, 0 }, facing = { 1, 0 } },
+  audio = { voice = "en-us", rate = 160, listener = { -0.5, 0 }, facing = { 1, 0 } },
 
   phrases = {
     goal_seeker_start = "Hat trick! Your shots seek the goal",
     goal_seeker_over = "The goal seeker is gone",
-    drop = "New puck {spot}",
+    drop = "New puck",
     shot = "Shot {n}",
     goal = "Goal! {goals} from {shots}",
     time_up = "Time! {goals} goals from {shots} shots",
@@ -29,7 +29,7 @@ local shots, goals = 0, 0
 
 sport.on = {
   drop = function(game, e)
-    game.say("drop", { spot = e.actor })
+    game.say("drop")
   end,
 
   shot = function(game, e)

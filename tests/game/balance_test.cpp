@@ -4,16 +4,21 @@
 // particles keep the 400 matches within a minute on two cores. And the automatic balance.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <map>
 
-#include "play.h"
+#include "balance.h"
 #include "sport.h"
 
 namespace quantum {
 namespace {
 
 constexpr int kMatches = 200;
+int progress_calls = 0;
 
 double red_win_rate(double red_handicap) {
   runtime::SessionOptions o;
@@ -81,6 +86,66 @@ TEST(Balance, AutoBalanceBoostsTheTrailingTeamPerGoalUpToItsMost) {
   EXPECT_DOUBLE_EQ(match.handicap_now(1), 1.2 * 1.5);
   config.balance_per_goal = -1;
   EXPECT_THROW(game::Match(sport.field(), config, sport), std::invalid_argument);
+}
+
+std::vector<std::string> lines_of(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+bool is_png(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  return std::string(magic + 1, 3) == "PNG" && std::filesystem::file_size(file) > 5000;
+}
+
+// --plot: every match a CSV row, the sweeps' PNG plots (gnuplot) and a summary that shows them.
+TEST(Balance, APlottedStudyWritesEveryMatchItsPlotsAndASummary) {
+  runtime::SessionOptions o;
+  o.particles = 200;
+  o.seconds = 15;
+  progress_calls = 0;
+  const tools::BalanceResult study = tools::balance(o, 4, [](int done) { progress_calls = std::max(progress_calls, done); });
+  EXPECT_EQ(progress_calls, 4);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "quantum_balance_plot";
+  std::filesystem::remove_all(dir);
+  std::ostringstream log;
+  tools::plot_study(o, study, 2, dir.string(), false, log);
+  const std::vector<std::string> matches = lines_of(dir / "matches.csv");
+  ASSERT_EQ(matches.size(), 5u);  // a header and four matches
+  EXPECT_EQ(matches[0], "seed,winner,score_blue,score_red,rallies,contacts,goals,passes,possessions,seconds");
+  EXPECT_EQ(matches[1].rfind("1,", 0), 0u) << matches[1];
+  EXPECT_EQ(lines_of(dir / "handicap_sweep.csv").size(), 6u);   // five handicaps
+  EXPECT_EQ(lines_of(dir / "handicap_matches.csv").size(), 11u);  // two matches each
+  EXPECT_EQ(lines_of(dir / "factor_sweep.csv").size(), 5u);     // four strengths
+  EXPECT_EQ(lines_of(dir / "factor_matches.csv").size(), 9u);
+  for (const char* png : {"win_rate_vs_handicap.png", "contacts_vs_factors.png", "goals_vs_factors.png"}) {
+    EXPECT_TRUE(is_png(dir / png)) << png;
+    EXPECT_NE(lines_of(dir / "summary.md").size(), 0u);
+  }
+  std::string summary;
+  for (const std::string& line : lines_of(dir / "summary.md")) summary += line + "\n";
+  for (const char* part : {"![win rate](win_rate_vs_handicap.png)", "| Blue |", "points per minute"})
+    EXPECT_NE(summary.find(part), std::string::npos) << part << "\n" << summary;
+}
+
+// Basketball's score is points (2 or 3 a basket): the study reads the sport's own score.
+TEST(Balance, ASportsOwnScoreIsSummarisedNotItsGoals) {
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/basketball";
+  o.seconds = 60;
+  const tools::BalanceResult r = tools::balance(o, 2);
+  int goals = 0, points = 0;
+  for (const tools::PlayResult& p : r.results) {
+    goals += p.stats.goals;
+    for (const auto& [team, n] : p.score) points += n;
+  }
+  ASSERT_GT(goals, 0);
+  EXPECT_GE(points, 2 * goals);
+  EXPECT_NEAR(r.points_per_minute / r.goals_per_minute, double(points) / goals, 1e-9);
 }
 
 }  // namespace

@@ -290,7 +290,7 @@ std::pair<int, int> blue_shots_leftward(const std::string& aim) {
   std::stringstream text;
   text << in.rdbuf();
   std::string s = text.str();
-  s.replace(s.find("game.say(\"drop\", { spot = e.actor })"), 0, aim + "\n    ");
+  s.replace(s.find("game.say(\"drop\", { team = game.team_name(e.team) })"), 0, aim + "\n    ");
   const fs::path dir = fs::temp_directory_path() / ("quantum_aim_" + std::to_string(aim.size()));
   fs::remove_all(dir);
   fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", dir, fs::copy_options::recursive);

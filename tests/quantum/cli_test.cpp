@@ -200,6 +200,25 @@ TEST(Cli, TrackPrintsOneJsonObjectPerFrame) {
   std::filesystem::remove_all(dir);
 }
 
+// A table tracked as another size sees nobody: one warning says what to check, not silence.
+TEST(Cli, TrackWarnsOnceWhenItSeesNobody) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_nobody_" + std::to_string(getpid()));
+  quantum::tools::DepthSceneOptions o;
+  o.frames = 150;  // five seconds
+  quantum::tools::write_depth_recording(dir.string(), o);
+  const Outcome right = quantum("track fakenect:" + dir.string() + " --field-size 0.9,0.45");
+  EXPECT_EQ(right.status, 0) << right.err;
+  EXPECT_EQ(right.err.find("no player seen"), std::string::npos) << right.err;
+  const Outcome wrong = quantum("track fakenect:" + dir.string() + " --field-size 2.0,1.0");
+  EXPECT_EQ(wrong.status, 0) << wrong.err;
+  EXPECT_EQ(wrong.out.find("\"id\""), std::string::npos);  // nobody, as the warning says
+  const size_t at = wrong.err.find("no player seen in the first 3 s");
+  ASSERT_NE(at, std::string::npos) << wrong.err;
+  EXPECT_EQ(wrong.err.find("no player seen", at + 1), std::string::npos) << "once";
+  EXPECT_NE(wrong.err.find("2.00 x 1.00 m"), std::string::npos) << wrong.err;
+  std::filesystem::remove_all(dir);
+}
+
 // No Kinect and no camera on a build machine: one line each, and nothing on stdout, which carries
 // JSON lines (libfreenect and OpenCV's backends would print their own diagnostics there).
 TEST(Cli, TrackWithoutADeviceSaysSoInOneLine) {
@@ -224,6 +243,51 @@ TEST(Cli, PlayRefusesABadAudioOption) {
   const Outcome r = quantum("play rules/airhockey --seconds 1 --quiet --audio speakers");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--audio speakers"), std::string::npos) << r.err;
+}
+
+TEST(Cli, AMistypedCommandOrOptionIsNamedWithTheNearestOne) {
+  Outcome r = quantum("paly");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("unknown command 'paly' (did you mean 'play'?"), std::string::npos) << r.err;
+  r = quantum("play --sed 3 --audio none");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("unknown option '--sed' (did you mean '--seed'?"), std::string::npos) << r.err;
+  r = quantum("balance --matchs=4");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("did you mean '--matches'?"), std::string::npos) << r.err;
+  r = quantum("simulate");  // a missing argument is bad input too, with the same code
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("FIELD"), std::string::npos) << r.err;
+}
+
+TEST(Cli, VersionAndZeroSeconds) {
+  Outcome r = quantum("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_FALSE(r.out.empty());
+  // 0 s is refused like any other bad value, not taken as the sport's full time.
+  for (const char* command : {"play --audio none", "balance --matches 2", "simulate " QUANTUM_SOURCE_DIR "/rules/airhockey"}) {
+    r = quantum(std::string(command) + " --seconds 0");
+    EXPECT_EQ(r.status, 1) << command;
+    EXPECT_NE(r.err.find("--seconds"), std::string::npos) << command << ": " << r.err;
+  }
+}
+
+TEST(Cli, TestNamesEachSpecFileAsItRunsAndExitsTwoOnAFailure) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "quantum_cli_specs";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "good_spec.lua") << "describe('good', function() it('holds', function() assert.are.equal(2, 1 + 1) end) end)\n";
+  Outcome r = quantum("test " + dir.string());
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("good_spec.lua + ok 1 specs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("every spec passed in"), std::string::npos) << r.out;
+  std::ofstream(dir / "bad_spec.lua") << "describe('bad', function() it('fails', function() assert.are.equal(3, 1 + 1) end) end)\n";
+  r = quantum("test " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.out << r.err;
+  EXPECT_NE(r.out.find("bad_spec.lua - FAILED 1 of 1 specs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 failed in"), std::string::npos) << r.out;
+  r = quantum("test " + (dir / "nothing_here").string());
+  EXPECT_EQ(r.status, 1);
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ describe("Quantum air hockey", function()
     local events = s:run(0.1)
     assert.are.equal("drop", events[1].type)
     assert.are.equal("in front of Blue's goal", events[1].actor)
-    assert.are.same({ "The puck was dropped in front of Blue's goal" }, s:said())
+    assert.are.same({ "Puck to Blue" }, s:said())
   end)
 
   it("scores a clean shot at an empty goal most of the time", function()

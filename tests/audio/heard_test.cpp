@@ -1,0 +1,196 @@
+// Heard, not just played: every shipped sport's announcer over its own game, as a speech
+// recognizer hears it (tools/listen.cpp), what the event log and the transcript say became of each
+// phrase, and where the bounces are heard in the mix.
+#include <gtest/gtest.h>
+
+#include <sndfile.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "listen.h"
+#include "session.h"
+
+namespace quantum {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Rendered {
+  std::string wav, events, transcript;
+};
+
+// A match of `sport` (seed 5, simulated players) into a WAV file, its event log and transcript.
+Rendered render(const std::string& sport, double seconds = 40) {
+  const fs::path dir = fs::temp_directory_path() / ("quantum_heard_" + sport + "_" + std::to_string(int(seconds)));
+  fs::create_directories(dir);
+  Rendered r{(dir / "match.wav").string(), (dir / "events.jsonl").string(), ""};
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/" + sport;
+  o.seed = 5;
+  o.seconds = seconds;
+  o.audio = "wav:" + r.wav;
+  o.events = r.events;
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  std::ostringstream transcript, errors;
+  runtime::Session session(o, &transcript, errors);
+  session.run();
+  EXPECT_EQ(errors.str(), "") << sport;
+  r.transcript = transcript.str();
+  return r;
+}
+
+std::vector<std::string> shipped_sports() {
+  std::vector<std::string> sports;
+  for (const auto& entry : fs::directory_iterator(QUANTUM_SOURCE_DIR "/rules"))
+    if (fs::exists(entry.path() / "sport.lua")) sports.push_back(entry.path().filename().string());
+  std::sort(sports.begin(), sports.end());
+  return sports;
+}
+
+// docs/sound.md's figures come from this test's output.
+TEST(Heard, EveryShippedSportsAnnouncerIsUnderstoodOverItsGame) {
+  const std::vector<std::string> sports = shipped_sports();
+  ASSERT_GE(sports.size(), 5u);
+  for (const std::string& sport : sports) {
+    const Rendered r = render(sport);
+    const tools::Listening l = tools::listen(r.wav, r.events);
+    const int played = int(l.played.size());
+    std::cout << sport << ": heard " << l.heard() << " of " << played << " phrases played, goal calls "
+              << l.goal_calls_heard << " of " << l.goal_calls << ", " << l.said - played << " of " << l.said
+              << " not played\n";
+    EXPECT_GE(played, 20) << sport << ": an announcer with something to say";
+    EXPECT_GE(l.heard(), 0.9 * played) << sport;
+    EXPECT_EQ(l.goal_calls_heard, l.goal_calls) << sport << ": every goal call is played and heard";
+  }
+}
+
+TEST(Heard, EveryEventLineSaysWhatBecameOfItsPhrases) {
+  const Rendered r = render("airhockey");
+  std::ifstream log(r.events);
+  std::string line;
+  std::map<std::string, int> fates;
+  int marked = 0;
+  double last_end = 0;
+  while (std::getline(log, line)) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    if (!j.contains("said")) continue;
+    ASSERT_TRUE(j.contains("phrases")) << line;
+    ASSERT_EQ(j["said"].size(), j["phrases"].size()) << line;
+    for (size_t k = 0; k < j["said"].size(); ++k) {
+      const auto& p = j["phrases"][k];
+      EXPECT_EQ(p["text"], j["said"][k]);
+      const std::string fate = p["fate"];
+      ++fates[fate];
+      if (fate == "spoken" || fate == "cut") {
+        EXPECT_GE(double(p["start"]), double(j["t"]) - 1.0 / 60 - 1e-6) << line;  // not before it was said
+        EXPECT_GT(double(p["end"]), double(p["start"])) << line;
+        EXPECT_GE(double(p["start"]), last_end - 1e-6) << line;  // one phrase at a time
+        last_end = p["end"];
+      }
+      if (fate == "spoken") {
+        EXPECT_NEAR(double(p["end"]) - double(p["start"]), double(p["length"]), 1e-5);
+      }
+      if (fate == "cut") {
+        EXPECT_LT(double(p["end"]) - double(p["start"]), double(p["length"]));
+      }
+      if (fate == "cut" || fate == "dropped") {
+        ++marked;
+        EXPECT_TRUE(p.contains("why")) << line;
+      }
+    }
+  }
+  // A busy match: some phrases give way, and the transcript marks the same ones.
+  EXPECT_GT(fates["spoken"], 20);
+  EXPECT_GT(fates["dropped"], 0);
+  EXPECT_EQ(fates["silent"], 0);
+  size_t in_transcript = 0;
+  for (size_t at = 0; (at = r.transcript.find("  [", at)) != std::string::npos; ++at) ++in_transcript;
+  EXPECT_EQ(in_transcript, size_t(marked));
+}
+
+// Energy of each channel in [from, to) seconds of a stereo WAV.
+struct Energy {
+  double left = 0, right = 0;
+};
+Energy energy(const std::vector<int16_t>& stereo, int rate, double from, double to) {
+  Energy e;
+  const size_t a = size_t(std::max(0.0, from) * rate), b = std::min(stereo.size() / 2, size_t(to * rate));
+  for (size_t i = a; i < b; ++i) {
+    e.left += double(stereo[2 * i]) * stereo[2 * i];
+    e.right += double(stereo[2 * i + 1]) * stereo[2 * i + 1];
+  }
+  return e;
+}
+
+// Around the bounces of a whole match, how much louder each is on its own side: a bounce off the
+// left wall (the listener faces +x, so left is +y) must be 4 times (6 dB) louder on the left,
+// and the other way round. Two measures:
+// - bounces while the announcer is silent, as heard: the energy of each channel;
+// - every bounce, under speech too (game sounds duck 20 dB there): the announcer is centred, the
+//   same samples on both channels, so it cancels from L - R. With L = s + a b and R = s + c b,
+//   summed over the bounces of a side, (E_L - E_R) / E_(L-R) = (a + c) / (a - c) (the cross terms
+//   of voice and knock average out), which gives a / c.
+TEST(Heard, ABounceIsHeardOnItsSideInTheMatchMix) {
+  const Rendered r = render("airhockey", 150);  // the first to seven goals wins: about two minutes
+  SF_INFO info{};
+  SNDFILE* f = sf_open(r.wav.c_str(), SFM_READ, &info);
+  ASSERT_NE(f, nullptr);
+  std::vector<int16_t> stereo(size_t(info.frames) * 2);
+  sf_readf_short(f, stereo.data(), info.frames);
+  sf_close(f);
+  std::vector<std::pair<double, double>> speech;  // when phrases sounded
+  std::vector<nlohmann::json> bounces;
+  std::ifstream log(r.events);
+  for (std::string line; std::getline(log, line);) {
+    nlohmann::json j = nlohmann::json::parse(line);
+    if (j["type"] == "bounce") bounces.push_back(j);
+    if (j.contains("phrases"))
+      for (const auto& p : j["phrases"])
+        if (p.contains("start")) speech.emplace_back(p["start"], p["end"]);
+  }
+  constexpr double kWindow = 0.08;  // wall.wav's knock
+  struct Side {
+    Energy quiet;                        // bounces with the announcer silent
+    double level_difference = 0, side = 0;  // every bounce: sums of E_L - E_R and E_(L-R)
+    int n = 0, n_quiet = 0;
+  } left, right;
+  for (const nlohmann::json& j : bounces) {
+    const double t = double(j["t"]) - 1.0 / 60;  // sounds start from the frame's first sample
+    const bool spoken = std::any_of(speech.begin(), speech.end(), [&](const auto& s) {
+      return s.first < t + kWindow && s.second > t;
+    });
+    const bool on_left = double(j["y"]) > 0;
+    Side& side = on_left ? left : right;
+    const Energy at = energy(stereo, info.samplerate, t, t + kWindow);
+    double difference = 0;
+    const size_t a = size_t(t * info.samplerate), b = std::min(stereo.size() / 2, size_t((t + kWindow) * info.samplerate));
+    for (size_t i = a; i < b; ++i) difference += std::pow(double(stereo[2 * i]) - stereo[2 * i + 1], 2);
+    // Each side's own channel first: "near" and "far".
+    const double near = on_left ? at.left : at.right, far = on_left ? at.right : at.left;
+    ++side.n;
+    side.level_difference += near - far, side.side += difference;
+    if (!spoken) {
+      ++side.n_quiet;
+      side.quiet.left += near, side.quiet.right += far;
+    }
+  }
+  auto db = [](double ratio) { return 10 * std::log10(ratio); };
+  for (const auto& [name, side] : {std::pair<const char*, const Side&>{"left", left}, {"right", right}}) {
+    const double k = side.level_difference / side.side;
+    const double amplitude = (k + 1) / (k - 1);
+    std::cout << side.n << " bounces on the " << name << ": " << db(amplitude * amplitude) << " dB louder on their side ("
+              << side.n_quiet << " with the announcer silent: " << db(side.quiet.left / side.quiet.right) << " dB)\n";
+    EXPECT_GE(side.n, 50) << name;
+    EXPECT_GE(side.n_quiet, 5) << name;
+    EXPECT_GT(k, 1) << name;  // the near channel louder at all
+    EXPECT_GT(amplitude * amplitude, 4) << name;
+    EXPECT_GT(side.quiet.left, 4 * side.quiet.right) << name;
+  }
+}
+
+}  // namespace
+}  // namespace quantum

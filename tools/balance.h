@@ -1,0 +1,61 @@
+// `quantum balance`: many seeded matches between simulated players, their win rates and gameflow,
+// every match as a CSV row, and with --plot a sweep of handicaps and fate factors drawn by
+// gnuplot with a one-page summary (docs/gameflow.md).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "play.h"
+#include "session.h"
+
+namespace quantum::tools {
+
+struct BalanceResult {
+  int matches = 0, draws = 0;
+  std::map<std::string, int> wins;  // by team
+  double contacts_per_rally = 0;    // over all rallies of all matches
+  double goals_per_minute = 0;      // goal events (own goals too) over all time played
+  double points_per_minute = 0;     // the sport's own score (points, baskets' points, rallies won), all teams
+  int possessions = 0;              // sports of catching: times a team gained the ball...
+  double passes_per_possession = 0;  // ...and the passes it made, on average, before losing it
+  std::vector<uint64_t> seeds;      // one per match, in order
+  std::vector<PlayResult> results;
+};
+
+// Plays `matches` matches with seeds options.seed, options.seed + 1, ... on every core, without
+// transcripts, sound or logs; `progress(done)` is called (from any thread, one at a time) as each
+// ends. The result depends only on the options, not on the number of cores.
+BalanceResult balance(const runtime::SessionOptions& options, int matches,
+                      const std::function<void(int done)>& progress = {});
+
+// One row per match: seed, winner, each team's score, rallies, contacts, goals, passes,
+// possessions, seconds, then `extra` columns (a sweep's value) named in `extra_names`.
+void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std::string>& extra_names = {},
+               const std::vector<double>& extra = {});
+
+// "37/200 matches, 2.1 a second, 1:18 left" on one line of a terminal, redrawn as matches end;
+// nothing when `out` is not a terminal.
+class Progress {
+ public:
+  Progress(int matches, bool terminal);
+  void operator()(int done);
+  void finish();
+
+ private:
+  int matches_;
+  bool terminal_;
+  double started_, last_ = -1;
+};
+
+// --plot DIR: the study's CSV, a sweep of the first team's handicap and one of the fate factors'
+// strength (each point `sweep_matches` matches), their PNG plots (gnuplot) and summary.md.
+// Throws when DIR cannot be written or gnuplot fails.
+void plot_study(const runtime::SessionOptions& options, const BalanceResult& study, int sweep_matches,
+                const std::string& dir, bool terminal, std::ostream& log);
+
+}  // namespace quantum::tools
