@@ -55,6 +55,13 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
                   s.rallies, s.rallies ? double(s.contacts) / s.rallies : 0.0, s.seconds > 0 ? s.goals * 60 / s.seconds : 0.0,
                   s.seconds);
     out << buf;
+    // A sport whose score is not its goals (basketball's points) says its own too.
+    int points = 0;
+    for (const auto& [team, n] : result.score) points += n;
+    if (points != s.goals && s.seconds > 0) {
+      std::snprintf(buf, sizeof buf, "points per minute %.2f (the sport's score)\n", points * 60 / s.seconds);
+      out << buf;
+    }
   }
   return result;
 }
