@@ -233,26 +233,14 @@ Listening listen(const std::string& wav, const std::string& events) {
     const size_t from = size_t(std::max({0.0, before, h.start - 0.05}) * kRate);
     const size_t to = std::min(sound.size(), size_t(std::max(0.0, std::min(h.end + 0.15, after - 0.02)) * kRate));
     if (from >= to) continue;
-    // In blocks, as from a microphone, an utterance ending where the decoder's voice detector
-    // hears silence (as pocketsphinx_continuous does): what it heard in each, in order.
-    h.recognised.clear();
-    auto heard = [&] {
-      ps_end_utt(d.ps);
-      if (const char* hyp = ps_get_hyp(d.ps, nullptr); hyp && *hyp) h.recognised += (h.recognised.empty() ? "" : " ") + base_words(hyp);
-    };
+    // One utterance, fed in blocks as from a microphone: a pause inside a phrase ("Goal! 2
+    // from 2") must not split it, since the grammar holds whole phrases.
     ps_start_utt(d.ps);
-    bool speaking = false;
-    for (size_t at = from; at < to; at += 2048) {
+    for (size_t at = from; at < to; at += 2048)
       ps_process_raw(d.ps, sound.data() + at, std::min<size_t>(2048, to - at), FALSE, FALSE);
-      const bool in_speech = ps_get_in_speech(d.ps);
-      if (in_speech) speaking = true;
-      else if (speaking) {
-        heard();
-        ps_start_utt(d.ps);
-        speaking = false;
-      }
-    }
-    heard();
+    ps_end_utt(d.ps);
+    const char* hyp = ps_get_hyp(d.ps, nullptr);
+    h.recognised = hyp ? base_words(hyp) : "";
     if (h.event == "goal" || h.event == "own_goal") l.goal_calls_heard += h.heard();
   }
   return l;

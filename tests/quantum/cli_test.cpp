@@ -216,6 +216,10 @@ TEST(Cli, TrackWarnsOnceWhenItSeesNobody) {
   ASSERT_NE(at, std::string::npos) << wrong.err;
   EXPECT_EQ(wrong.err.find("no player seen", at + 1), std::string::npos) << "once";
   EXPECT_NE(wrong.err.find("2.00 x 1.00 m"), std::string::npos) << wrong.err;
+  // play --input: a 0.9 m table recorded, the shipped air hockey field (2 m) expected.
+  const Outcome play = quantum("play " + kTable + " --input fakenect:" + dir.string() + " --audio none --quiet");
+  EXPECT_EQ(play.status, 0) << play.err;
+  EXPECT_NE(play.err.find("no player seen in the first 3 s"), std::string::npos) << play.err;
   std::filesystem::remove_all(dir);
 }
 
