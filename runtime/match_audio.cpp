@@ -91,13 +91,12 @@ void MatchAudio::silent(uint64_t id) {
   settled({&f, 1});
 }
 
-// Fates are copied into slots kept from frame to frame: a running match allocates nothing.
+// Fates are copied into slots kept from frame to frame (a string's copy keeps its room): a
+// running match allocates nothing.
 void MatchAudio::settled(std::span<const audio::PhraseFate> fates) {
   for (const audio::PhraseFate& f : fates) {
     if (n_fates_ == fates_.size()) fates_.emplace_back();
-    audio::PhraseFate& to = fates_[n_fates_++];
-    to.id = f.id, to.kind = f.kind, to.why = f.why, to.start = f.start, to.end = f.end, to.length = f.length;
-    to.by.assign(f.by);
+    fates_[n_fates_++] = f;
   }
 }
 

@@ -27,10 +27,7 @@ void PhraseLedger::hold(std::span<const game::GameEvent> events, std::span<const
   slot(frames_, n_frames_) = {events.size(), said.size()};
   for (const game::GameEvent& e : events) slot(events_, n_events_) = e;
   for (const game::Said& s : said) {
-    game::Said& to = slot(said_, n_said_);
-    to.t = s.t, to.event = s.event, to.cause = s.cause;
-    to.text.assign(s.text);
-    to.recording.assign(s.recording);
+    slot(said_, n_said_) = s;  // a string's copy keeps its room
     if (fates_.size() < n_said_) fates_.emplace_back();
     fates_[n_said_ - 1].id = 0;  // unsettled
   }
@@ -40,9 +37,7 @@ void PhraseLedger::hold(std::span<const game::GameEvent> events, std::span<const
 void PhraseLedger::settle(std::span<const audio::PhraseFate> fates) {
   for (const audio::PhraseFate& f : fates) {
     if (f.id < first_id_ || f.id >= first_id_ + n_said_) continue;  // not held (a spec's phrase already written)
-    audio::PhraseFate& to = fates_[f.id - first_id_];
-    to.id = f.id, to.kind = f.kind, to.why = f.why, to.start = f.start, to.end = f.end, to.length = f.length;
-    to.by.assign(f.by);
+    fates_[f.id - first_id_] = f;
   }
 }
 
@@ -53,8 +48,12 @@ void PhraseLedger::write(std::ostream* log, std::ostream* transcript, bool all) 
     const bool settled = std::all_of(fates_.begin() + long(said), fates_.begin() + long(said + f.said),
                                       [](const audio::PhraseFate& p) { return p.id != 0; });
     if (!settled && !all) break;
-    for (size_t k = said; k < said + f.said; ++k)  // the match ended before the announcer said
-      if (fates_[k].id == 0) fates_[k] = {first_id_ + k, audio::PhraseFate::Kind::Dropped, audio::PhraseFate::Why::Ended};
+    for (size_t k = said; k < said + f.said; ++k) {  // the match ended before the announcer said
+      audio::PhraseFate& p = fates_[k];
+      if (p.id != 0) continue;
+      p = audio::PhraseFate{};
+      p.id = first_id_ + k, p.kind = audio::PhraseFate::Kind::Dropped, p.why = audio::PhraseFate::Why::Ended;
+    }
     const std::span<const game::GameEvent> e(events_.data() + events, f.events);
     const std::span<const game::Said> s(said_.data() + said, f.said);
     const std::span<const audio::PhraseFate> p(fates_.data() + said, f.said);

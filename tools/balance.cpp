@@ -116,12 +116,14 @@ BalanceResult balance(const runtime::SessionOptions& options, int matches, const
 }
 
 void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std::string>& extra_names,
-               const std::vector<double>& extra) {
-  out << "seed,winner";
-  for (const auto& [team, n] : r.wins) out << ",score_" << team;
-  out << ",rallies,contacts,goals,passes,possessions,seconds";
-  for (const std::string& name : extra_names) out << ',' << name;
-  out << '\n';
+               const std::vector<double>& extra, bool header) {
+  if (header) {
+    out << "seed,winner";
+    for (const auto& [team, n] : r.wins) out << ",score_" << team;
+    out << ",rallies,contacts,goals,passes,possessions,seconds";
+    for (const std::string& name : extra_names) out << ',' << name;
+    out << '\n';
+  }
   for (size_t m = 0; m < r.results.size(); ++m) {
     const PlayResult& p = r.results[m];
     out << r.seeds[m] << ',' << (p.winner.empty() ? "draw" : p.winner);
@@ -161,11 +163,9 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
     if (!f) throw std::runtime_error("--plot " + dir + ": cannot write " + name);
     return f;
   };
-  open("matches.csv") << [&] {
-    std::ostringstream s;
-    write_csv(s, study);
-    return s.str();
-  }();
+  std::ofstream matches = open("matches.csv");
+  write_csv(matches, study);
+  matches.close();
 
   const lua::Sport sport(options.sport, lua::engine_rules_folder(), lua::Params(options.params));
   const std::vector<BodySpec>& bodies = sport.field().bodies;
@@ -197,9 +197,7 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
     const int wins = it == r.wins.end() ? 0 : it->second;
     const auto [low, high] = wilson(wins, r.matches);
     handicap_data << h << ',' << double(wins) / r.matches << ',' << low << ',' << high << ',' << r.matches << '\n';
-    std::ostringstream rows;
-    write_csv(rows, r, {"handicap"}, {h});
-    handicap_rows << (header ? rows.str() : rows.str().substr(rows.str().find('\n') + 1));
+    write_csv(handicap_rows, r, {"handicap"}, {h}, header);
     header = false;
   }
 
@@ -225,9 +223,7 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
     const auto scored = mean_and_error(r, [](const PlayResult& p) { return points(p) * 60 / p.stats.seconds; });
     factor_data << strength << ',' << contacts.first << ',' << contacts.second << ',' << goals.first << ','
                 << goals.second << ',' << scored.first << ',' << scored.second << '\n';
-    std::ostringstream rows;
-    write_csv(rows, r, {"factor_strength"}, {strength});
-    factor_rows << (header ? rows.str() : rows.str().substr(rows.str().find('\n') + 1));
+    write_csv(factor_rows, r, {"factor_strength"}, {strength}, header);
     header = false;
   }
   handicap_data.close(), factor_data.close(), handicap_rows.close(), factor_rows.close();

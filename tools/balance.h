@@ -34,9 +34,10 @@ BalanceResult balance(const runtime::SessionOptions& options, int matches,
                       const std::function<void(int done)>& progress = {});
 
 // One row per match: seed, winner, each team's score, rallies, contacts, goals, passes,
-// possessions, seconds, then `extra` columns (a sweep's value) named in `extra_names`.
+// possessions, seconds, then `extra` columns (a sweep's value) named in `extra_names`; the
+// header first when `header` (a sweep's later points append to its first's).
 void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std::string>& extra_names = {},
-               const std::vector<double>& extra = {});
+               const std::vector<double>& extra = {}, bool header = true);
 
 // "37/200 matches, 2.1 a second, 1:18 left" on one line of a terminal, redrawn as matches end;
 // nothing when `out` is not a terminal.

@@ -100,6 +100,17 @@ std::string arpabet(const std::string& ipa) {
   return phones;
 }
 
+// "goal for red" -> {"goal", "for", "red"} (words_of's words, one space apart).
+std::vector<std::string> split(const std::string& words) {
+  std::vector<std::string> out;
+  for (size_t from = 0; from < words.size();) {
+    const size_t to = std::min(words.find(' ', from), words.size());
+    out.push_back(words.substr(from, to - from));
+    from = to + 1;
+  }
+  return out;
+}
+
 // "goal for clara_2" -> "goal for clara".
 std::string base_words(const std::string& hyp) {
   std::string out;
@@ -188,11 +199,7 @@ Listening listen(const std::string& wav, const std::string& events) {
   // sphinxbase's grammar), and the grammar takes any of them.
   std::set<std::string> words;
   for (const std::string& phrase : grammar)
-    for (size_t from = 0; from < phrase.size();) {
-      const size_t to = std::min(phrase.find(' ', from), phrase.size());
-      words.insert(phrase.substr(from, to - from));
-      from = to + 1;
-    }
+    for (const std::string& w : split(phrase)) words.insert(w);
   audio::Speech speech;
   std::map<std::string, std::string> any_of;  // word -> "(clara | clara_2)"
   for (const std::string& w : words) {
@@ -214,11 +221,8 @@ Listening listen(const std::string& wav, const std::string& events) {
   std::string jsgf = "#JSGF V1.0;\ngrammar phrases;\npublic <phrase> = ";
   for (size_t k = 0; k < grammar.size(); ++k) {
     jsgf += k ? " | (" : "(";
-    for (size_t from = 0; from < grammar[k].size();) {
-      const size_t to = std::min(grammar[k].find(' ', from), grammar[k].size());
-      jsgf += (from ? " " : "") + any_of[grammar[k].substr(from, to - from)];
-      from = to + 1;
-    }
+    const std::vector<std::string> phrase = split(grammar[k]);
+    for (size_t w = 0; w < phrase.size(); ++w) jsgf += (w ? " " : "") + any_of[phrase[w]];
     jsgf += ")";
   }
   jsgf += ";\n";

@@ -42,6 +42,13 @@ PhraseFate& Announcer::settle(uint64_t id, PhraseFate::Kind kind, PhraseFate::Wh
   return f;
 }
 
+void Announcer::end_current(PhraseFate::Kind kind, PhraseFate::Why why, std::string_view by, double end) {
+  PhraseFate& f = settle(current_id_, kind, why, current_length_, by);
+  f.start = current_start_, f.end = end;
+  current_ = 0;
+  current_text_.clear();
+}
+
 // Slots are rotated, never copied, so every string keeps its room.
 void Announcer::drop(size_t k, PhraseFate::Why why, std::string_view by) {
   settle(queue_[k].id, PhraseFate::Kind::Dropped, why, queue_[k].clip->seconds(), by);
@@ -53,9 +60,12 @@ void Announcer::say(const Clip& clip, int priority, double now, std::string_view
   const uint64_t follows = now == last_at_ ? last_id_ : 0;
   last_id_ = id, last_at_ = now;
   // The same words again, just said or still to come, tell a listener nothing new.
-  bool repeat = rules_.repeat_gap > 0 && now - last_started_at_ < rules_.repeat_gap && last_started_ == text;
-  for (size_t k = 0; k < n_waiting_ && !repeat; ++k) repeat = rules_.repeat_gap > 0 && queue_[k].text == text;
-  if (repeat) {
+  const auto waiting = [&] {
+    for (size_t k = 0; k < n_waiting_; ++k)
+      if (queue_[k].text == text) return true;
+    return false;
+  };
+  if (rules_.repeat_gap > 0 && ((now - last_started_at_ < rules_.repeat_gap && last_started_ == text) || waiting())) {
     settle(id, PhraseFate::Kind::Dropped, PhraseFate::Why::Repeat, clip.seconds(), text);
     return;
   }
@@ -70,12 +80,8 @@ void Announcer::say(const Clip& clip, int priority, double now, std::string_view
 }
 
 void Announcer::update(double now) {
-  if (current_ && !mixer_.playing(current_)) {
-    PhraseFate& f = settle(current_id_, PhraseFate::Kind::Spoken, PhraseFate::Why::None, current_length_, {});
-    f.start = current_start_, f.end = current_start_ + current_length_;
-    current_ = 0;
-    current_text_.clear();
-  }
+  if (current_ && !mixer_.playing(current_))
+    end_current(PhraseFate::Kind::Spoken, PhraseFate::Why::None, {}, current_start_ + current_length_);
   // Stale phrases go first: news that is old by the time it could be spoken is no news.
   for (size_t k = 0; k < n_waiting_;)
     if (now - queue_[k].at > rules_.stale_after && queue_[k].priority < rules_.keep_from) drop(k, PhraseFate::Why::Stale, {});
@@ -90,8 +96,7 @@ void Announcer::update(double now) {
     if (next->priority <= current_priority_) return;
     if (current_start_ + current_length_ - now <= rules_.wait_for) return;  // nearly done: let it finish
     mixer_.stop(current_);
-    PhraseFate& f = settle(current_id_, PhraseFate::Kind::Cut, PhraseFate::Why::Outranked, current_length_, next->text);
-    f.start = current_start_, f.end = now;
+    end_current(PhraseFate::Kind::Cut, PhraseFate::Why::Outranked, next->text, now);
   }
   current_ = mixer_.play_at_listener(*next->clip);
   current_priority_ = next->priority;
@@ -112,10 +117,7 @@ void Announcer::finish(double now) {
   while (n_waiting_ > 0) drop(0, PhraseFate::Why::Ended, {});
   if (!current_) return;
   mixer_.stop(current_);
-  PhraseFate& f = settle(current_id_, PhraseFate::Kind::Cut, PhraseFate::Why::Ended, current_length_, {});
-  f.start = current_start_, f.end = now;
-  current_ = 0;
-  current_text_.clear();
+  end_current(PhraseFate::Kind::Cut, PhraseFate::Why::Ended, {}, now);
 }
 
 }  // namespace quantum::audio

@@ -225,6 +225,8 @@ class Announcer {
   };
   PhraseFate& settle(uint64_t id, PhraseFate::Kind kind, PhraseFate::Why why, double length, std::string_view by);
   void drop(size_t k, PhraseFate::Why why, std::string_view by);
+  // The phrase being spoken has ended (spoken in full, or cut off at `end`).
+  void end_current(PhraseFate::Kind kind, PhraseFate::Why why, std::string_view by, double end);
 
   Mixer& mixer_;
   AnnouncerRules rules_;
