@@ -15,6 +15,8 @@ packages=(
   lua-busted                   # rule specs (quantum test)
   libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us libsamplerate0-dev  # quantum listen: a speech recognizer
+  gnuplot-nox                  # quantum balance --plot
+  libcairo2-dev                # quantum-synth --markers: the markers as a PDF at their printed size
   ffmpeg                       # the desk's videos (--video); ffprobe checks them in the tests
   xvfb xauth imagemagick       # the tests open the desk's window on a virtual display and photograph it
   libcli11-dev nlohmann-json3-dev
