@@ -58,9 +58,9 @@ Status HandPlayers::advance(double t, const game::Match& match, bool waiting) {
 }
 
 TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options,
-                               std::ostream* warnings)
-    : field_(field), spec_(spec), tracked_(tracking::tracked_field(field)), input_(spec, tracked_, options),
-      warnings_(warnings) {
+                               std::ostream* warnings, std::optional<Vec2> size, tracking::SetupOptions setup)
+    : field_(field), spec_(spec), tracked_(tracking::tracked_field(field, size)), input_(spec, tracked_, options),
+      setup_(spec, tracking::tracked_field(field), setup), warnings_(warnings) {
   for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
 }
 
@@ -79,8 +79,8 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
       if (s == TrackingStatus::Waiting) return seen_ ? Status::Ready : Status::Lost;
       if (s == TrackingStatus::Lost) return Status::Lost;
       if (s == TrackingStatus::Ended) return Status::Ended;
-      if (const std::string warning = nobody_.check(f, spec_, tracked_); !warning.empty() && warnings_)
-        *warnings_ << "quantum: warning: " << warning << '\n';
+      for (const std::string& line : setup_.check(f, input_, tracked_))
+        if (warnings_) *warnings_ << "quantum: " << line << '\n';
       if (!t0_) t0_ = f.t - t;
       f.t -= *t0_;
       pending_ = std::move(f);

@@ -105,10 +105,12 @@ class HandPlayers final : public PlayerSource {
 class TrackedPlayers final : public PlayerSource {
  public:
   // `spec`: fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT (see tracking/input.h);
-  // `options`: accelerometers for throws (any source) and a camera's field of view. A source
-  // that sees nobody for its first seconds is told once to `warnings` (tracking::NobodySeen).
+  // `options`: accelerometers for throws (any source) and a camera's field of view. A Kinect's
+  // calibration, a table that is not the field and a source that sees nobody for its first
+  // seconds are told once to `warnings` (tracking::SetupCheck); `size` overrides the measured table.
   TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options = {},
-                 std::ostream* warnings = nullptr);
+                 std::ostream* warnings = nullptr, std::optional<Vec2> size = std::nullopt,
+                 tracking::SetupOptions setup = {});
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
   // A tracked throw goes the way the tracker says, at the sport's throw speed.
@@ -123,7 +125,7 @@ class TrackedPlayers final : public PlayerSource {
   std::string spec_;
   tracking::TrackedField tracked_;
   tracking::TrackingInput input_;
-  tracking::NobodySeen nobody_;
+  tracking::SetupCheck setup_;
   std::ostream* warnings_;
   std::vector<BodyInput> bodies_;
   std::vector<game::Throw> throws_;

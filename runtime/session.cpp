@@ -70,7 +70,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
                                               o.seed, config.throw_speed);
     } else {
       players_ = std::make_unique<TrackedPlayers>(o.input, match_->field(), tracking::SourceOptions{o.accel, o.fov},
-                                                  &errors_);
+                                                  &errors_, o.field_size, o.setup);
     }
   }
   // A replay reloads what its recording reloaded, when it did, and nothing else.

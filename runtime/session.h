@@ -9,6 +9,7 @@
 #include <iosfwd>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -33,6 +34,8 @@ struct SessionOptions {
   std::string input = "bots";   // or a tracking source: fakenect:DIR, kinect, video:FILE, camera:N, tuio:PORT
   std::string accel;            // with a tracking source: accelerometer throws, FILE (CSV) or udp:PORT
   float fov = 82;               // with video or camera: its horizontal field of view, degrees
+  std::optional<Vec2> field_size;   // with a Kinect: the field between the markers, instead of what it measures
+  tracking::SetupOptions setup;     // with a Kinect: a table that is not the sport's field stops (strict) or is fitted
   std::vector<std::string> params;  // NAME=VALUE for the sport's scripts (param(), bindings/params.h)
   uint64_t seed = 1;
   double seconds = 0;           // 0: the sport's own time limit

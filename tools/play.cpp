@@ -34,6 +34,14 @@ std::vector<double> parse_list(const std::string& text, const std::string& optio
   return out;
 }
 
+std::optional<Vec2> parse_field_size(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  const std::vector<double> lw = parse_list(text, "--field-size");
+  if (lw.size() != 2 || !(lw[0] > 0 && lw[1] > 0 && lw[0] < 1000 && lw[1] < 1000))
+    throw std::invalid_argument("--field-size needs L,W in metres, both > 0 (e.g. 2.0,1.0)");
+  return Vec2{float(lw[0]), float(lw[1])};
+}
+
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript,
                 const DeskOptions* desk) {
   PlayResult result;

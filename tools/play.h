@@ -35,4 +35,7 @@ runtime::SessionOptions::Pacing pacing(const std::string& pace);
 // "0.3,0.9" -> {0.3, 0.9}; throws naming the option for anything else.
 std::vector<double> parse_list(const std::string& text, const std::string& option);
 
+// --field-size "L,W" in metres (nothing for ""); throws for anything but two sizes > 0.
+std::optional<Vec2> parse_field_size(const std::string& text);
+
 }  // namespace quantum::tools

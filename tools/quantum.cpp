@@ -79,6 +79,15 @@ int main(int argc, char** argv) {
                                           "(CSV) or udp:PORT (one per datagram): a player's whip throws the ball");
   play->add_option("--fov", game.fov, "with video or camera: its horizontal field of view, degrees")
       ->capture_default_str();
+  // A Kinect's table against the sport's field, on play and on track alike.
+  auto add_setup = [](CLI::App* command, std::string& field_size, quantum::tracking::SetupOptions& setup) {
+    command->add_option("--field-size", field_size, "with a Kinect: L,W, the field between the markers' centres in m, "
+                                                    "instead of what the Kinect measures");
+    command->add_flag("--fit-field", setup.fit, "with a Kinect: stretch the sport's field over a table of another size");
+    command->add_flag("--strict", setup.strict, "with a Kinect: stop when the table is not the sport's field size");
+  };
+  std::string play_field_size;
+  add_setup(play, play_field_size, game.setup);
   // Each --param adds one: `--param length=40 --param width=20`.
   auto add_params = [](CLI::App* command, std::vector<std::string>& params) {
     command->add_option("--param", params, "NAME=VALUE for the sport's scripts (param(NAME, default) in its "
@@ -160,8 +169,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   track->add_option("--field", tracking.field, "field file or sport folder: its size and who plays from which end")
       ->capture_default_str();
-  track->add_option("--field-size", tracking.field_size, "L,W: the field between the markers' centres, m "
-                                                          "(default: the field's own)");
+  add_setup(track, tracking.field_size, tracking.setup);
   track->add_option("--frames", tracking.frames, "stop after this many frames (default: all)");
   add_params(track, tracking.params);
 
@@ -253,6 +261,7 @@ int main(int argc, char** argv) {
       if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");
       game.watch = true;  // a designer's saved script takes effect between two frames
       if (!pace.empty()) game.pacing = quantum::tools::pacing(pace);
+      game.field_size = quantum::tools::parse_field_size(play_field_size);
       if (game.input == "mouse" || game.input.rfind("mouse:", 0) == 0) {
         desk.hand = true;
         desk.hand_player = game.input.size() > 6 ? game.input.substr(6) : "";

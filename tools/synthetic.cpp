@@ -1,5 +1,6 @@
 #include "synthetic.h"
 
+#include <cairo-pdf.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/aruco.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -7,6 +8,7 @@
 #include <opencv2/videoio.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -77,32 +79,88 @@ struct Player {
   int end;  // -1 blue, +1 red
   std::string id;
   double phase[4], rate[4];
+  double pace = 1;  // the motion's time scale: its fastest moment is DepthSceneOptions::speed
   std::vector<std::pair<double, double>> lifts;  // [start, end) of each hover, seconds of play
-  std::vector<double> lift_height;
+  std::vector<double> lift_height;               // the hand's height while it hovers
 };
 
+constexpr double kHandOnTable = 0.075;  // m: the hand's centre while it grips a mallet on the table
+
 struct Pose {
-  double x, y, lift;
+  double x, y, hand;  // the mallet's centre, the hand's height
 };
 
 Pose pose_of(const Player& p, double t, float length, float width) {
+  const double s = p.pace * t;
   Pose q;
-  q.x = p.end * (0.5 * length / 2 + 0.28 * length / 2 * std::sin(p.rate[0] * t + p.phase[0]) +
-                 0.08 * length / 2 * std::sin(p.rate[1] * t + p.phase[1]));
-  q.y = width / 2 * (0.55 * std::sin(p.rate[2] * t + p.phase[2]) + 0.15 * std::sin(p.rate[3] * t + p.phase[3]));
-  q.lift = 0;
+  q.x = p.end * (0.5 * length / 2 + 0.28 * length / 2 * std::sin(p.rate[0] * s + p.phase[0]) +
+                 0.08 * length / 2 * std::sin(p.rate[1] * s + p.phase[1]));
+  q.y = width / 2 * (0.55 * std::sin(p.rate[2] * s + p.phase[2]) + 0.15 * std::sin(p.rate[3] * s + p.phase[3]));
+  q.hand = kHandOnTable;
   for (size_t k = 0; k < p.lifts.size(); ++k)
-    if (t >= p.lifts[k].first && t < p.lifts[k].second) q.lift = p.lift_height[k];
+    if (t >= p.lifts[k].first && t < p.lifts[k].second) q.hand = p.lift_height[k];
   return q;
+}
+
+// The fastest the mallet moves over `seconds` of play, sampled every millisecond.
+double top_speed(const Player& p, double seconds, float length, float width) {
+  double top = 0;
+  Pose last = pose_of(p, 0, length, width);
+  for (double t = 0.001; t < seconds; t += 0.001) {
+    const Pose q = pose_of(p, t, length, width);
+    top = std::max(top, std::hypot(q.x - last.x, q.y - last.y) / 0.001);
+    last = q;
+  }
+  return top;
+}
+
+// One arm reaching in: the mallet (4 cm in radius, 5 cm tall) lifted by `lift`, the hand gripping
+// it from behind and above (so the mallet's far rim is the arm's farthest point and its centre
+// lies 4 cm behind it), the forearm from the wrist to the shoulder; and a sphere around it all.
+struct Arm {
+  V3 wrist, shoulder, hand;
+  double x, y, lift;
+  V3 around;
+  double reach;
+};
+
+// The nearest arm surface along o + t d with 0 < t < limit; limit when none.
+double hit_arms(const std::vector<Arm>& arms, const V3& o, const V3& d, double limit) {
+  double best = limit;
+  for (const Arm& a : arms) {
+    const V3 q = a.around - o;
+    const double along = q.dot(d);
+    if (q.dot(q) - along * along / d.dot(d) > a.reach * a.reach) continue;  // the ray passes it by
+    best = std::min({best, hit_mallet(o, d, a.x, a.y, 0.04, a.lift, a.lift + 0.05), hit_sphere(o, d, a.hand, 0.035),
+                     hit_capsule(o, d, a.wrist, a.shoulder, 0.04)});
+  }
+  return best;
+}
+
+// A generator for one row of one frame: rows render in parallel and the recording is the same
+// whatever the number of threads.
+std::mt19937_64 row_rng(uint64_t seed, int frame, int row, int pass) {
+  std::seed_seq s{uint32_t(seed), uint32_t(seed >> 32), uint32_t(frame), uint32_t(row), uint32_t(pass)};
+  return std::mt19937_64(s);
 }
 
 }  // namespace
 
-void write_markers(const std::string& dir) {
+void write_markers(const std::string& dir, double side) {
+  constexpr double kPoint = 0.0254 / 72;                     // m
+  constexpr double kPageWidth = 595.276, kPageHeight = 841.89;  // A4, points
+  if (!(side >= 0.02 && side <= 0.18))
+    throw std::invalid_argument("--marker-size must be from 0.02 to 0.18 m (one marker to an A4 page)");
   std::filesystem::create_directories(dir);
   const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
   const char* corner[] = {"(+L/2, +W/2): Red's end, Blue's left", "(+L/2, -W/2): Red's end, Blue's right",
                           "(-L/2, -W/2): Blue's end, Blue's right", "(-L/2, +W/2): Blue's end, Blue's left"};
+  const std::string pdf = dir + "/markers.pdf";
+  cairo_surface_t* surface = cairo_pdf_surface_create(pdf.c_str(), kPageWidth, kPageHeight);
+  cairo_t* cr = cairo_create(surface);
+  // No creation date: the same markers give the same file.
+  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, "");
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   for (int id = 0; id < 4; ++id) {
     cv::Mat marker, page(760, 700, CV_8UC1, cv::Scalar(255));
     dict->drawMarker(id, 600, marker);
@@ -112,34 +170,86 @@ void write_markers(const std::string& dir) {
     cv::putText(page, corner[id], {50, 740}, cv::FONT_HERSHEY_SIMPLEX, 0.8, cv::Scalar(0), 2);
     const std::string file = dir + "/marker-" + std::to_string(id) + ".png";
     if (!cv::imwrite(file, page)) throw std::runtime_error("cannot write " + file);
+
+    // The PDF page: the marker's 6 x 6 cells (its black border included) as one filled path.
+    cv::Mat cells;
+    dict->drawMarker(id, 6, cells);
+    const double s = side / kPoint, cell = s / 6, x0 = (kPageWidth - s) / 2, y0 = 110;
+    for (int v = 0; v < 6; ++v)
+      for (int u = 0; u < 6; ++u)
+        if (cells.at<uint8_t>(v, u) < 128) cairo_rectangle(cr, x0 + u * cell, y0 + v * cell, cell, cell);
+    cairo_fill(cr);
+    // Ticks on the marker's middle lines, outside its white margin: where the corner goes.
+    cairo_set_line_width(cr, 0.75);
+    const double mx = x0 + s / 2, my = y0 + s / 2, gap = cell, tick = 18;
+    for (auto [x, y, dx, dy] : {std::tuple{mx, y0 - gap, 0.0, -tick}, {mx, y0 + s + gap, 0.0, tick},
+                                {x0 - gap, my, -tick, 0.0}, {x0 + s + gap, my, tick, 0.0}}) {
+      cairo_move_to(cr, x, y);
+      cairo_rel_line_to(cr, dx, dy);
+    }
+    cairo_stroke(cr);
+    cairo_set_font_size(cr, 16);
+    cairo_move_to(cr, 56, 60);
+    cairo_show_text(cr, ("ArUco DICT_4X4_50 id " + std::to_string(id) + ": its centre on the field's corner").c_str());
+    cairo_move_to(cr, 56, 82);
+    cairo_show_text(cr, corner[id]);
+    // The check bar: 10 cm when printed at 100 % ("actual size", no "fit to page").
+    const double bar = 0.10 / kPoint, by = y0 + s + 70;
+    cairo_rectangle(cr, 56, by, bar, 6);
+    cairo_fill(cr);
+    cairo_set_font_size(cr, 11);
+    char caption[160];
+    std::snprintf(caption, sizeof caption,
+                  "This bar is 10 cm and the marker %.1f cm (black border included) when printed at 100 %%.", side * 100);
+    cairo_move_to(cr, 56, by + 24);
+    cairo_show_text(cr, caption);
+    cairo_show_page(cr);
   }
+  cairo_destroy(cr);
+  cairo_surface_finish(surface);
+  const cairo_status_t status = cairo_surface_status(surface);
+  cairo_surface_destroy(surface);
+  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error("cannot write " + pdf + ": " + cairo_status_to_string(status));
+}
+
+float DepthSceneOptions::printed_marker_size() const {
+  return marker_size > 0 ? marker_size : std::max(0.08f, 0.065f * height);
 }
 
 std::vector<TruthFrame> write_depth_recording(const std::string& dir, const DepthSceneOptions& o) {
+  if (!(o.length > 0 && o.width > 0 && o.height > 0.5f && o.tilt >= 0 && o.tilt < 30 && o.noise >= 0 && o.holes >= 0 &&
+        o.holes < 1 && o.speed > 0 && o.hover_low > kHandOnTable + 0.02 && o.hover_high >= o.hover_low && o.fps > 0))
+    throw std::invalid_argument("depth scene: sizes, height (> 0.5 m), speed and fps must be positive, tilt under 30 "
+                                "degrees, holes a share under 1, hovering hands above the table's 9.5 cm");
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> uni(0, 1);
   std::normal_distribution<double> gauss(0, 1);
   const tracking::DepthCamera cam;
 
   // The camera: above the table's centre give or take a few centimetres, looking down, image
-  // right toward the red end, tilted a little.
+  // right toward the red end, tilted by `tilt` degrees in a direction drawn at random.
   const V3 centre(o.offset * (2 * uni(rng) - 1), o.offset * (2 * uni(rng) - 1), o.height);
-  const double ta = o.tilt * (2 * uni(rng) - 1), tb = o.tilt * (2 * uni(rng) - 1);
-  const cv::Matx33d to_field = looking_down(ta, tb).t();  // camera directions to field directions
+  const double drawn = 2 * M_PI * uni(rng), tilt = o.tilt * M_PI / 180;
+  const double way = o.tilt_toward >= 0 ? o.tilt_toward * M_PI / 180 : drawn;
+  const cv::Matx33d to_field = looking_down(tilt * std::sin(way), tilt * std::cos(way)).t();  // camera to field directions
+  // The Kinect's infrared projector sits 7.5 cm beside its camera: what the camera sees of the
+  // table behind an arm, the projector does not light (the projector's shadow).
+  const V3 projector = centre + to_field * V3(0.075, 0, 0);
 
   std::vector<Player> players;
+  const double play = o.frames / o.fps;
   for (int end : {-1, 1}) {
     Player p;
     p.end = end;
     p.id = end < 0 ? o.blue : o.red;
     for (int k = 0; k < 4; ++k) p.phase[k] = 6.2832 * uni(rng), p.rate[k] = 1.0 + 2.5 * uni(rng);
-    const double play = o.frames / o.fps;
     for (double t = 0.5 + 2 * uni(rng); t < play;) {
       const double on = 0.3 + 0.8 * uni(rng);
       p.lifts.push_back({t, t + on});
-      p.lift_height.push_back(0.08 + 0.15 * uni(rng));
+      p.lift_height.push_back(o.hover_low + (o.hover_high - o.hover_low) * uni(rng));
       t += on + on * (1 - o.hover_share) / o.hover_share * (0.5 + uni(rng));
     }
+    p.pace = o.speed / top_speed(p, std::max(play, 10.0), o.length, o.width);
     players.push_back(std::move(p));
   }
 
@@ -147,12 +257,13 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
   const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
   std::vector<cv::Mat> bitmaps(4);
   for (int id = 0; id < 4; ++id) dict->drawMarker(id, 60, bitmaps[size_t(id)]);
-  const double rim = o.marker_size / 2 + 0.02;  // the table reaches past the field's corners
+  const double marker = o.printed_marker_size();
+  const double rim = marker / 2 + 0.02;  // the table reaches past the field's corners
 
   tracking::FakenectWriter writer(dir);
   std::ofstream truth_file(dir + "/truth.jsonl");
   std::vector<TruthFrame> truth;
-  cv::Mat raw(cam.height, cam.width, CV_16UC1), bgr(cam.height, cam.width, CV_8UC3);
+  cv::Mat depth(cam.height, cam.width, CV_64F), raw(cam.height, cam.width, CV_16UC1), bgr(cam.height, cam.width, CV_8UC3);
   std::vector<V3> rays(size_t(cam.width * cam.height));
   for (int v = 0; v < cam.height; ++v)
     for (int u = 0; u < cam.width; ++u)
@@ -161,64 +272,91 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
   const int total = o.background_frames + o.frames;
   for (int f = 0; f < total; ++f) {
     const double t = f / o.fps, play_t = (f - o.background_frames) / o.fps;
+    const bool colour = f % o.colour_every == 0;
     TruthFrame tf{f, t, {}};
-    struct Arm {
-      V3 wrist, shoulder, hand;
-      double x, y, lift;
-    };
     std::vector<Arm> arms;
     if (f >= o.background_frames) {
       for (const Player& p : players) {
         const Pose q = pose_of(p, play_t, o.length, o.width);
+        const double lift = q.hand - kHandOnTable;
         const V3 shoulder(p.end * (o.length / 2 + 0.35), 0.5 * q.y, 0.4);
         V3 dir(q.x - shoulder[0], q.y - shoulder[1], 0);
         dir /= std::sqrt(dir.dot(dir));
-        // Mallet 4 cm in radius, 5 cm tall; the hand grips it from behind and above, so the
-        // mallet's far rim is the arm's farthest point and the centre lies 4 cm behind it.
-        arms.push_back({V3(q.x, q.y, q.lift + 0.08) - 0.05 * dir, shoulder, V3(q.x, q.y, q.lift + 0.075) - 0.01 * dir,
-                        q.x, q.y, q.lift});
-        tf.players.push_back({p.id, q.x, q.y, q.lift > 0});
+        const V3 wrist = V3(q.x, q.y, lift + 0.08) - 0.05 * dir, mallet(q.x, q.y, lift);
+        const V3 around = (mallet + shoulder) / 2, half = shoulder - around;
+        arms.push_back({wrist, shoulder, V3(q.x, q.y, q.hand) - 0.01 * dir, q.x, q.y, lift, around,
+                        std::sqrt(half.dot(half)) + 0.1});
+        tf.players.push_back({p.id, q.x, q.y, lift > 0, q.hand});
       }
     }
-    for (int v = 0; v < cam.height; ++v) {
-      uint16_t* r = raw.ptr<uint16_t>(v);
-      cv::Vec3b* c = bgr.ptr<cv::Vec3b>(v);
-      for (int u = 0; u < cam.width; ++u) {
-        const V3& d = rays[size_t(v * cam.width + u)];
-        // The ray's parameter is the camera's z: its camera-frame direction has z = 1.
-        double best = (-0.75 - centre[2]) / d[2];  // the floor
-        cv::Vec3b colour(60, 60, 60);
-        const double tt = -centre[2] / d[2];
-        const double px = centre[0] + tt * d[0], py = centre[1] + tt * d[1];
-        if (std::fabs(px) <= o.length / 2 + rim && std::fabs(py) <= o.width / 2 + rim) {
-          best = tt;
-          colour = cv::Vec3b(215, 215, 215);
-          for (int id = 0; id < 4; ++id) {
-            const Vec2 m = tracking::marker_position(id, o.length, o.width);
-            const double mx = (px - m.x) / o.marker_size + 0.5, my = 0.5 - (py - m.y) / o.marker_size;
-            if (mx >= 0 && mx < 1 && my >= 0 && my < 1) {
-              const uint8_t g = bitmaps[size_t(id)].at<uint8_t>(int(my * 60), int(mx * 60));
-              colour = cv::Vec3b(g, g, g);
+    // Ray casting, a row at a time in parallel: depth along the optical axis (the ray's
+    // parameter: its camera-frame direction has z = 1), 0 where the projector is hidden.
+    cv::parallel_for_(cv::Range(0, cam.height), [&](const cv::Range& rows) {
+      for (int v = rows.start; v < rows.end; ++v) {
+        double* z = depth.ptr<double>(v);
+        cv::Vec3b* c = bgr.ptr<cv::Vec3b>(v);
+        for (int u = 0; u < cam.width; ++u) {
+          const V3& d = rays[size_t(v * cam.width + u)];
+          const double tt = -centre[2] / d[2];
+          const double px = centre[0] + tt * d[0], py = centre[1] + tt * d[1];
+          const bool table = std::fabs(px) <= o.length / 2 + rim && std::fabs(py) <= o.width / 2 + rim;
+          const double surface = table ? tt : (-0.75 - centre[2]) / d[2];  // the table, or the floor below
+          const double best = hit_arms(arms, centre, d, surface);
+          z[u] = best;
+          if (o.shadow && !arms.empty()) {
+            const V3 s = centre + best * d, to = projector - s;
+            const double len = std::sqrt(to.dot(to));
+            if (hit_arms(arms, s + 1e-4 * to / len, to / len, len) < len) z[u] = 0;
+          }
+          if (!colour) continue;
+          cv::Vec3b paint(60, 60, 60);
+          if (best < surface) paint = cv::Vec3b(140, 170, 215);
+          else if (table) {
+            paint = cv::Vec3b(215, 215, 215);
+            for (int id = 0; id < 4; ++id) {
+              const Vec2 m = tracking::marker_position(id, o.length, o.width);
+              const double mx = (px - m.x) / marker + 0.5, my = 0.5 - (py - m.y) / marker;
+              if (mx >= 0 && mx < 1 && my >= 0 && my < 1) {
+                const uint8_t g = bitmaps[size_t(id)].at<uint8_t>(int(my * 60), int(mx * 60));
+                paint = cv::Vec3b(g, g, g);
+              }
             }
           }
+          c[u] = paint;
         }
-        for (const Arm& a : arms) {
-          const double hit = std::min({hit_mallet(centre, d, a.x, a.y, 0.04, a.lift, a.lift + 0.05),
-                                       hit_sphere(centre, d, a.hand, 0.035),
-                                       hit_capsule(centre, d, a.wrist, a.shoulder, 0.04)});
-          if (hit < best) best = hit, colour = cv::Vec3b(140, 170, 215);
-        }
-        c[u] = colour;
-        const uint16_t q = tracking::metres_to_raw(float(best));
-        const int noisy = q == tracking::kNoDepth ? q : int(std::lround(q + o.noise * gauss(rng)));
-        r[u] = uni(rng) < o.holes ? tracking::kNoDepth : uint16_t(std::clamp(noisy, 0, 2047));
       }
-    }
-    // The Kinect also loses whole patches (shadows of its projector, shiny spots).
+    });
+    // The sensor: raw disparity with noise, random holes, readings lost at depth edges (the
+    // speckle pattern breaks up there) and in the blind columns on the left.
+    cv::parallel_for_(cv::Range(0, cam.height), [&](const cv::Range& rows) {
+      std::normal_distribution<double> noise(0, 1);
+      std::uniform_real_distribution<double> chance(0, 1);
+      for (int v = rows.start; v < rows.end; ++v) {
+        std::mt19937_64 r = row_rng(o.seed, f, v, 1);
+        const double* z = depth.ptr<double>(v);
+        uint16_t* out = raw.ptr<uint16_t>(v);
+        for (int u = 0; u < cam.width; ++u) {
+          const uint16_t q = z[u] > 0 ? tracking::metres_to_raw(float(z[u])) : tracking::kNoDepth;
+          const int noisy = q == tracking::kNoDepth ? q : int(std::lround(q + o.noise * noise(r)));
+          bool lost = u < o.blind_columns || chance(r) < o.holes;
+          if (!lost && o.edge_dropout > 0) {
+            double step = 0;
+            for (auto [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+              const int nu = u + du, nv = v + dv;
+              if (nu >= 0 && nv >= 0 && nu < cam.width && nv < cam.height)
+                step = std::max(step, std::fabs(depth.at<double>(nv, nu) - z[u]));
+            }
+            lost = step > 0.03 && chance(r) < o.edge_dropout;
+          }
+          out[u] = lost ? tracking::kNoDepth : uint16_t(std::clamp(noisy, 0, 2047));
+        }
+      }
+    });
+    // The Kinect also loses whole patches (shiny spots).
     for (int k = 0; k < 4; ++k)
       cv::circle(raw, {int(uni(rng) * cam.width), int(uni(rng) * cam.height)}, 2 + int(5 * uni(rng)),
                  cv::Scalar(tracking::kNoDepth), cv::FILLED);
-    if (f % o.colour_every == 0) writer.rgb(t, bgr);
+    if (colour) writer.rgb(t, bgr);
     writer.depth(t, raw);
     writer.accel(t);
     nlohmann::ordered_json j;
@@ -226,7 +364,7 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
     j["t"] = t;
     j["players"] = nlohmann::json::array();
     for (const TruthPlayer& p : tf.players)
-      j["players"].push_back({{"id", p.id}, {"x", p.x}, {"y", p.y}, {"hovering", p.hovering}});
+      j["players"].push_back({{"id", p.id}, {"x", p.x}, {"y", p.y}, {"hovering", p.hovering}, {"hand", p.hand}});
     truth_file << j.dump() << '\n';
     truth.push_back(std::move(tf));
   }

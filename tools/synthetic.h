@@ -18,24 +18,33 @@ struct DepthSceneOptions {
   // A small table, so that from 1.0 m up a Kinect's 57 x 44 degrees see it whole, markers included.
   float length = 0.9f, width = 0.45f;  // the field between the markers' centres, m
   float height = 1.3f;                 // the camera above the table, m
-  float tilt = 0.02f;                  // rad: the camera looks this far off straight down, at most
+  float tilt = 1.0f;                   // degrees the camera looks off straight down ...
+  float tilt_toward = -1;              // ... toward this many degrees from the red end (+x; 90: across); < 0: drawn from the seed
   float offset = 0.02f;                // m: and stands this far off the table's centre, at most
-  float marker_size = 0.08f;           // m, printed side of a marker
+  float marker_size = 0;               // m, printed side of a marker; 0: the set-up guide's, 6.5 cm per metre of height (8 cm at least)
   int background_frames = 30;         // empty table first, for the background
   int frames = 300;                   // then this many with the players
   double fps = 30;
   double hover_share = 0.3;           // of the play frames, roughly, each hand is lifted
+  float hover_low = 0.15f, hover_high = 0.25f;  // m: a lifted hand's height above the table (its centre)
+  float speed = 2.0f;                 // m/s: the fastest a mallet moves
   float noise = 0.5f;                 // standard deviation of the raw disparity, in raw units
   float holes = 0.01f;                // share of pixels with no reading, plus a few hole blobs
+  bool shadow = true;                 // no reading where the projector (7.5 cm beside the camera) is hidden by an arm
+  float edge_dropout = 0.5f;          // chance that a pixel at a depth edge (> 3 cm step) has no reading
+  int blind_columns = 8;              // the Kinect v1's left columns that never give depth
   int colour_every = 15;              // a colour frame every this many depth frames
   uint64_t seed = 1;
   std::string blue = "Blue's mallet", red = "Red's mallet";  // the players' ids in the truth
+
+  float printed_marker_size() const;  // marker_size, or the guide's for this height
 };
 
 struct TruthPlayer {
   std::string id;
   double x = 0, y = 0;  // the mallet's centre on the table, field metres
   bool hovering = false;
+  double hand = 0;      // depth scenes: the hand's height above the table (its centre), m
 };
 
 struct TruthFrame {
@@ -45,8 +54,9 @@ struct TruthFrame {
 };
 
 // Writes the four playfield markers as printable PNGs, dir/marker-<id>.png, each captioned with
-// the corner it goes on.
-void write_markers(const std::string& dir);
+// the corner it goes on, and as dir/markers.pdf: one A4 page a marker, `side` metres a side when
+// printed at 100 % (a 10 cm bar on each page checks it), with ticks that point at its centre.
+void write_markers(const std::string& dir, double side = 0.15);
 
 // Writes the recording into `dir` (INDEX.txt and the frames) and the truth into
 // dir/truth.jsonl, one JSON object per depth frame; returns the truth.

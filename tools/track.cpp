@@ -35,16 +35,10 @@ void track(const TrackOptions& o, std::ostream& out) {
   lua::Params params(o.params);
   const Field field = lua::load_field(o.field, &params);
   params.check_read(o.field);
-  std::optional<Vec2> size;
-  if (!o.field_size.empty()) {
-    const std::vector<double> lw = parse_list(o.field_size, "--field-size");
-    if (lw.size() != 2 || !(lw[0] > 0 && lw[1] > 0)) throw std::invalid_argument("--field-size needs L,W in metres, both > 0");
-    size = Vec2{float(lw[0]), float(lw[1])};
-  }
-  const tracking::TrackedField tracked = tracking::tracked_field(field, size);
+  const tracking::TrackedField tracked = tracking::tracked_field(field, parse_field_size(o.field_size));
   tracking::TrackingInput input(o.source, tracked, {o.accel, o.fov});
   bool lost = false;
-  tracking::NobodySeen nobody;
+  tracking::SetupCheck setup(o.source, tracking::tracked_field(field), o.setup);
   tracking::TrackedFrame frame;
   for (int n = 0; o.frames == 0 || n < o.frames;) {
     const tracking::TrackingInput::Status status = input.next(frame, 0.1);
@@ -57,8 +51,7 @@ void track(const TrackOptions& o, std::ostream& out) {
     }
     if (status == tracking::TrackingInput::Status::Waiting) continue;
     lost = false;
-    if (const std::string warning = nobody.check(frame, o.source, tracked); !warning.empty())
-      std::cerr << "quantum: warning: " << warning << '\n';
+    for (const std::string& line : setup.check(frame, input, tracked)) std::cerr << "quantum: " << line << '\n';
     write_frame(out, frame);
     out << std::flush;  // other tools read it as it comes
     ++n;

@@ -7,6 +7,7 @@
 #include <opencv2/core/utils/logger.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 
@@ -158,6 +159,61 @@ TrackingInput::~TrackingInput() = default;
 
 bool TrackingInput::live() const { return impl_->kinect || impl_->camera >= 0 || impl_->tuio; }
 
+const Calibration* TrackingInput::calibration() const {
+  return impl_->depth && impl_->depth->ready() ? &impl_->depth->calibration() : nullptr;
+}
+
+std::string TrackingInput::sightings() { return impl_->depth ? impl_->depth->sightings() : ""; }
+
+std::string describe(const Calibration& c) {
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "calibration: %d of 4 markers, camera %.2f m above the table, tilted %.1f degrees, field %.3f x %.3f m "
+                "measured%s, depth noise %.1f cm, %.0f %% of the table without a reading",
+                c.markers, c.height, c.tilt, c.length, c.width, c.size_given ? " (--field-size given: used instead)" : "",
+                c.noise * 100, c.holes * 100);
+  return line;
+}
+
+std::string size_mismatch(const Calibration& c, const TrackedField& field) {
+  constexpr double kTolerance = 0.03;  // m: three times the calibration's own error
+  if (std::fabs(c.used_length - field.length) <= kTolerance && std::fabs(c.used_width - field.width) <= kTolerance) return "";
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "the markers span %.2f x %.2f m but the sport's field is %.2f x %.2f m: players are tracked on the table "
+                "as it is, so part of the field cannot be reached (or the players reach past it). Use --fit-field to "
+                "stretch the sport's field over the table, --field-size L,W if the markers are not on the field's "
+                "corners, or a sport whose field is the table's",
+                c.used_length, c.used_width, field.length, field.width);
+  return line;
+}
+
+std::vector<std::string> SetupCheck::check(TrackedFrame& frame, TrackingInput& input, const TrackedField& tracked) {
+  std::vector<std::string> lines;
+  const Calibration* c = input.calibration();
+  if (c && !calibrated_) {
+    calibrated_ = true;
+    lines.push_back(describe(*c));
+    if (const std::string mismatch = size_mismatch(*c, sport_); !mismatch.empty()) {
+      if (options_.strict) throw TrackingError(source_ + ": " + mismatch + " (--strict)");
+      if (options_.fit) {
+        sx_ = sport_.length / c->used_length, sy_ = sport_.width / c->used_width;
+        char fitted[200];
+        std::snprintf(fitted, sizeof fitted, "--fit-field: the sport's %.2f x %.2f m field is stretched over the "
+                      "%.2f x %.2f m table (x %.3f along, x %.3f across)", sport_.length, sport_.width, c->used_length,
+                      c->used_width, sx_, sy_);
+        lines.push_back(fitted);
+      } else {
+        lines.push_back("warning: " + mismatch);
+      }
+    }
+  }
+  for (TrackedPlayer& p : frame.players) p.x *= sx_, p.y *= sy_, p.vx *= sx_, p.vy *= sy_;
+  if (const std::string warning = nobody_.check(frame, source_, tracked, input); !warning.empty())
+    lines.push_back("warning: " + warning);
+  return lines;
+}
+
 Status TrackingInput::next(TrackedFrame& frame, double timeout) {
   Impl& m = *impl_;
   if (m.depth) return m.next_depth(frame);
@@ -166,16 +222,22 @@ Status TrackingInput::next(TrackedFrame& frame, double timeout) {
   return status;
 }
 
-std::string NobodySeen::check(const TrackedFrame& frame, const std::string& source, const TrackedField& field) {
+std::string NobodySeen::check(const TrackedFrame& frame, const std::string& source, const TrackedField& field,
+                              TrackingInput& input) {
   if (first_ < 0) first_ = frame.t;
   seen_ = seen_ || !frame.players.empty();
   if (seen_ || told_ || frame.t - first_ < after_) return "";
   told_ = true;
   char size[64];
   std::snprintf(size, sizeof size, "%.2f x %.2f m", field.length, field.width);
+  const Calibration* c = input.calibration();
+  if (c) std::snprintf(size, sizeof size, "%.2f x %.2f m", c->used_length, c->used_width);
+  const std::string sees = input.sightings();
   return source + ": no player seen in the first " + std::to_string(int(after_)) + " s of frames. Check that the " +
-         "markers are at the field's corners " + size + " apart (--field-size L,W when the table is another size), " +
-         "that the camera sees the whole field, and that the players are in view (docs/tracking.md)";
+         "markers are at the field's corners " + size + " apart" +
+         (c && !c->size_given ? " (as measured)" : " (--field-size L,W when the table is another size)") +
+         ", that the camera sees the whole field, and that the players are in view (docs/tracking.md)" +
+         (sees.empty() ? "" : ". Seen: " + sees);
 }
 
 }  // namespace quantum::tracking

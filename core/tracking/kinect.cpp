@@ -16,4 +16,6 @@ uint16_t metres_to_raw(float z) {
   return uint16_t(std::lround((1 / double(z) - kB) / kA));
 }
 
+float depth_step(float z) { return float(-kA) * z * z; }
+
 }  // namespace quantum::tracking

@@ -23,4 +23,7 @@ float raw_to_metres(uint16_t raw);
 // quantize to. kNoDepth outside 0.4-8 m.
 uint16_t metres_to_raw(float z);
 
+// The depth one raw unit spans at depth z: 0.0030711 z^2 m (5 mm at 1.3 m, 18 mm at 2.4 m).
+float depth_step(float z);
+
 }  // namespace quantum::tracking

@@ -12,6 +12,7 @@ TrackedField tracked_field(const Field& field, std::optional<Vec2> size) {
   TrackedField t;
   if (size) {
     t.length = size->x, t.width = size->y;
+    t.size_given = true;
   } else if (field.has_bounds) {  // a hall's court: its lines are the bounds, and its walls only posts
     t.length = field.bounds_max.x - field.bounds_min.x, t.width = field.bounds_max.y - field.bounds_min.y;
   } else {
@@ -37,7 +38,7 @@ Vec2 marker_position(int id, float length, float width) {
   throw std::invalid_argument("no playfield marker " + std::to_string(id));
 }
 
-CameraPose locate_camera(const cv::Mat& bgr, const TrackedField& field, const DepthCamera& camera) {
+std::vector<MarkerImage> find_markers(const cv::Mat& bgr) {
   std::vector<std::vector<cv::Point2f>> corners;
   std::vector<int> ids;
   const cv::Ptr<cv::aruco::Dictionary> dictionary = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_4X4_50);
@@ -45,30 +46,47 @@ CameraPose locate_camera(const cv::Mat& bgr, const TrackedField& field, const De
   // tilts the pose enough to move a hat 1.8 m up by decimetres.
   const cv::Ptr<cv::aruco::DetectorParameters> params = cv::aruco::DetectorParameters::create();
   params->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;
+  // A small window: the default (5 px) reaches past a marker's border when it is only a few
+  // pixels a cell (2.4 m up), and the table's edge beside it pulled the corners outward by 1.6 px.
+  params->cornerRefinementWinSize = 3;
   cv::aruco::detectMarkers(bgr, dictionary, corners, ids, params);
-  std::vector<cv::Point3f> world;
-  std::vector<cv::Point2f> image;
-  std::vector<std::vector<cv::Point2f>> seen;  // each found marker's corners, in the order of `world`
-  std::string missing;
+  std::vector<MarkerImage> found;
   for (int id = 0; id < 4; ++id) {
     const auto it = std::find(ids.begin(), ids.end(), id);
-    if (it == ids.end()) {
-      missing += (missing.empty() ? "" : ", ") + std::to_string(id);
-      continue;
-    }
+    if (it == ids.end()) continue;
     // The centre is where the diagonals cross: exact under perspective, unlike the corners' mean.
     const std::vector<cv::Point2f>& c = corners[size_t(it - ids.begin())];
     const cv::Point2f d1 = c[2] - c[0], d2 = c[3] - c[1], o = c[1] - c[0];
     const float den = d1.x * d2.y - d1.y * d2.x;
     const float s = std::fabs(den) > 1e-6f ? (o.x * d2.y - o.y * d2.x) / den : 0.5f;
-    image.push_back(c[0] + s * d1);
-    seen.push_back(c);
-    const Vec2 p = marker_position(id, field.length, field.width);
-    world.emplace_back(p.x, p.y, 0.0f);
+    found.push_back({id, c[0] + s * d1, {c[0], c[1], c[2], c[3]}});
   }
-  if (!missing.empty())
+  return found;
+}
+
+std::string missing_markers(const std::vector<MarkerImage>& found) {
+  std::string missing;
+  for (int id = 0; id < 4; ++id)
+    if (std::none_of(found.begin(), found.end(), [&](const MarkerImage& m) { return m.id == id; }))
+      missing += (missing.empty() ? "" : ", ") + std::to_string(id);
+  return missing;
+}
+
+CameraPose locate_camera(const cv::Mat& bgr, const TrackedField& field, const DepthCamera& camera) {
+  return locate_camera(find_markers(bgr), field, camera);
+}
+
+CameraPose locate_camera(const std::vector<MarkerImage>& found, const TrackedField& field, const DepthCamera& camera) {
+  if (const std::string missing = missing_markers(found); !missing.empty())
     throw TrackingError("playfield markers not found in the colour image: id " + missing +
                         " (ArUco DICT_4X4_50, ids 0-3 on the field's corners; see docs/tracking.md)");
+  std::vector<cv::Point3f> world;
+  std::vector<cv::Point2f> image;
+  for (const MarkerImage& m : found) {
+    image.push_back(m.centre);
+    const Vec2 p = marker_position(m.id, field.length, field.width);
+    world.emplace_back(p.x, p.y, 0.0f);
+  }
   const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   cv::Vec3d rvec, tvec;
   if (!cv::solvePnP(world, image, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE))
@@ -88,14 +106,15 @@ CameraPose locate_camera(const cv::Mat& bgr, const TrackedField& field, const De
   };
   double side = 0;
   std::vector<double> turn;
-  for (const auto& c : seen) {
+  for (const MarkerImage& m : found) {
+    const auto& c = m.corners;
     const cv::Point2d a = on_floor(c[0]), b = on_floor(c[1]), d = on_floor(c[3]);
-    side += (std::hypot(b.x - a.x, b.y - a.y) + std::hypot(d.x - a.x, d.y - a.y)) / (2.0 * double(seen.size()));
+    side += (std::hypot(b.x - a.x, b.y - a.y) + std::hypot(d.x - a.x, d.y - a.y)) / (2.0 * double(found.size()));
     turn.push_back(std::atan2(b.y - a.y, b.x - a.x));
   }
   std::vector<cv::Point3f> corner_world = world;
   std::vector<cv::Point2f> corner_image = image;
-  for (size_t m = 0; m < seen.size(); ++m) {
+  for (size_t m = 0; m < found.size(); ++m) {
     // ArUco's corners go round the marker: top-left, top-right, bottom-right, bottom-left as
     // printed; a->b is the top edge. On the floor (y up) the next corner is a quarter turn clockwise.
     const double ux = std::cos(turn[m]) * side, uy = std::sin(turn[m]) * side;  // along the top edge
@@ -105,7 +124,7 @@ CameraPose locate_camera(const cv::Mat& bgr, const TrackedField& field, const De
     for (int j = 0; j < 4; ++j) {
       corner_world.emplace_back(float(cx + offsets[j][0] * ux + offsets[j][1] * vx),
                                 float(cy + offsets[j][0] * uy + offsets[j][1] * vy), 0.0f);
-      corner_image.push_back(seen[m][size_t(j)]);
+      corner_image.push_back(found[m].corners[size_t(j)]);
     }
   }
   cv::solvePnP(corner_world, corner_image, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE);

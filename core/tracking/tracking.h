@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -51,6 +52,7 @@ struct TrackingError : std::runtime_error {
 // end (air hockey: the body that starts in that half).
 struct TrackedField {
   float length = 0, width = 0;
+  bool size_given = false;  // the operator's (--field-size): the depth pipeline maps to it, not to what it measures
   struct Player {
     std::string id, team;
     int end = 0;  // -1: reaches in over the blue end (x = -L/2), +1: over the red end
@@ -58,7 +60,8 @@ struct TrackedField {
   std::vector<Player> players;
 };
 
-// Size from the field's walls (or `size` when given: L, W), players from its bodies.
+// Size from the field's walls (or `size` when given: L, W, and then size_given), players from its
+// bodies.
 TrackedField tracked_field(const Field& field, std::optional<Vec2> size = std::nullopt);
 
 // The playfield markers: ArUco DICT_4X4_50, ids 0-3, lying flat with their centres on the
@@ -72,18 +75,61 @@ struct CameraPose {
   cv::Vec3d t;
 };
 
-// Finds the four markers in a colour image and the camera's pose from their centres. Throws
+// One playfield marker as a colour image shows it: its id (0-3), its centre (where its diagonals
+// cross: exact under perspective) and its corners in ArUco's order, sub-pixel.
+struct MarkerImage {
+  int id = 0;
+  cv::Point2f centre;
+  std::array<cv::Point2f, 4> corners;
+};
+std::vector<MarkerImage> find_markers(const cv::Mat& bgr);   // those of ids 0-3 it shows, in id order
+std::string missing_markers(const std::vector<MarkerImage>& found);  // "2, 3"; "" when all four are there
+
+// The camera's pose from the four markers' centres and corners, given the field's size. Throws
 // TrackingError naming the markers it did not see.
+CameraPose locate_camera(const std::vector<MarkerImage>& found, const TrackedField& field, const DepthCamera& camera);
 CameraPose locate_camera(const cv::Mat& bgr, const TrackedField& field, const DepthCamera& camera);
 
+// What the markers and the empty table's depth say about a Kinect's set-up (the depth pipeline's
+// self-calibration): the table's plane fitted to the background's depth inside the markers,
+// each marker's centre where its pixel's ray meets that plane.
+struct Calibration {
+  int markers = 0;               // found in the colour image, of 4
+  double height = 0;             // m: the camera above the table's plane
+  double tilt = 0;               // degrees the camera looks off straight down
+  double length = 0, width = 0;  // m: the field between the markers' centres, measured (each the mean of two sides)
+  double noise = 0;              // m: depth noise on the empty table, after the 5x5 median (per pixel, frame to frame)
+  double holes = 0;              // share of the table's pixels without a reading in any background frame
+  double depth_step = 0;         // m: one raw disparity unit at the table's distance
+  double pixel = 0;              // m: one pixel's footprint on the table
+  float used_length = 0, used_width = 0;  // what the markers are mapped to: measured, or --field-size
+  bool size_given = false;
+};
+
+// The table's plane in camera coordinates (n . X = d, n toward the camera's side, |n| = 1) from
+// depth pixels (CV_32F metres, 0 = none) inside `region` (CV_8U, nonzero), robustly: a least-squares
+// fit, then again without the points more than 3 sigma off it (an arm, a cup). Throws TrackingError
+// with too few readings.
+struct Plane {
+  cv::Vec3d n;
+  double d = 0;
+};
+Plane fit_table(const cv::Mat& depth, const cv::Mat& region, const DepthCamera& camera);
+
+// Every threshold is physical (metres on and above the table); DepthTracker turns them into
+// pixels and depth steps at the camera's measured height (Calibration), so one set of numbers
+// holds from a camera 1 m over a small table to 2.4 m over a full-size one. docs/tracking.md.
 struct DepthConfig {
   int background_frames = 30;    // depth frames of the empty table averaged into the background
-  float foreground = 0.02f;      // m: nearer than the background by this much is an arm
-  int min_area = 300;            // px: smaller blobs are noise
-  float mallet_offset = 0.04f;   // m: from the arm's farthest point back to the mallet's centre
-  int hand_window = 20;          // px: around the mallet's centre, whose median height is the hand's
-  float hover_height = 0.13f;    // m: a hand higher than this above the table is hovering
+  float foreground = 0.02f;      // m: nearer than the background by at least this much is an arm ...
+  float foreground_noise = 3.5f; // ... and by this many times the depth noise measured on the empty table
+  float min_area = 0.0015f;      // m^2 on the table (300 px at 1.3 m): smaller blobs are noise
+  float mallet_offset = 0.04f;   // m: from the mallet's far rim back to its centre (its radius)
+  float hand_window = 0.044f;    // m: around the mallet's centre, whose median height is the hand's (20 px at 1.3 m)
+  float hand_on_table = 0.075f;  // m: a hand gripping a mallet on the table, its centre's height
+  float hover_margin = 0.035f;   // m: a hand this much higher is hovering, or two depth steps when more
   float arm_reach = 0.25f;       // m: the arm's direction is taken from this much of it behind the tip
+  int blind_columns = 8;         // the Kinect's left columns without depth: an arm reaching in there leaves the image
   double filter_acceleration = 60;    // Kalman: m/s^2 of hand acceleration allowed
   double filter_measurement = 0.003;  // Kalman: m of measurement noise
 };
@@ -101,17 +147,23 @@ class DepthTracker {
   explicit DepthTracker(TrackedField field, DepthConfig config = {}, DepthCamera camera = {});
 
   // One recorded frame. Until the markers are found and the background is learnt it returns
-  // nothing; after that every frame gives a TrackedFrame. Throws TrackingError when no colour
-  // frame of the background phase showed all four markers.
+  // nothing; after that every frame gives a TrackedFrame, in metres of the measured table (or of
+  // --field-size). Throws TrackingError when no colour frame of the background phase showed all
+  // four markers, saying what the camera sees of the table.
   std::optional<TrackedFrame> feed(const RecordedFrame& frame);
 
   // This frame's arms (after feed()); hovering ones included.
   const std::vector<ArmMeasurement>& arms() const { return arms_; }
   bool ready() const { return learnt_ >= config_.background_frames && pose_.has_value(); }
+  const Calibration& calibration() const { return calibration_; }  // once ready()
+  // What the pipeline has seen since the last call, for an operator whose players are not found:
+  // "markers 4 of 4, ...; in 90 frames: 0 blobs, 0 arms reaching in over an end, 0 hovering".
+  std::string sightings();
 
  private:
   void learn(const cv::Mat& raw);
   void finish_background();
+  void scale();
   void measure(const cv::Mat& raw);
   void measure_arm(int label, const cv::Rect& box);
 
@@ -119,10 +171,16 @@ class DepthTracker {
   DepthConfig config_;
   DepthCamera camera_;
   std::optional<CameraPose> pose_;
-  std::string marker_problem_;
+  std::vector<MarkerImage> markers_;  // the most found in one colour frame so far
+  bool colour_seen_ = false;
+  Calibration calibration_;
   float to_metres_[2048];
-  cv::Mat sum_, count_, background_;  // CV_32F metres, CV_32S, CV_32F
+  cv::Mat filtered_;                        // CV_16U: the raw frame through a 5x5 median
+  cv::Mat sum_, sum2_, count_, background_;  // CV_32F metres, CV_32F, CV_32S, CV_32F
   int learnt_ = 0;
+  // The thresholds at the measured height (scale()).
+  float foreground_ = 0, hover_height_ = 0, offset_ = 0;
+  int min_area_ = 0;
   cv::Mat z_, mask_, labels_, stats_, centroids_;
   std::vector<float> ray_x_, ray_y_;  // per column and row: (u - cx) / fx, (v - cy) / fy
   struct Point {
@@ -130,9 +188,13 @@ class DepthTracker {
     int u, v;
   };
   std::vector<Point> points_;
+  std::vector<float> heights_;
   std::vector<ArmMeasurement> arms_;
   std::vector<PointFilter> filters_;
   double last_t_ = 0;
+  struct Seen {
+    int frames = 0, blobs = 0, arms = 0, hovering = 0, strays = 0;  // strays: arm-sized blobs not over an end
+  } seen_;
 };
 
 // --- Handball: coloured hats seen from above, and accelerometers for throws.

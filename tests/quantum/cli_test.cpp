@@ -200,7 +200,8 @@ TEST(Cli, TrackPrintsOneJsonObjectPerFrame) {
   std::filesystem::remove_all(dir);
 }
 
-// A table tracked as another size sees nobody: one warning says what to check, not silence.
+// A table mapped to a wrong --field-size sees nobody: one warning says what to check and what
+// the pipeline saw, not silence.
 TEST(Cli, TrackWarnsOnceWhenItSeesNobody) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_nobody_" + std::to_string(getpid()));
   quantum::tools::DepthSceneOptions o;
@@ -215,16 +216,64 @@ TEST(Cli, TrackWarnsOnceWhenItSeesNobody) {
   const size_t at = wrong.err.find("no player seen in the first 3 s");
   ASSERT_NE(at, std::string::npos) << wrong.err;
   EXPECT_EQ(wrong.err.find("no player seen", at + 1), std::string::npos) << "once";
-  EXPECT_NE(wrong.err.find("2.00 x 1.00 m"), std::string::npos) << wrong.err;
-  // play --input: a 0.9 m table recorded, the shipped air hockey field (2 m) expected.
-  const Outcome play = quantum("play " + kTable + " --input fakenect:" + dir.string() + " --audio none --quiet");
-  EXPECT_EQ(play.status, 0) << play.err;
-  EXPECT_NE(play.err.find("no player seen in the first 3 s"), std::string::npos) << play.err;
+  EXPECT_NE(wrong.err.find("2.00 x 1.00 m apart (--field-size"), std::string::npos) << wrong.err;
+  // What the pipeline saw: the markers, and arms that all read as hovering on a table taken for
+  // one twice its size (every height is scaled with it).
+  EXPECT_NE(wrong.err.find("Seen: markers 4 of 4 (field 2.00 x 1.00 m), camera"), std::string::npos) << wrong.err;
+  EXPECT_NE(wrong.err.find("reaching in over an end"), std::string::npos) << wrong.err;
   std::filesystem::remove_all(dir);
 }
 
-// No Kinect and no camera on a build machine: one line each, and nothing on stdout, which carries
-// JSON lines (libfreenect and OpenCV's backends would print their own diagnostics there).
+// Without --field-size the Kinect measures the table: one calibration line; a table that is not
+// the sport's field is a warning (an error with --strict), and --fit-field stretches the field over
+// it, on track and play alike.
+TEST(Cli, AKinectMeasuresItsTableAndSaysWhenItIsNotTheSportsField) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_measure_" + std::to_string(getpid()));
+  quantum::tools::DepthSceneOptions o;
+  o.frames = 60;
+  quantum::tools::write_depth_recording(dir.string(), o);  // 0.9 x 0.45 m; air hockey's field is 2 x 1 m
+  const Outcome plain = quantum("track fakenect:" + dir.string());
+  EXPECT_EQ(plain.status, 0) << plain.err;
+  EXPECT_NE(plain.err.find("quantum: calibration: 4 of 4 markers, camera 1.30 m above the table, tilted"),
+            std::string::npos) << plain.err;
+  EXPECT_NE(plain.err.find("field 0.90"), std::string::npos) << plain.err;
+  EXPECT_NE(plain.err.find("warning: the markers span 0.90 x 0.45 m but the sport's field is 2.00 x 1.00 m"),
+            std::string::npos) << plain.err;
+  EXPECT_EQ(plain.err.find("no player seen"), std::string::npos) << plain.err;
+
+  const Outcome strict = quantum("track fakenect:" + dir.string() + " --strict");
+  EXPECT_EQ(strict.status, 1);
+  EXPECT_NE(strict.err.find("the markers span 0.90 x 0.45 m but the sport's field is 2.00 x 1.00 m"), std::string::npos)
+      << strict.err;
+  EXPECT_NE(strict.err.find("(--strict)"), std::string::npos) << strict.err;
+
+  // --fit-field: the same frames, every position stretched by the field's size over the table's.
+  const Outcome fit = quantum("track fakenect:" + dir.string() + " --fit-field");
+  EXPECT_EQ(fit.status, 0) << fit.err;
+  EXPECT_NE(fit.err.find("--fit-field: the sport's 2.00 x 1.00 m field is stretched over the 0.90 x 0.45 m table"),
+            std::string::npos) << fit.err;
+  std::istringstream a(plain.out), b(fit.out);
+  int compared = 0;
+  for (std::string la, lb; std::getline(a, la) && std::getline(b, lb);) {
+    const nlohmann::json pa = nlohmann::json::parse(la).at("players"), pb = nlohmann::json::parse(lb).at("players");
+    ASSERT_EQ(pa.size(), pb.size());
+    for (size_t k = 0; k < pa.size(); ++k, ++compared) {
+      EXPECT_NEAR(pb[k].at("x").get<double>(), pa[k].at("x").get<double>() * 2.0 / 0.9, 0.01);
+      EXPECT_NEAR(pb[k].at("y").get<double>(), pa[k].at("y").get<double>() * 1.0 / 0.45, 0.01);
+    }
+  }
+  EXPECT_GT(compared, 60);
+
+  const Outcome play = quantum("play " + kTable + " --input fakenect:" + dir.string() + " --audio none --quiet --strict");
+  EXPECT_EQ(play.status, 1);
+  EXPECT_NE(play.err.find("(--strict)"), std::string::npos) << play.err;
+  const Outcome fitted = quantum("play " + kTable + " --input fakenect:" + dir.string() + " --audio none --quiet --fit-field");
+  EXPECT_EQ(fitted.status, 0) << fitted.err;
+  EXPECT_NE(fitted.err.find("quantum: calibration: 4 of 4 markers"), std::string::npos) << fitted.err;
+  EXPECT_NE(fitted.err.find("--fit-field: the sport's 2.00 x 1.00 m field is stretched"), std::string::npos) << fitted.err;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, TrackWithoutADeviceSaysSoInOneLine) {
   for (const char* source : {"kinect", "camera:7"}) {
     const Outcome r = quantum(std::string("track ") + source + " --frames 1");
