@@ -174,14 +174,14 @@ void write_markers(const std::string& dir, double side) {
     // The PDF page: the marker's 6 x 6 cells (its black border included) as one filled path.
     cv::Mat cells;
     dict->drawMarker(id, 6, cells);
-    const double s = side / kPoint, cell = s / 6, x0 = (kPageWidth - s) / 2, y0 = 110;
+    const double s = side / kPoint, cell = s / 6, x0 = (kPageWidth - s) / 2, y0 = 150;
     for (int v = 0; v < 6; ++v)
       for (int u = 0; u < 6; ++u)
         if (cells.at<uint8_t>(v, u) < 128) cairo_rectangle(cr, x0 + u * cell, y0 + v * cell, cell, cell);
     cairo_fill(cr);
     // Ticks on the marker's middle lines, outside its white margin: where the corner goes.
     cairo_set_line_width(cr, 0.75);
-    const double mx = x0 + s / 2, my = y0 + s / 2, gap = cell, tick = 18;
+    const double mx = x0 + s / 2, my = y0 + s / 2, gap = 8, tick = 18;
     for (auto [x, y, dx, dy] : {std::tuple{mx, y0 - gap, 0.0, -tick}, {mx, y0 + s + gap, 0.0, tick},
                                 {x0 - gap, my, -tick, 0.0}, {x0 + s + gap, my, tick, 0.0}}) {
       cairo_move_to(cr, x, y);

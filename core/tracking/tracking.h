@@ -2,10 +2,11 @@
 // metres. Field coordinates: origin at the field's centre, x from the blue end (x = -L/2) to the
 // red end (x = +L/2), y to the blue player's left, z up toward the camera.
 //
-// The air hockey pipeline (the paper's section 8.1): four ArUco markers on the field's corners
-// calibrate the camera; a depth background is learnt from the first frames of an empty table;
-// each frame, the arms reaching in over the short ends are cut out of it, and each arm's mallet
-// is found, rejected while its hand hovers, and smoothed by a Kalman filter. docs/tracking.md.
+// The air hockey pipeline (the paper's section 8.1): a depth background is learnt from the first
+// frames of an empty table; with the four ArUco markers on the field's corners it calibrates the
+// camera (its height, tilt and pose, and the field's size); each frame, the arms reaching in over
+// the short ends are cut out of it, and each arm's mallet is found, rejected while its hand
+// hovers, and smoothed by a Kalman filter. docs/tracking.md.
 #pragma once
 
 #include <opencv2/core.hpp>

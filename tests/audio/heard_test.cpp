@@ -2,11 +2,13 @@
 // recognizer hears it (tools/listen.cpp), what the event log and the transcript say became of each
 // phrase, and where the bounces are heard in the mix.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <sndfile.h>
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -21,13 +23,21 @@ namespace fs = std::filesystem;
 
 struct Rendered {
   std::string wav, events, transcript;
+  std::shared_ptr<const fs::path> dir;  // removed with the last copy
 };
 
 // A match of `sport` (seed 5, simulated players) into a WAV file, its event log and transcript.
 Rendered render(const std::string& sport, double seconds = 40) {
-  const fs::path dir = fs::temp_directory_path() / ("quantum_heard_" + sport + "_" + std::to_string(int(seconds)));
+  // The process id too: CTest runs the Heard tests side by side, and two of them render the same
+  // sport for the same time.
+  const fs::path dir = fs::temp_directory_path() / ("quantum_heard_" + sport + "_" + std::to_string(int(seconds)) +
+                                                    "_" + std::to_string(getpid()));
   fs::create_directories(dir);
-  Rendered r{(dir / "match.wav").string(), (dir / "events.jsonl").string(), ""};
+  Rendered r{(dir / "match.wav").string(), (dir / "events.jsonl").string(), "",
+             std::shared_ptr<const fs::path>(new fs::path(dir), [](const fs::path* p) {
+               fs::remove_all(*p);
+               delete p;
+             })};
   runtime::SessionOptions o;
   o.sport = QUANTUM_SOURCE_DIR "/rules/" + sport;
   o.seed = 5;

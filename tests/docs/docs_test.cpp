@@ -141,9 +141,9 @@ TEST(Docs, EveryCppExampleQuotesAShippedFile) {
   EXPECT_GT(quoted, 0);
 }
 
-std::string help_of(const std::string& command) {
+std::string help_of(const std::string& command, const std::string& program = QUANTUM_BINARY) {
   std::string out;
-  FILE* p = popen((QUANTUM_BINARY " " + command + " --help 2>&1").c_str(), "r");
+  FILE* p = popen((program + " " + command + " --help 2>&1").c_str(), "r");
   if (!p) return out;
   std::array<char, 4096> buf;
   while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
@@ -167,6 +167,25 @@ TEST(Docs, EveryQuantumCommandLineUsesOptionsItHas) {
     }
   }
   EXPECT_GT(checked, 5);
+}
+
+// The same for `build/quantum-synth`, which writes the recordings the tracking docs talk about.
+TEST(Docs, EverySynthCommandLineUsesOptionsItHas) {
+  int checked = 0;
+  const std::regex command(R"((?:^|\s)build/quantum-synth\b([^\n#]*))");
+  const std::regex option(R"(\s(--[a-z][a-z-]*))");
+  const std::string help = help_of("", QUANTUM_BINARY "-synth");
+  for (const Example& e : examples()) {
+    if (e.language != "sh") continue;
+    for (auto m = std::sregex_iterator(e.text.begin(), e.text.end(), command); m != std::sregex_iterator(); ++m) {
+      const std::string args = (*m)[1];
+      for (auto o = std::sregex_iterator(args.begin(), args.end(), option); o != std::sregex_iterator(); ++o)
+        EXPECT_NE(help.find((*o)[1].str()), std::string::npos)
+            << e.doc << ":" << e.line << ": `quantum-synth` has no option " << (*o)[1];
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 2);  // tracking.md: a full-size table, and a rally
 }
 
 }  // namespace

@@ -118,6 +118,8 @@ struct Rig {
   uint64_t seed;
 };
 
+void PrintTo(const Rig& rig, std::ostream* out) { *out << rig.name; }
+
 class FullSizeTable : public testing::TestWithParam<Rig> {};
 
 TEST_P(FullSizeTable, MalletsAreTrackedAndTheTableIsMeasured) {
@@ -325,6 +327,24 @@ TEST(Depth, MissingMarkersAreNamed) {
   } catch (const tracking::TrackingError& e) {
     EXPECT_NE(std::string(e.what()).find("markers not found in the colour image: id 2, 3"), std::string::npos) << e.what();
   }
+}
+
+// The printable markers: four A4 pages in markers.pdf (one marker each) beside the PNGs; sizes
+// that do not fit a page, or are too small to print, are refused.
+TEST(Markers, ThePdfHasOneA4PageAMarker) {
+  TempDir dir("markers_pdf");
+  tools::write_markers(dir.path.string(), 0.12);
+  std::ifstream in(dir.path / "markers.pdf", std::ios::binary);
+  const std::string pdf((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(pdf.rfind("%PDF-", 0), 0u);
+  size_t pages = 0;
+  for (size_t at = pdf.find("/MediaBox [ 0 0 595.276 841.89 ]"); at != std::string::npos;
+       at = pdf.find("/MediaBox [ 0 0 595.276 841.89 ]", at + 1))
+    ++pages;
+  EXPECT_EQ(pages, 4u);
+  for (int id = 0; id < 4; ++id) EXPECT_TRUE(fs::exists(dir.path / ("marker-" + std::to_string(id) + ".png"))) << id;
+  EXPECT_THROW(tools::write_markers(dir.path.string(), 0.25), std::invalid_argument);
+  EXPECT_THROW(tools::write_markers(dir.path.string(), 0.01), std::invalid_argument);
 }
 
 }  // namespace
