@@ -462,6 +462,7 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
     fill_powerup(L, match, match.powerups()[j]);
     lua_pop(L, 1);
   }
+  zeroed_by_.reserve(std::max<size_t>(256, fates.size()));  // as Match's fate buffers: room for a busy moment
   zeroed_by_.assign(fates.size(), kNotZeroed);
   for (size_t k = 0; k < fates.size(); ++k) {
     const game::FateView& f = fates[k];

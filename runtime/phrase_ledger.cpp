@@ -7,9 +7,17 @@
 namespace quantum::runtime {
 namespace {
 
+// A new slot's strings get room for a long phrase: a phrase longer than any before would
+// otherwise allocate in the frame that holds it (a string's copy keeps the room it has).
+constexpr size_t kPhraseRoom = 128;
+void make_room(game::Said& s) { s.text.reserve(kPhraseRoom); }
+void make_room(audio::PhraseFate& f) { f.by.reserve(kPhraseRoom); }
+template <class T>
+void make_room(T&) {}
+
 template <class T>
 T& slot(std::vector<T>& v, size_t& n) {
-  if (n == v.size()) v.emplace_back();
+  if (n == v.size()) make_room(v.emplace_back());
   return v[n++];
 }
 
@@ -28,7 +36,7 @@ void PhraseLedger::hold(std::span<const game::GameEvent> events, std::span<const
   for (const game::GameEvent& e : events) slot(events_, n_events_) = e;
   for (const game::Said& s : said) {
     slot(said_, n_said_) = s;  // a string's copy keeps its room
-    if (fates_.size() < n_said_) fates_.emplace_back();
+    if (fates_.size() < n_said_) make_room(fates_.emplace_back());
     fates_[n_said_ - 1].id = 0;  // unsettled
   }
   next_id_ += said.size();

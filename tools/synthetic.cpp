@@ -223,7 +223,6 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
                                 "degrees, holes a share under 1, hovering hands above the table's 9.5 cm");
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> uni(0, 1);
-  std::normal_distribution<double> gauss(0, 1);
   const tracking::DepthCamera cam;
 
   // The camera: above the table's centre give or take a few centimetres, looking down, image
@@ -329,10 +328,12 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
     // The sensor: raw disparity with noise, random holes, readings lost at depth edges (the
     // speckle pattern breaks up there) and in the blind columns on the left.
     cv::parallel_for_(cv::Range(0, cam.height), [&](const cv::Range& rows) {
-      std::normal_distribution<double> noise(0, 1);
-      std::uniform_real_distribution<double> chance(0, 1);
       for (int v = rows.start; v < rows.end; ++v) {
+        // Distributions of the row's own: a normal distribution keeps a spare draw, which would
+        // carry into the next row of whatever chunk of rows this thread was given.
         std::mt19937_64 r = row_rng(o.seed, f, v, 1);
+        std::normal_distribution<double> noise(0, 1);
+        std::uniform_real_distribution<double> chance(0, 1);
         const double* z = depth.ptr<double>(v);
         uint16_t* out = raw.ptr<uint16_t>(v);
         for (int u = 0; u < cam.width; ++u) {

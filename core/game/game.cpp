@@ -57,6 +57,14 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   // first busy frames from allocating.
   events_.reserve(64);
   said_.reserve(64);
+  // Fate groups: a few dozen in a busy moment, seldom more; room for many more keeps a busier
+  // moment than any before from allocating in its frame (the prediction, its views and factors).
+  constexpr size_t kFateGroups = 256;
+  report_.groups.reserve(kFateGroups);
+  views_.reserve(kFateGroups);
+  factors_.reserve(kFateGroups);
+  decision_fates_.reserve(kFateGroups);
+  report_.group_of.reserve(2 * size_t(config.particles));  // one a particle, as World::predict's own fates
   respawn(config.first_spot, 0);
   if (config.first_holder >= 0) check_catcher(config.first_holder), respawn_holder_ = config.first_holder;
 }

@@ -451,7 +451,9 @@ void World::predict(FateReport& report, float horizon) const {
 }
 
 void GroupIndex::clear() {
-  if (keys.empty()) keys.resize(64), groups.resize(64);
+  // Room for 256 fates at half load: more than a busy moment has, so a busier one than any before
+  // does not rehash (allocate) in its frame.
+  if (keys.empty()) keys.resize(512), groups.resize(512);
   std::fill(groups.begin(), groups.end(), 0u);
   used = 0;
 }

@@ -62,7 +62,13 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
   for (PurgatorySlot& slot : purgatory_)
     slot.touched.reserve(config_.particles, tall), slot.body.reserve(config_.particles);
   cloud_.reserve(config_.particles, tall);
-  scratch_.reserve(config_.particles, tall);
+  // A prediction's fates, one a particle: the cloud starts as one particle at a drop and grows
+  // past N for a while after a realized contact (the gathered shot before the split), so room made
+  // as it came would be made in the first frame it is fuller than ever.
+  internals_->fates.reserve(2 * size_t(config_.particles));
+  // Twice the cloud: a realized contact gathers the body's touched particles from every purgatory
+  // slot, which after a hard hit can be more than one cloud's worth.
+  scratch_.reserve(2 * size_t(config_.particles), tall);
   contacts_.reserve(config_.particles);
   removed_.reserve(config_.particles);
 }

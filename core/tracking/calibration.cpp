@@ -39,7 +39,8 @@ Plane fit_table(const cv::Mat& depth, const cv::Mat& region, const DepthCamera& 
     if (normal[2] > 0) normal = -normal;  // toward the camera, which looks down along +z
     plane.n = normal;
     plane.d = normal.dot(mean);
-    limit = 3 * std::sqrt(std::max(values(2), 0.0) / double(n));
+    // At least 5 mm: a noiseless, level table would otherwise leave no point within the limit.
+    limit = std::max(0.005, 3 * std::sqrt(std::max(values(2), 0.0) / double(n)));
   }
   return plane;
 }

@@ -16,12 +16,17 @@ DepthTracker::DepthTracker(TrackedField field, DepthConfig config, DepthCamera c
   for (int u = 0; u < camera_.width; ++u) ray_x_.push_back((float(u) - camera_.cx) / camera_.fx);
   for (int v = 0; v < camera_.height; ++v) ray_y_.push_back((float(v) - camera_.cy) / camera_.fy);
   for (size_t k = 0; k < field_.players.size(); ++k) filters_.emplace_back(config_.filter_acceleration, config_.filter_measurement);
-  sum_ = cv::Mat::zeros(camera_.height, camera_.width, CV_32F);
-  sum2_ = cv::Mat::zeros(camera_.height, camera_.width, CV_32F);
+  // Doubles: the variance is a difference of two sums of squares of depths near 2.4 m, which
+  // floats round by as much as a quiet pixel's variance.
+  sum_ = cv::Mat::zeros(camera_.height, camera_.width, CV_64F);
+  sum2_ = cv::Mat::zeros(camera_.height, camera_.width, CV_64F);
+  seen_players_.assign(field_.players.size(), 0);
+  opening_ = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
   count_ = cv::Mat::zeros(camera_.height, camera_.width, CV_32S);
 }
 
 std::optional<TrackedFrame> DepthTracker::feed(const RecordedFrame& frame) {
+  if (!failed_.empty()) throw TrackingError(failed_);  // a calibration that failed does not come back
   if (frame.depth.rows != camera_.height || frame.depth.cols != camera_.width || frame.depth.type() != CV_16UC1)
     throw TrackingError(frame.file + ": expected " + std::to_string(camera_.width) + "x" +
                         std::to_string(camera_.height) + " 16-bit depth");
@@ -35,7 +40,14 @@ std::optional<TrackedFrame> DepthTracker::feed(const RecordedFrame& frame) {
       colour_seen_ = true;
     }
     learn(filtered_);
-    if (learnt_ == config_.background_frames) finish_background();
+    if (learnt_ == config_.background_frames) {
+      try {
+        finish_background();
+      } catch (const TrackingError& e) {
+        failed_ = e.what();
+        throw;
+      }
+    }
     last_t_ = frame.t;
     return std::nullopt;
   }
@@ -45,10 +57,11 @@ std::optional<TrackedFrame> DepthTracker::feed(const RecordedFrame& frame) {
   TrackedFrame out;
   out.frame = frame.index;
   out.t = frame.t;
-  std::vector<bool> seen(field_.players.size(), false);
+  std::vector<uint8_t>& seen = seen_players_;
+  std::fill(seen.begin(), seen.end(), 0);
   for (const ArmMeasurement& a : arms_) {
     if (a.player < 0 || a.hovering || seen[size_t(a.player)]) continue;
-    seen[size_t(a.player)] = true;
+    seen[size_t(a.player)] = 1;
     PointFilter& f = filters_[size_t(a.player)];
     f.predict(dt);
     f.correct(a.x, a.y);
@@ -65,8 +78,8 @@ std::optional<TrackedFrame> DepthTracker::feed(const RecordedFrame& frame) {
 void DepthTracker::learn(const cv::Mat& raw) {
   for (int v = 0; v < raw.rows; ++v) {
     const uint16_t* r = raw.ptr<uint16_t>(v);
-    float* s = sum_.ptr<float>(v);
-    float* s2 = sum2_.ptr<float>(v);
+    double* s = sum_.ptr<double>(v);
+    double* s2 = sum2_.ptr<double>(v);
     int* c = count_.ptr<int>(v);
     for (int u = 0; u < raw.cols; ++u) {
       const float z = to_metres_[r[u] & 2047];
@@ -81,7 +94,7 @@ namespace {
 // How high a camera must hang to see a field of length x width metres and its markers (each
 // `margin` beyond the corner), looking straight down or tilted by `tilt` degrees.
 double mounting_height(double length, double width, double margin, double tilt, const DepthCamera& c) {
-  const double t = std::tan(tilt * M_PI / 180);
+  const double t = std::tan(std::min(tilt, 15.0) * M_PI / 180);  // a camera tilted further is set up anew anyway
   const double across = (c.width / 2.0) / c.fx, down = (c.height / 2.0) / c.fy;  // tangents of the half angles
   return std::max((length / 2 + margin) / ((across - t) / (1 + across * t)), (width / 2 + margin) / ((down - t) / (1 + down * t)));
 }
@@ -94,9 +107,9 @@ void DepthTracker::finish_background() {
   for (int v = 0; v < sum_.rows; ++v)
     for (int u = 0; u < sum_.cols; ++u) {
       const int c = count_.at<int>(v, u);
-      const float mean = c > 0 ? sum_.at<float>(v, u) / float(c) : 0.0f;
-      background_.at<float>(v, u) = mean;
-      noise.at<float>(v, u) = c > 1 ? std::sqrt(std::max(0.0f, sum2_.at<float>(v, u) / float(c) - mean * mean)) : -1.0f;
+      const double mean = c > 0 ? sum_.at<double>(v, u) / c : 0.0;
+      background_.at<float>(v, u) = float(mean);
+      noise.at<float>(v, u) = c > 1 ? float(std::sqrt(std::max(0.0, sum2_.at<double>(v, u) / c - mean * mean))) : -1.0f;
       holes.at<uint8_t>(v, u) = c == 0;
     }
   // The table: inside the markers' centres when all four were seen, else the picture's middle.
@@ -125,6 +138,21 @@ void DepthTracker::finish_background() {
     std::nth_element(spread.begin(), spread.begin() + long(spread.size() / 2), spread.end());
     c.noise = spread[spread.size() / 2];
   }
+  if (!colour_seen_)
+    throw TrackingError("no colour frame among the first " + std::to_string(config_.background_frames) +
+                        " depth frames: the markers cannot be found");
+  if (all) {
+    // The centres go round the field in id order (docs/tracking.md); two markers on each other's
+    // corners make a crossed quadrilateral, and the "length" would be a diagonal.
+    int turns = 0;
+    for (size_t k = 0; k < 4; ++k) {
+      const cv::Point2f a = markers_[k].centre, b = markers_[(k + 1) % 4].centre, d = markers_[(k + 2) % 4].centre;
+      turns += (b - a).cross(d - b) > 0 ? 1 : -1;
+    }
+    if (std::abs(turns) != 4)
+      throw TrackingError("the playfield markers are not in order round the field: 0 and 1 go on the red end, 2 and 3 "
+                          "on the blue end, 0 and 3 on Blue's left (docs/tracking.md, Playfield markers)");
+  }
   const Plane plane = fit_table(background_, table, camera_);
   c.height = -plane.d;
   c.tilt = std::acos(std::min(1.0, -plane.n[2])) * 180 / M_PI;
@@ -136,16 +164,14 @@ void DepthTracker::finish_background() {
   if (!all) {
     char sees[400];
     std::snprintf(sees, sizeof sees,
-                  ". The camera is %.2f m above the table and sees %.2f x %.2f m of it around its centre; a %.2f x %.2f m "
-                  "field (the sport's) with its markers needs it at least %.2f m up (docs/tracking.md, Mounting)",
+                  " The camera is %.2f m above the table and sees %.2f x %.2f m of it around its centre; a %.2f x %.2f m "
+                  "field (%s) with its markers needs it at least %.2f m up (docs/tracking.md, Setting up a full-size "
+                  "table)",
                   c.height, 2 * c.height * (camera_.width / 2.0) / camera_.fx,
                   2 * c.height * (camera_.height / 2.0) / camera_.fy, field_.length, field_.width,
+                  field_.size_given ? "--field-size" : "the sport's",
                   mounting_height(field_.length, field_.width, 0.1, c.tilt, camera_));
-    throw TrackingError(colour_seen_ ? "playfield markers not found in the colour image: id " + missing_markers(markers_) +
-                                                   " (ArUco DICT_4X4_50, ids 0-3 on the field's corners)" + sees
-                                             : "no colour frame among the first " +
-                                                   std::to_string(config_.background_frames) +
-                                                   " depth frames: the markers cannot be found");
+    throw TrackingError(markers_not_found(markers_) + sees);
   }
   // Each marker's centre where its pixel's ray meets the table.
   std::array<cv::Vec3d, 4> at;
@@ -171,8 +197,10 @@ void DepthTracker::scale() {
   // the mallet (5 cm tall) stays above this up to about 2 raw units of noise at 2.4 m.
   foreground_ = std::max(config_.foreground, config_.foreground_noise * float(c.noise));
   // A hovering hand reads higher than a resting one by its lift: the margin covers the depth's
-  // quantization there (two steps).
-  hover_height_ = config_.hand_on_table + std::max(config_.hover_margin, 2 * float(c.depth_step));
+  // quantization there (two steps) and its noise (a resting hand 2.4 m below read up to 11.3 cm
+  // with 1 cm of noise, the lowest hovering one 14.4 cm).
+  hover_height_ = config_.hand_on_table + std::max(config_.hover_margin, 2 * float(c.depth_step)) +
+                  config_.hover_noise * float(c.noise);
   // The farthest pixel's centre lies half a pixel inside the mallet's rim, on average.
   offset_ = config_.mallet_offset - 0.5f * float(c.pixel);
   min_area_ = int(config_.min_area / (c.pixel * c.pixel));
@@ -213,7 +241,7 @@ void DepthTracker::measure(const cv::Mat& raw) {
     }
   }
   // Isolated pixels are depth noise, not arms.
-  cv::morphologyEx(mask_, mask_, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+  cv::morphologyEx(mask_, mask_, cv::MORPH_OPEN, opening_);
   const int n = cv::connectedComponentsWithStats(mask_, labels_, stats_, centroids_, 8, CV_32S);
   arms_.clear();
   ++seen_.frames;

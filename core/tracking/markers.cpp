@@ -72,14 +72,17 @@ std::string missing_markers(const std::vector<MarkerImage>& found) {
   return missing;
 }
 
+std::string markers_not_found(const std::vector<MarkerImage>& found) {
+  return "playfield markers not found in the colour image: id " + missing_markers(found) +
+         " (ArUco DICT_4X4_50, ids 0-3 on the field's corners; see docs/tracking.md).";
+}
+
 CameraPose locate_camera(const cv::Mat& bgr, const TrackedField& field, const DepthCamera& camera) {
   return locate_camera(find_markers(bgr), field, camera);
 }
 
 CameraPose locate_camera(const std::vector<MarkerImage>& found, const TrackedField& field, const DepthCamera& camera) {
-  if (const std::string missing = missing_markers(found); !missing.empty())
-    throw TrackingError("playfield markers not found in the colour image: id " + missing +
-                        " (ArUco DICT_4X4_50, ids 0-3 on the field's corners; see docs/tracking.md)");
+  if (found.size() < 4) throw TrackingError(markers_not_found(found));
   std::vector<cv::Point3f> world;
   std::vector<cv::Point2f> image;
   for (const MarkerImage& m : found) {

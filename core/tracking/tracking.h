@@ -85,6 +85,8 @@ struct MarkerImage {
 };
 std::vector<MarkerImage> find_markers(const cv::Mat& bgr);   // those of ids 0-3 it shows, in id order
 std::string missing_markers(const std::vector<MarkerImage>& found);  // "2, 3"; "" when all four are there
+// "playfield markers not found in the colour image: id 2, 3 (...)." for the missing ones.
+std::string markers_not_found(const std::vector<MarkerImage>& found);
 
 // The camera's pose from the four markers' centres and corners, given the field's size. Throws
 // TrackingError naming the markers it did not see.
@@ -128,7 +130,8 @@ struct DepthConfig {
   float mallet_offset = 0.04f;   // m: from the mallet's far rim back to its centre (its radius)
   float hand_window = 0.044f;    // m: around the mallet's centre, whose median height is the hand's (20 px at 1.3 m)
   float hand_on_table = 0.075f;  // m: a hand gripping a mallet on the table, its centre's height
-  float hover_margin = 0.035f;   // m: a hand this much higher is hovering, or two depth steps when more
+  float hover_margin = 0.035f;   // m: a hand this much higher is hovering, or two depth steps when more, ...
+  float hover_noise = 1.5f;      // ... plus this many times the depth noise measured on the empty table
   float arm_reach = 0.25f;       // m: the arm's direction is taken from this much of it behind the tip
   int blind_columns = 8;         // the Kinect's left columns without depth: an arm reaching in there leaves the image
   double filter_acceleration = 60;    // Kalman: m/s^2 of hand acceleration allowed
@@ -174,10 +177,11 @@ class DepthTracker {
   std::optional<CameraPose> pose_;
   std::vector<MarkerImage> markers_;  // the most found in one colour frame so far
   bool colour_seen_ = false;
+  std::string failed_;  // why calibration failed: every later frame says it again
   Calibration calibration_;
   float to_metres_[2048];
   cv::Mat filtered_;                        // CV_16U: the raw frame through a 5x5 median
-  cv::Mat sum_, sum2_, count_, background_;  // CV_32F metres, CV_32F, CV_32S, CV_32F
+  cv::Mat sum_, sum2_, count_, background_;  // CV_64F metres, CV_64F, CV_32S, CV_32F metres
   int learnt_ = 0;
   // The thresholds at the measured height (scale()).
   float foreground_ = 0, hover_height_ = 0, offset_ = 0;
@@ -190,6 +194,8 @@ class DepthTracker {
   };
   std::vector<Point> points_;
   std::vector<float> heights_;
+  std::vector<uint8_t> seen_players_;  // per player: input this frame
+  cv::Mat opening_;                    // the 3x3 kernel that clears single-pixel noise
   std::vector<ArmMeasurement> arms_;
   std::vector<PointFilter> filters_;
   double last_t_ = 0;

@@ -1,6 +1,7 @@
 // The air hockey depth pipeline on synthetic Kinect recordings (tools/synthetic.h) whose truth is
 // known: accuracy, hover rejection, the recording format and bad input.
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -80,6 +81,18 @@ Figures figures(Accuracy& a) {
   for (double e : a.errors) f.mean += e / double(a.errors.size());
   f.p95 = a.errors.empty() ? 0 : a.errors[a.errors.size() * 95 / 100];
   return f;
+}
+
+// What the tracker says when it stops on `rec`: the TrackingError's message ("" when it ran through).
+std::string stop_reason(const std::string& rec, DepthTracker& tracker) {
+  FakenectReader reader(rec);
+  RecordedFrame f;
+  try {
+    while (reader.next(f)) tracker.feed(f);
+  } catch (const tracking::TrackingError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 // The figures: mallet error mean <= 1.5 cm and 95th percentile <= 3 cm; hovering hands
@@ -175,17 +188,10 @@ TEST(Depth, ACameraTooLowForItsTableSaysHowHighItMustHang) {
   o.length = 2.2f, o.width = 1.1f, o.height = 1.8f, o.frames = 1;
   tools::write_depth_recording(dir.path.string(), o);
   DepthTracker tracker(tracking::tracked_field(lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey")));
-  FakenectReader reader(dir.path.string());
-  RecordedFrame f;
-  try {
-    while (reader.next(f)) tracker.feed(f);
-    FAIL() << "no error";
-  } catch (const tracking::TrackingError& e) {
-    const std::string m = e.what();
-    EXPECT_NE(m.find("markers not found in the colour image: id 0, 1, 2, 3"), std::string::npos) << m;
-    EXPECT_NE(m.find("The camera is 1.80 m above the table"), std::string::npos) << m;
-    EXPECT_NE(m.find("needs it at least 2.1"), std::string::npos) << m;  // 2.0 x 1.0 m, 10 cm beyond, 1 degree tilt
-  }
+  const std::string m = stop_reason(dir.path.string(), tracker);
+  EXPECT_NE(m.find("markers not found in the colour image: id 0, 1, 2, 3"), std::string::npos) << m;
+  EXPECT_NE(m.find("The camera is 1.80 m above the table"), std::string::npos) << m;
+  EXPECT_NE(m.find("needs it at least 2.1"), std::string::npos) << m;  // 2.0 x 1.0 m, 10 cm beyond, 1 degree tilt
 }
 
 TEST(Depth, KinectDisparityModel) {
@@ -317,16 +323,37 @@ TEST(Depth, MissingMarkersAreNamed) {
     out << header << '\n';
     out.write(rgb.data(), std::streamsize(rgb.size()));
   }
-  tools::DepthSceneOptions o;
-  DepthTracker tracker(table(o));
-  FakenectReader reader(rec);
-  RecordedFrame f;
-  try {
-    while (reader.next(f)) tracker.feed(f);
-    FAIL() << "no error";
-  } catch (const tracking::TrackingError& e) {
-    EXPECT_NE(std::string(e.what()).find("markers not found in the colour image: id 2, 3"), std::string::npos) << e.what();
+  DepthTracker tracker(table(tools::DepthSceneOptions{}));
+  const std::string m = stop_reason(rec, tracker);
+  EXPECT_NE(m.find("markers not found in the colour image: id 2, 3"), std::string::npos) << m;
+}
+
+// Markers 0 and 1 on each other's corners: the centres cross, and the tracker says so instead of
+// measuring a diagonal as the field's length.
+TEST(Depth, MarkersOutOfOrderAreNamed) {
+  TempDir dir("crossed");
+  const std::string rec = small_recording(dir);
+  for (const std::string& l : index_of(rec)) {
+    if (l[0] != 'r') continue;
+    const fs::path p = fs::path(rec) / l;
+    cv::Mat rgb = cv::imread(p.string(), cv::IMREAD_COLOR);
+    const std::vector<tracking::MarkerImage> found = tracking::find_markers(rgb);
+    ASSERT_EQ(found.size(), 4u);
+    // Swap the squares around markers 0 and 1, each a little larger than the marker.
+    const auto square = [&](const tracking::MarkerImage& m) {
+      const float side = float(cv::norm(m.corners[0] - m.corners[2])) * 0.8f;
+      return cv::Rect(int(m.centre.x - side), int(m.centre.y - side), int(2 * side), int(2 * side));
+    };
+    const cv::Rect a = square(found[0]), b(square(found[1]).x, square(found[1]).y, square(found[0]).width,
+                                          square(found[0]).height);
+    cv::Mat patch = rgb(a).clone();
+    rgb(b).copyTo(rgb(a));
+    patch.copyTo(rgb(b));
+    ASSERT_TRUE(cv::imwrite(p.string(), rgb));  // binary P6, as libfreenect writes it
   }
+  DepthTracker tracker(table(tools::DepthSceneOptions{}));
+  const std::string m = stop_reason(rec, tracker);
+  EXPECT_NE(m.find("markers are not in order round the field"), std::string::npos) << m;
 }
 
 // The printable markers: four A4 pages in markers.pdf (one marker each) beside the PNGs; sizes
