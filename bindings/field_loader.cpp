@@ -10,8 +10,8 @@ namespace quantum::lua {
 namespace {
 
 // A field file is data: a runaway loop or a memory bomb in it is a mistake to report, not a hang.
-constexpr int kInstructionBudget = 10'000'000;
-constexpr size_t kMemoryBudget = 64u << 20;
+// It runs once, when a match is set up: a whole second of CPU for its geometry.
+constexpr Limits kFieldLimits{64u << 20, 10'000'000, 1.0};
 
 // "3" of "walls[3]": an unnamed wall, spot or area is called by its number in the list.
 std::string number_of(const std::string& place) {
@@ -154,29 +154,33 @@ std::string field_file(const std::string& path) {
 Field load_field(const std::string& path, Params* params) {
   const std::string file = field_file(path);
   if (!std::filesystem::exists(file)) throw FieldError(file, "no such field file");
-  Sandbox sandbox(kMemoryBudget, kInstructionBudget, false);
+  Sandbox sandbox(kFieldLimits, false);
   lua_State* L = sandbox.L();
   Params none;
   sandbox.push_environment();
   (params ? *params : none).install(L);
   lua_pop(L, 1);
+  Field f;
   try {
-    sandbox.run_file(file);
+    // Protected: the engine's reads of the returned table may run out of the script's memory.
+    sandbox.protect([&] {
+      sandbox.run_file(file);
+      if (!lua_istable(L, -1)) throw FieldError(file, std::string("must return a table, returned ") + luaL_typename(L, -1));
+      Reader reader(L);
+      try {
+        f = read_field(reader, lua_gettop(L));
+        finish_field(f);
+      } catch (const ReadError& e) {
+        throw FieldError(e.place.empty() ? file : file + ": " + e.place, e.message);
+      } catch (const FieldError& e) {
+        throw FieldError(e.place.empty() ? file : file + ": " + e.place, e.message);
+      }
+    });
   } catch (const ScriptError& e) {
     // Lua's own messages start with "file:line:".
     throw FieldError("", e.what());
   }
-  if (!lua_istable(L, -1)) throw FieldError(file, std::string("must return a table, returned ") + luaL_typename(L, -1));
-  Reader reader(L);
-  try {
-    Field f = read_field(reader, lua_gettop(L));
-    finish_field(f);
-    return f;
-  } catch (const ReadError& e) {
-    throw FieldError(e.place.empty() ? file : file + ": " + e.place, e.message);
-  } catch (const FieldError& e) {
-    throw FieldError(e.place.empty() ? file : file + ": " + e.place, e.message);
-  }
+  return f;
 }
 
 }  // namespace quantum::lua

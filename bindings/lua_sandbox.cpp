@@ -1,12 +1,20 @@
 #include "lua_sandbox.h"
 
 #include <luajit.h>
+#include <pthread.h>
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <thread>
 #include <vector>
 
+#include "lua_bounded.h"
 #include "lua_wrap.h"
 
 namespace quantum::lua {
@@ -17,33 +25,236 @@ int require_module(lua_State* L) {
   return 1;
 }
 
+double seconds(const timespec& t) { return double(t.tv_sec) + 1e-9 * double(t.tv_nsec); }
+
+timespec thread_cpu_now() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t;
+}
+
+// "rules/x/sport.lua:12: ": the source and line of a script frame, "" for a C function.
+std::string where_of(lua_State* L, lua_Debug& ar, const char* what) {
+  lua_getinfo(L, what, &ar);
+  if (ar.currentline <= 0 && ar.linedefined <= 0) return {};
+  const std::string file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+  return file + ":" + std::to_string(ar.currentline > 0 ? ar.currentline : ar.linedefined) + ": ";
+}
+
+// The innermost script frame's "file:line: " (level 1 up), "" when no script runs.
+std::string innermost_script_line(lua_State* L) {
+  lua_Debug ar;
+  for (int level = 1; lua_getstack(L, level, &ar); ++level)
+    if (std::string w = where_of(L, ar, "Sl"); !w.empty() && ar.currentline > 0) return w;
+  return {};
+}
+
+// Lua's own messages start "file:line: "; error("x", 0) and error objects that are not strings
+// do not.
+bool has_location(const char* m) {
+  const char* colon = std::strchr(m, ':');
+  const char* newline = std::strchr(m, '\n');
+  if (!colon || colon == m || (newline && newline < colon)) return false;
+  const char* digits = colon + 1;
+  while (*digits >= '0' && *digits <= '9') ++digits;
+  return digits > colon + 1 && *digits == ':';
+}
+
+// The message handler of every call: the error as text, starting with the script line that
+// raised it.
+int on_error(lua_State* L) {
+  const std::string where = innermost_script_line(L);
+  if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) {
+    const char* m = lua_tostring(L, 1);
+    if (!has_location(m)) lua_pushstring(L, (where + m).c_str());
+    else lua_pushvalue(L, 1);
+    return 1;
+  }
+  lua_pushstring(L, (where + "error raised with a " + luaL_typename(L, 1) +
+                     " as its message (the engine reports text: error(\"what went wrong\"))")
+                        .c_str());
+  return 1;
+}
+
 }  // namespace
 
+// One thread for every sandbox of the process: while a call runs it looks at the calling
+// thread's CPU clock every millisecond, and when the call's share of the period is used up it
+// sets a hook that fires at the script's next instruction (lua_sethook is the one Lua function
+// meant to be called asynchronously, as lua.c does from its SIGINT handler). It keeps looking
+// for a while after the last call, so a match's many short calls do not wake it each time.
+class Watchdog {
+ public:
+  static Watchdog& get() {
+    static Watchdog dog;
+    return dog;
+  }
+  void watch(Sandbox* s, clockid_t clock, timespec deadline) {
+    std::lock_guard lock(mutex_);
+    watched_.push_back({s, clock, deadline});
+    if (idle_) wake_.notify_one();
+  }
+  // Once this returns, the watchdog does not touch `s`.
+  void forget(Sandbox* s) {
+    std::lock_guard lock(mutex_);
+    std::erase_if(watched_, [&](const Entry& e) { return e.sandbox == s; });
+  }
+
+ private:
+  struct Entry {
+    Sandbox* sandbox;
+    clockid_t clock;
+    timespec deadline;
+  };
+  Watchdog() : thread_([this] { run(); }) {}
+  ~Watchdog() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  void run() {
+    using namespace std::chrono_literals;
+    std::unique_lock lock(mutex_);
+    auto last_seen = std::chrono::steady_clock::now();
+    while (!stop_) {
+      if (watched_.empty() && std::chrono::steady_clock::now() - last_seen > 200ms) {
+        idle_ = true;
+        wake_.wait(lock, [&] { return stop_ || !watched_.empty(); });
+        idle_ = false;
+      }
+      for (Entry& e : watched_) {
+        timespec now{};
+        if (clock_gettime(e.clock, &now) == 0 && seconds(now) >= seconds(e.deadline)) e.sandbox->time_up();
+      }
+      if (!watched_.empty()) last_seen = std::chrono::steady_clock::now();
+      wake_.wait_for(lock, 1ms);
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::vector<Entry> watched_;
+  bool idle_ = false, stop_ = false;
+  std::thread thread_;
+};
+
 void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
-  auto* budget = static_cast<Budget*>(ud);
+  auto* s = static_cast<Sandbox*>(ud);
+  Memory& memory = s->memory_;
   if (new_size == 0) {
-    budget->used -= old_size;
+    memory.used -= old_size;
     std::free(ptr);
     return nullptr;
   }
   if (ptr == nullptr) old_size = 0;
-  if (new_size > old_size && budget->used + (new_size - old_size) > budget->limit) return nullptr;
-  ++budget->calls;
+  if (new_size > old_size && memory.used + (new_size - old_size) > memory.limit) return nullptr;
+  // Out of time: a library function building something big (string.rep, table.concat) stops at
+  // its next big allocation instead of finishing. Small ones go on: the error message needs one.
+  if (new_size > old_size + kSmallAllocation && s->depth_ > 0 && s->time_up_.load(std::memory_order_relaxed))
+    return nullptr;
+  ++memory.calls;
   void* p = std::realloc(ptr, new_size);
-  if (p) budget->used = budget->used + new_size - old_size;
+  if (p) memory.used = memory.used + new_size - old_size;
   return p;
 }
 
-void Sandbox::on_budget_spent(lua_State* L, lua_Debug*) { luaL_error(L, "script runs too long (endless loop?)"); }
+Sandbox& Sandbox::of(lua_State* L) {
+  void* ud = nullptr;
+  lua_getallocf(L, &ud);
+  return *static_cast<Sandbox*>(ud);
+}
 
-Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules,
-                 std::vector<std::filesystem::path> module_folders)
-    : instructions_(instruction_budget), module_folders_(std::move(module_folders)) {
-  budget_.limit = memory_budget;
-  L_ = lua_newstate(alloc, &budget_);
-  if (!L_) L_ = luaL_newstate();  // builds whose allocator cannot be replaced: no memory cap
-  if (!L_) throw std::runtime_error("cannot create a Lua state");
+void Sandbox::on_hook(lua_State* L, lua_Debug* ar) {
+  Sandbox& s = of(L);
+  s.instructions_ += s.hook_count_;
+  if (s.time_up_.load(std::memory_order_relaxed) || s.instructions_ >= s.limits_.instructions) s.run_out(L, ar);
+}
+
+void Sandbox::charge(lua_State* L, int64_t work) {
+  instructions_ += work;
+  if (time_up_.load(std::memory_order_relaxed) || instructions_ >= limits_.instructions) run_out(L, nullptr);
+}
+
+void Sandbox::run_out(lua_State* L, lua_Debug* ar) {
+  spent_ = true;
+  // From now on every instruction raises this again: a script that catches it with pcall cannot
+  // go on, and neither can an error handler.
+  hook_count_ = 1;
+  lua_sethook(L, on_hook, LUA_MASKCOUNT, 1);
+  std::string where = ar ? where_of(L, *ar, "Sl") : innermost_script_line(L);
+  if (spent_in_.empty()) spent_in_ = where.substr(0, where.find(':'));
+  char message[160];
+  std::snprintf(message, sizeof message,
+                "script runs too long: the Lua budget of a frame (%.0f ms of CPU, %lld million instructions) is spent",
+                limits_.cpu_seconds * 1e3, static_cast<long long>(limits_.instructions / 1'000'000));
+  where += message;
+  lua_pushstring(L, where.c_str());
+  lua_error(L);
+  std::abort();  // lua_error does not return
+}
+
+void Sandbox::time_up() {
+  time_up_.store(true, std::memory_order_relaxed);
+  lua_sethook(L_, on_hook, LUA_MASKCOUNT, 1);
+}
+
+void Sandbox::new_period() {
+  instructions_ = 0;
+  period_cpu_ = 0;
+  time_up_ = false;
+  spent_ = false;
+  spent_in_.clear();
+}
+
+bool Sandbox::arm(std::string* refused) {
+  if (spent_ || time_up_) {
+    if (refused)
+      *refused = (spent_in_.empty() ? std::string() : spent_in_ + ": ") +
+                 "script runs too long: this frame's Lua budget is spent (call skipped)";
+    return false;
+  }
+  if (depth_ >= kMostNested) {
+    if (refused) *refused = "calls into the scripts nested more than " + std::to_string(kMostNested) + " deep";
+    return false;
+  }
+  if (depth_++ > 0) return true;  // a call made from inside another spends the outer one's budget
+  hook_count_ = kHookEvery;
+  lua_sethook(L_, on_hook, LUA_MASKCOUNT, kHookEvery);
+  armed_at_ = thread_cpu_now();
+  if (limits_.cpu_seconds > 0 && pthread_getcpuclockid(pthread_self(), &cpu_clock_) == 0) {
+    const double deadline = seconds(armed_at_) + (limits_.cpu_seconds - period_cpu_);
+    timespec at{};
+    at.tv_sec = time_t(deadline);
+    at.tv_nsec = long((deadline - double(at.tv_sec)) * 1e9);
+    Watchdog::get().watch(this, cpu_clock_, at);
+  }
+  return true;
+}
+
+void Sandbox::disarm() {
+  if (--depth_ > 0) return;
+  if (limits_.cpu_seconds > 0) Watchdog::get().forget(this);
+  lua_sethook(L_, nullptr, 0, 0);
+  period_cpu_ += seconds(thread_cpu_now()) - seconds(armed_at_);
+  longest_period_cpu_ = std::max(longest_period_cpu_, period_cpu_);
+  if (time_up_ || (limits_.cpu_seconds > 0 && period_cpu_ >= limits_.cpu_seconds)) spent_ = true;
+}
+
+Sandbox::Nested::Nested(lua_State* L, Sandbox& sandbox, const char* what) : sandbox_(sandbox) {
+  if (sandbox.nesting_ >= kMostNested) luaL_error(L, "%s: callbacks nested more than %d deep", what, kMostNested);
+  ++sandbox.nesting_;
+}
+
+Sandbox::Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders)
+    : limits_(limits), module_folders_(std::move(module_folders)) {
+  Watchdog::get();  // made before any sandbox is whole, so it outlives even a static one
+  memory_.limit = limits.memory;
+  L_ = lua_newstate(alloc, this);
+  if (!L_) throw std::runtime_error("cannot create a Lua state (this LuaJIT build does not take an allocator)");
   luaL_openlibs(L_);
+  install_bounded(L_);
   // Count hooks do not fire inside compiled traces, so the budget needs the interpreter. Rules
   // run a few times a second; the JIT would not pay for itself. (After openlibs: opening the
   // jit library switches it back on.)
@@ -79,6 +290,8 @@ Sandbox::Sandbox(size_t memory_budget, int instruction_budget, bool rules,
   lua_pushvalue(L_, env);
   lua_setfield(L_, env, "_G");
   env_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+  lua_pushcfunction(L_, on_error);
+  on_error_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 
 std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders, const std::filesystem::path& relative,
@@ -127,21 +340,60 @@ void Sandbox::require_module(const std::string& name) {
                     "not available to rules");
 }
 
-Sandbox::~Sandbox() { lua_close(L_); }
+Sandbox::~Sandbox() {
+  Watchdog::get().forget(this);
+  lua_close(L_);
+}
 
 void Sandbox::push_environment() const { lua_rawgeti(L_, LUA_REGISTRYINDEX, env_); }
 
 bool Sandbox::call(int nargs, int nresults, std::string& error) {
-  // A call made from inside another (game.grant running a power-up's start from a handler)
-  // spends the outer call's budget; only the outermost arms and disarms it.
-  if (depth_++ == 0) lua_sethook(L_, on_budget_spent, LUA_MASKCOUNT, instructions_);
-  const int status = lua_pcall(L_, nargs, nresults, 0);
-  if (--depth_ == 0) lua_sethook(L_, nullptr, 0, 0);
-  if (status == 0) return true;
+  const int function = lua_gettop(L_) - nargs;
+  if (!arm(&error)) {
+    lua_settop(L_, function - 1);
+    return false;
+  }
+  // The handler below the function; the function's own place kept for a memory error's message,
+  // which Lua raises without running the handler.
+  lua_rawgeti(L_, LUA_REGISTRYINDEX, on_error_);
+  lua_insert(L_, function);
+  lua_pushvalue(L_, function + 1);
+  lua_insert(L_, function);
+  const int status = lua_pcall(L_, nargs, nresults, function + 1);
+  disarm();
+  if (status == 0) {
+    lua_remove(L_, function);
+    lua_remove(L_, function);
+    return true;
+  }
   const char* m = lua_tostring(L_, -1);
-  error = m ? m : (status == LUA_ERRMEM ? "not enough memory" : "error object is not a string");
-  lua_pop(L_, 1);
+  error = m ? m : "error";
+  if (status == LUA_ERRMEM) {  // raised without the handler: the called function is the place
+    lua_Debug ar;
+    lua_pushvalue(L_, function);
+    lua_getinfo(L_, ">S", &ar);
+    const std::string where =
+        ar.linedefined > 0 && ar.source[0] == '@' ? std::string(ar.source + 1) + ":" + std::to_string(ar.linedefined) + ": " : "";
+    error = where + (time_up_ ? "script runs too long: the Lua budget of a frame is spent" : "not enough memory") +
+            (where.empty() ? "" : " (in the function starting there)");
+  }
+  lua_settop(L_, function - 1);
   return false;
+}
+
+void Sandbox::protect_raw(lua_CFunction trampoline, void* run) {
+  const int top = lua_gettop(L_);
+  std::string refused;
+  if (!arm(&refused)) throw ScriptError(refused);
+  const int status = lua_cpcall(L_, trampoline, run);
+  disarm();
+  if (status != 0) {
+    std::string m = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "error";
+    if (status == LUA_ERRMEM && time_up_) m = "script runs too long: the Lua budget of a frame is spent";
+    lua_settop(L_, top);
+    throw ScriptError(m);
+  }
+  lua_settop(L_, top);
 }
 
 void Sandbox::run_file(const std::string& file) {

@@ -1,10 +1,15 @@
-// A Lua state for designer scripts: text only, a memory cap, an instruction budget per call, and
-// only the libraries a rule needs. Field files and sports both run in one.
+// A Lua state for designer scripts: text only, a memory cap, a budget of instructions and CPU
+// time shared by all calls of a period (a match frame), and only the libraries a rule needs.
+// Field files and sports both run in one. docs/lua-api.md, "The sandbox", states the limits.
 #pragma once
 
 #include <lua.hpp>
 
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
+#include <ctime>
+#include <exception>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -21,14 +26,24 @@ struct ScriptError : std::runtime_error {
 std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders, const std::filesystem::path& relative,
                               std::string& looked);
 
+// What the scripts of one sandbox may spend together in one period (new_period: a match frame).
+// Instructions are counted by a count hook; CPU time (the calling thread's, so a busy machine does
+// not count against a script) is watched by a watchdog thread that stops the script at its next
+// instruction, as a signal handler would. Library functions whose work a hook cannot see are
+// bounded by lua_bounded.h.
+struct Limits {
+  size_t memory = 64u << 20;
+  int64_t instructions = 10'000'000;
+  double cpu_seconds = 0.02;
+};
+
 class Sandbox {
  public:
-  // Of Lua's own libraries the scripts get the base functions, math, string, table and
-  // os.clock: no io, the rest of os, debug, package, ffi, jit, load, loadstring, dofile or
-  // collectgarbage. With `rules` (sports, not field files), `require` loads the script's own
-  // Lua modules, as text, from `module_folders` only (see require_module).
-  Sandbox(size_t memory_budget, int instruction_budget, bool rules,
-          std::vector<std::filesystem::path> module_folders = {});
+  // Of Lua's own libraries the scripts get the base functions, math, string (its pattern
+  // functions bounded), table and os.clock: no io, the rest of os, debug, package, ffi, jit, load,
+  // loadstring, dofile or collectgarbage. With `rules` (sports, not field files), `require` loads
+  // the script's own Lua modules, as text, from `module_folders` only (see require_module).
+  Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders = {});
   ~Sandbox();
   Sandbox(const Sandbox&) = delete;
   Sandbox& operator=(const Sandbox&) = delete;
@@ -41,8 +56,63 @@ class Sandbox {
   // result on the stack. Throws ScriptError "file:line: message" (or "file: message").
   void run_file(const std::string& file);
 
-  // lua_pcall with the instruction budget armed; on failure returns the message and pops it.
+  // lua_pcall with the period's budget armed; on failure returns the message and pops it. The
+  // message always starts with the file and line that failed (errors raised with a table, or
+  // with level 0, get the innermost script line). When the period's budget is spent the call
+  // does not run: the function and arguments are popped and the error says so.
   bool call(int nargs, int nresults, std::string& error);
+
+  // Runs `body` (the engine reading and filling a script's tables) protected and under the
+  // budget: a metamethod that errors or loops, or memory running out, becomes a ScriptError
+  // instead of LuaJIT's panic. C++ exceptions thrown by `body` pass through unchanged. The stack
+  // is restored to its height before.
+  template <class Body>
+  void protect(Body&& body) {
+    struct Run {
+      Body* body;
+      std::exception_ptr thrown;
+      static int trampoline(lua_State* L) {
+        auto* run = static_cast<Run*>(lua_touserdata(L, 1));
+        lua_pop(L, 1);
+        try {
+          (*run->body)();
+        } catch (const std::exception&) {  // Lua's own errors are not std::exceptions: they unwind on
+          run->thrown = std::current_exception();
+        }
+        return 0;
+      }
+    } run{&body, nullptr};
+    protect_raw(&Run::trampoline, &run);
+    if (run.thrown) std::rethrow_exception(run.thrown);
+  }
+
+  // Starts a new period: the budget is whole again.
+  void new_period();
+  // The budget ran out this period (the rest of its calls are refused).
+  bool spent() const { return spent_ || time_up_.load(std::memory_order_relaxed); }
+  // Where the budget ran out: the source file of the script running then ("" for none).
+  const std::string& spent_in() const { return spent_in_; }
+  // CPU seconds Lua used in this period, and in the longest period so far.
+  double period_cpu() const { return period_cpu_; }
+  double longest_period_cpu() const { return longest_period_cpu_; }
+  const Limits& limits() const { return limits_; }
+
+  // For bounded library functions: counts `work` instructions' worth of work done in C; raises
+  // the budget error (a Lua error) when the budget is spent.
+  void charge(lua_State* L, int64_t work);
+  // Library functions that call back into Lua (string.gsub with a function) count their nesting:
+  // each C level takes C stack, which a recursion through them would exhaust.
+  class Nested {
+   public:
+    Nested(lua_State* L, Sandbox& sandbox, const char* what);
+    ~Nested() { --sandbox_.nesting_; }
+    Nested(const Nested&) = delete;
+    Nested& operator=(const Nested&) = delete;
+
+   private:
+    Sandbox& sandbox_;
+  };
+  static Sandbox& of(lua_State* L);
 
   // require(name) for scripts: "util" or "lib.util" is util.lua or lib/util.lua in the first
   // module folder that has it, loaded once (as text, in the sandbox) and its result kept.
@@ -52,23 +122,42 @@ class Sandbox {
 
   // Every Lua allocation, freeing and resizing so far: the tests' measure of the garbage a frame
   // makes.
-  size_t allocations() const { return budget_.calls; }
+  size_t allocations() const { return memory_.calls; }
 
   // Every file run so far (run_file, and the modules require loaded), in order.
   const std::vector<std::string>& files() const { return files_; }
 
  private:
-  struct Budget {
+  friend class Watchdog;
+  struct Memory {
     size_t used = 0, limit = 0, calls = 0;
   };
   static void* alloc(void* ud, void* ptr, size_t old_size, size_t new_size);
-  static void on_budget_spent(lua_State* L, lua_Debug*);
+  static void on_hook(lua_State* L, lua_Debug* ar);
+  [[noreturn]] void run_out(lua_State* L, lua_Debug* ar);
+  void protect_raw(lua_CFunction trampoline, void* run);
+  bool arm(std::string* refused);  // false (and why) when the period's budget is spent
+  void disarm();
+  void time_up();  // the watchdog's call, from its thread
 
-  Budget budget_;
+  Limits limits_;
+  Memory memory_;
   lua_State* L_ = nullptr;
   int env_ = LUA_NOREF;
-  int instructions_;
   int depth_ = 0;  // calls in progress (a handler's game.grant calls into the script again)
+  int nesting_ = 0;
+  static constexpr int kMostNested = 64;     // calls, or library callbacks, inside one another
+  static constexpr size_t kSmallAllocation = 64 << 10;
+  static constexpr int kHookEvery = 1000;  // instructions between two looks at the budget
+  int hook_count_ = kHookEvery;
+  int64_t instructions_ = 0;
+  double period_cpu_ = 0, longest_period_cpu_ = 0;
+  timespec armed_at_{};
+  clockid_t cpu_clock_{};
+  std::atomic<bool> time_up_{false};
+  bool spent_ = false;
+  std::string spent_in_;
+  int on_error_ = LUA_NOREF;  // the message handler that puts the file and line on every error
   std::vector<std::filesystem::path> module_folders_;
   int modules_ = LUA_NOREF;  // name -> result of every module loaded
   std::vector<std::string> files_;

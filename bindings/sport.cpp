@@ -7,14 +7,13 @@
 #include <fstream>
 
 #include "field_loader.h"
+#include "game/plain_rules.h"
 #include "lua_reader.h"
 
 namespace quantum::lua {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr size_t kMemoryBudget = 64u << 20;
-constexpr int kInstructionBudget = 10'000'000;  // per call: a rule that loops forever is skipped
 
 const std::vector<std::string> kSportKeys = {"name",  "field",  "particles", "match",     "factors",
                                              "handicaps", "balance", "teams", "phrases", "audio",
@@ -97,24 +96,27 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params)
       powerup_folders_(powerup_folders_of(folder_, engine)),
       module_folders_({fs::path(folder_), engine / "lib"}),
       params_(std::move(params)),
-      sandbox_(kMemoryBudget, kInstructionBudget, true, module_folders_) {
+      sandbox_(Limits{}, true, module_folders_) {
   if (!fs::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
+  std::fill(std::begin(by_kind_), std::end(by_kind_), 1.0);
   lua_State* L = sandbox_.L();
-  sandbox_.push_environment();
-  params_.install(L);
-  lua_pop(L, 1);
-  sandbox_.run_file(file_);
-  if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
-  try {
-    read_sport(lua_gettop(L));
-  } catch (const ReadError& e) {
-    throw ScriptError(file_ + ": " + e.what());
-  }
-  check_said_keys();
-  params_.check_read(folder_);
-  sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
-  push_game_api(L, this);
-  game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  sandbox_.protect([&] {
+    sandbox_.push_environment();
+    params_.install(L);
+    lua_pop(L, 1);
+    sandbox_.run_file(file_);
+    if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
+    try {
+      read_sport(lua_gettop(L));
+    } catch (const ReadError& e) {
+      throw ScriptError(file_ + ": " + e.what());
+    }
+    check_said_keys();
+    params_.check_read(folder_);
+    sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+    push_game_api(L, this);
+    game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  });
   timers_.reserve(16);
 }
 
@@ -139,7 +141,7 @@ void Sport::read_sport(int t) {
     r.only_keys(h, "handicaps", bodies);
     for (size_t k = 0; k < bodies.size(); ++k) {
       handicaps_[k] = r.number(h, bodies[k].c_str(), "handicaps", 1.0, false);
-      if (!(handicaps_[k] > 0 && std::isfinite(handicaps_[k]))) r.fail("handicaps." + bodies[k], "must be > 0");
+      if (!(handicaps_[k] > 0 && handicaps_[k] <= game::kMostHandicap)) r.fail("handicaps." + bodies[k], "must be in (0, 1000]");
     }
     lua_pop(L, 1);
   }
@@ -399,15 +401,15 @@ void Sport::say_host(game::Match& match, const std::string& key, const std::stri
 
 double Sport::factor(const std::string& kind) const {
   lua_State* L = sandbox_.L();
-  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
-  raw_field(L, -1, "factors");
   double value = 1;
-  if (lua_istable(L, -1)) {
-    raw_field(L, -1, kind.c_str());
-    if (lua_type(L, -1) == LUA_TNUMBER) value = lua_tonumber(L, -1);
-    lua_pop(L, 1);
-  }
-  lua_pop(L, 2);
+  const_cast<Sandbox&>(sandbox_).protect([&] {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+    raw_field(L, -1, "factors");
+    if (lua_istable(L, -1)) {
+      raw_field(L, -1, kind.c_str());
+      if (lua_type(L, -1) == LUA_TNUMBER) value = lua_tonumber(L, -1);
+    }
+  });
   return value;
 }
 
@@ -417,34 +419,53 @@ void Sport::set_factor(const std::string& kind, double value) {
     throw std::invalid_argument(unknown_key(kind, kinds, "fate kind"));
   if (!(std::isfinite(value) && value >= 0)) throw std::invalid_argument("factor for " + kind + " must be a number >= 0");
   lua_State* L = sandbox_.L();
-  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
-  raw_field(L, -1, "factors");
-  if (!lua_istable(L, -1)) {
-    lua_pop(L, 1);
-    lua_newtable(L);
-    lua_pushstring(L, "factors");
-    lua_pushvalue(L, -2);
-    lua_rawset(L, -4);
-  }
-  lua_pushstring(L, kind.c_str());
-  lua_pushnumber(L, value);
-  lua_rawset(L, -3);
-  lua_pop(L, 2);
+  sandbox_.protect([&] {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+    raw_field(L, -1, "factors");
+    if (!lua_istable(L, -1)) {
+      lua_pop(L, 1);
+      lua_newtable(L);
+      lua_pushstring(L, "factors");
+      lua_pushvalue(L, -2);
+      lua_rawset(L, -4);
+    }
+    lua_pushstring(L, kind.c_str());
+    lua_pushnumber(L, value);
+    lua_rawset(L, -3);
+  });
 }
 
 void Sport::factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) {
+  zeroed_by_.reserve(std::max<size_t>(256, fates.size()));  // as Match's fate buffers: room for a busy moment
+  zeroed_by_.assign(fates.size(), kNotZeroed);
+  if (!disabled_ && !sandbox_.spent()) {
+    try {
+      sandbox_.protect([&] { script_factors(fates, match, out); });
+    } catch (const ScriptError& e) {
+      match.report_error(std::string(e.what()) + " (this frame's modifiers skipped)");
+      for (size_t k = 0; k < fates.size(); ++k) out[k] = by_kind_[int(fates[k].fate.kind)];
+    }
+  } else {  // the scripts cannot run: the factors by kind as last read
+    for (size_t k = 0; k < fates.size(); ++k) out[k] = by_kind_[int(fates[k].fate.kind)];
+  }
+  for (size_t k = 0; k < fates.size(); ++k)
+    if (out[k] == 0 && zeroed_by_[k] == kNotZeroed && by_kind_[int(fates[k].fate.kind)] == 0) zeroed_by_[k] = kKindFactor;
+  double kept = 0, mass = 0;
+  for (size_t k = 0; k < fates.size(); ++k) kept += fates[k].mass * out[k], mass += fates[k].mass;
+  if (mass > 0 && kept == 0) report_zeroing(fates, match), std::fill(out.begin(), out.end(), 1.0);
+}
+
+void Sport::script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) {
   lua_State* L = sandbox_.L();
   const Acting reading(*this, match, false);
-  const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int sport = lua_gettop(L);
-  double by_kind[kFateKindCount];  // in FateKind's order
-  std::fill(std::begin(by_kind), std::end(by_kind), 1.0);
   raw_field(L, sport, "factors");
   if (lua_istable(L, -1)) {
     for (FateKind k : kFateKinds) {
       raw_field(L, -1, to_string(k));
-      if (lua_isnumber(L, -1)) by_kind[int(k)] = lua_tonumber(L, -1);
+      const double v = lua_tonumber(L, -1);
+      by_kind_[int(k)] = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(v) && v >= 0 ? v : 1.0;
       lua_pop(L, 1);
     }
   }
@@ -462,18 +483,16 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
     fill_powerup(L, match, match.powerups()[j]);
     lua_pop(L, 1);
   }
-  zeroed_by_.reserve(std::max<size_t>(256, fates.size()));  // as Match's fate buffers: room for a busy moment
-  zeroed_by_.assign(fates.size(), kNotZeroed);
   for (size_t k = 0; k < fates.size(); ++k) {
     const game::FateView& f = fates[k];
-    double factor = by_kind[int(f.fate.kind)];
+    double factor = by_kind_[int(f.fate.kind)];
     if (factor == 0) zeroed_by_[k] = kKindFactor;
     if (n_modifiers > 0 || !match.powerups().empty()) {
       fate_tables_.push(L, k);
       fill_fate(L, f, match.field());
       lua_pop(L, 1);
     }
-    for (size_t i = 1; i <= n_modifiers; ++i) {
+    for (size_t i = 1; i <= n_modifiers && !sandbox_.spent(); ++i) {  // spent: the rest keep their factor
       lua_rawgeti(L, modifiers, int(i));
       fate_tables_.push(L, k);
       lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
@@ -494,10 +513,6 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
     }
     out[k] = factor * powerup_factors(k, match, zeroed_by_[k]);
   }
-  lua_settop(L, top);
-  double kept = 0, mass = 0;
-  for (size_t k = 0; k < fates.size(); ++k) kept += fates[k].mass * out[k], mass += fates[k].mass;
-  if (mass > 0 && kept == 0) report_zeroing(fates, match), std::fill(out.begin(), out.end(), 1.0);
 }
 
 // Every fate zeroed: the draw would have nothing left to choose from. The match goes on with
@@ -533,6 +548,15 @@ void Sport::report_zeroing(std::span<const game::FateView> fates, game::Match& m
 }
 
 void Sport::on_event(const game::GameEvent& e, game::Match& match) {
+  if (disabled_ || sandbox_.spent()) return game::plain_event(e, match);
+  try {
+    sandbox_.protect([&] { run_handler(e, match); });
+  } catch (const ScriptError& x) {
+    match.report_error(std::string(x.what()) + " (on." + game::to_string(e.type) + " skipped)");
+  }
+}
+
+void Sport::run_handler(const game::GameEvent& e, game::Match& match) {
   lua_State* L = sandbox_.L();
   const Acting acting(*this, match, true);
   if (e.type == game::EventKind::Powerup || e.type == game::EventKind::PowerupEnd) {
@@ -544,19 +568,38 @@ void Sport::on_event(const game::GameEvent& e, game::Match& match) {
       match.report_error(std::string(x.what()) + " (announcing power-up " + e.powerup + ")");
     }
   }
-  const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   raw_field(L, -1, "on");
-  if (lua_istable(L, -1)) {
-    raw_field(L, -1, game::to_string(e.type));
-    if (lua_isfunction(L, -1)) {
-      lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
-      push_event(L, e);
-      std::string error;
-      if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on." + game::to_string(e.type) + " skipped)");
-    }
+  if (!lua_istable(L, -1)) return;
+  raw_field(L, -1, game::to_string(e.type));
+  if (!lua_isfunction(L, -1)) return;
+  lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
+  push_event(L, e);
+  std::string error;
+  if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on." + game::to_string(e.type) + " skipped)");
+}
+
+void Sport::begin_frame(game::Match& match) {
+  if (sandbox_.spent()) note_overrun(match);
+  sandbox_.new_period();
+}
+
+// The script that ran when the budget ran out: a power-up's file, else the sport's own.
+void Sport::note_overrun(game::Match& match) {
+  const std::string& file = sandbox_.spent_in();
+  std::string powerup;
+  for (const auto& [name, f] : powerup_files_)
+    if (f == file) powerup = name;
+  if (++overruns_[powerup] < kOverrunsToDisable) return;
+  const std::string times = " ran out of a frame's Lua budget " + std::to_string(kOverrunsToDisable) + " times";
+  if (!powerup.empty()) {
+    if (disabled_powerups_.insert(powerup).second)
+      match.report_error(file + ": power-up " + powerup + " disabled: it" + times + "; the match goes on without it");
+  } else if (!disabled_) {
+    disabled_ = true;
+    match.report_error((file.empty() ? file_ : file) + ": " + name_ + " disabled: its scripts" + times +
+                       "; the match goes on with the engine's plain rules (a goal counts for the other team)");
   }
-  lua_settop(L, top);
 }
 
 int Sport::add_timer(game::Match& match, double seconds) {
@@ -577,6 +620,15 @@ void Sport::cancel_timer(int id) {
 }
 
 void Sport::tick(game::Match& match) {
+  if (disabled_ || sandbox_.spent()) return;  // due timers wait for a frame with budget
+  try {
+    sandbox_.protect([&] { run_timers(match); });
+  } catch (const ScriptError& x) {
+    match.report_error(std::string(x.what()) + " (timer skipped)");
+  }
+}
+
+void Sport::run_timers(game::Match& match) {
   lua_State* L = sandbox_.L();
   // Timers set while these run wait for the next frame, however short their delay.
   const int before = next_timer_;
@@ -586,7 +638,7 @@ void Sport::tick(game::Match& match) {
       if (it->id < before && it->due <= match.time() + 1e-9 &&
           (next == timers_.end() || it->due < next->due || (it->due == next->due && it->id < next->id)))
         next = it;
-    if (next == timers_.end()) return;
+    if (next == timers_.end() || sandbox_.spent()) return;
     const Timer timer = *next;
     timers_.erase(next);
     const Acting acting(*this, match, true);
@@ -651,6 +703,12 @@ int Sport::powerup(const std::string& name) {
 }
 
 void Sport::grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts) {
+  if (disabled_ || disabled_powerups_.count(name))
+    throw std::invalid_argument("power-up " + name + ": disabled in this match (its scripts overran their budget)");
+  sandbox_.protect([&] { grant_protected(match, player, name, std::move(opts)); });
+}
+
+void Sport::grant_protected(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts) {
   lua_State* L = sandbox_.L();
   const int script = powerup(name);
   const int top = lua_gettop(L);
@@ -699,6 +757,7 @@ double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
   double factor = 1;
   for (size_t j = 0; j < match.powerups().size(); ++j) {
     const game::ActivePowerup& a = match.powerups()[j];
+    if (disabled_powerups_.count(a.name) || sandbox_.spent()) continue;
     int script = LUA_NOREF;
     try {
       script = powerup(a.name);  // granted before this sport was reloaded: its script loads here
@@ -735,7 +794,8 @@ void Sport::reload_powerup(const std::string& name) {
   const std::string old_file = powerup_files_[name];
   powerups_.erase(it);
   try {
-    powerup(name);
+    sandbox_.protect([&] { powerup(name); });
+    disabled_powerups_.erase(name), overruns_.erase(name);  // a new version gets a fresh start
   } catch (...) {
     powerups_[name] = old;
     powerup_files_[name] = old_file;
@@ -808,6 +868,15 @@ struct PlainCopy {
 }  // namespace
 
 void Sport::take_over(Sport& old, game::Match& match) {
+  old.sandbox_.new_period();  // reading its state is the engine's work, whatever the old scripts spent
+  try {
+    old.sandbox_.protect([&] { sandbox_.protect([&] { carry_state(old, match); }); });
+  } catch (const ScriptError& e) {
+    match.report_error(std::string(e.what()) + " (on_reload skipped)");
+  }
+}
+
+void Sport::carry_state(Sport& old, game::Match& match) {
   lua_State* from = old.sandbox_.L();
   lua_State* L = sandbox_.L();
   const int old_top = lua_gettop(from), top = lua_gettop(L);

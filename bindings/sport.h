@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -81,9 +82,19 @@ class Sport final : public game::Rules {
   // The factor sport.lua (or set_factor) gives a fate kind: 1 when it gives none.
   double factor(const std::string& kind) const;
 
+  // Every call into the scripts runs protected and within one budget per frame for all of the
+  // sport's Lua (lua_sandbox.h). A script that spends it kOverrunsToDisable times in a match is
+  // disabled: the sport's own (handlers, timers, modifiers) gives way to game::plain_event and its
+  // factors by kind, a power-up's to nothing. Events whose handler cannot run because the frame's
+  // budget is spent get the plain rules too, so no goal goes uncounted. (Power-ups share the
+  // sport's state: a disabled sport's power-ups stop too.)
+  static constexpr int kOverrunsToDisable = 3;
   void factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) override;
   void on_event(const game::GameEvent& event, game::Match& match) override;
   void tick(game::Match& match) override;
+  void begin_frame(game::Match& match) override;
+  bool disabled() const { return disabled_; }
+  bool powerup_disabled(const std::string& name) const { return disabled_powerups_.count(name) > 0; }
 
   // Says phrase `key` (or literal text) on the match; lookup(name) gives placeholder values.
   // Throws std::invalid_argument for a key the sport has no phrase for, or a placeholder
@@ -160,6 +171,12 @@ class Sport final : public game::Rules {
   static int modifier_code(size_t i) { return int(i); }           // 1-based, as Lua counts
   static int powerup_code(size_t j) { return -2 - int(j); }
   double powerup_factors(size_t fate, game::Match& match, int& zeroed_by);
+  void script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out);
+  void run_handler(const game::GameEvent& e, game::Match& match);
+  void run_timers(game::Match& match);
+  void grant_protected(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);
+  void carry_state(Sport& old, game::Match& match);
+  void note_overrun(game::Match& match);
   void announce_powerup(const game::GameEvent& e, game::Match& match);
   void report_zeroing(std::span<const game::FateView> fates, game::Match& match);
 
@@ -187,6 +204,10 @@ class Sport final : public game::Rules {
   int next_timer_ = 1;
   TablePool fate_tables_, player_tables_, powerup_tables_;
   std::vector<int> zeroed_by_;           // per fate: which factor made it 0 (codes above)
+  double by_kind_[kFateKindCount];       // the sport's factors by kind, as last read (used while Lua cannot run)
+  std::map<std::string, int> overruns_;  // per script ("" the sport's own, else a power-up): budgets spent
+  bool disabled_ = false;
+  std::set<std::string> disabled_powerups_;
   std::string said_;                     // the phrase being filled (its room is kept)
   game::Match* match_ = nullptr;
   const game::Match* reading_ = nullptr;

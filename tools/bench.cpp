@@ -1,6 +1,8 @@
 // Speed of the quantum core on the air hockey table with two scripted mallets, single thread.
 // Run: build/quantum-bench   (figures and how to read them: docs/PERFORMANCE.md)
 #include <benchmark/benchmark.h>
+#include <lua.hpp>
+#include <luajit.h>
 
 #include <chrono>
 #include <filesystem>
@@ -11,6 +13,7 @@
 #include "field_loader.h"
 #include "session.h"
 #include "sport.h"
+#include "lua_sandbox.h"
 #include "quantum/world.h"
 #include "scenes.h"
 #include "synthetic.h"
@@ -227,6 +230,46 @@ void BM_FrameWithReload(benchmark::State& state) {
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
+// What the sandbox's bounds cost a rule: the same string work (an announcer's phrase taken apart
+// and put together again) in the sandbox, where each call arms the frame's budget and the pattern
+// functions are the engine's counted ones (arg 0), and in a plain LuaJIT state with its own
+// (arg 1). Both run with the JIT off, as rules do.
+void BM_LuaStrings(benchmark::State& state) {
+  const char* work = R"lua(
+    local said = "Goal for Blue, 3 to 2"
+    local n = 0
+    for i = 1, 20 do
+      local team, a, b = said:match("for (%a+), (%d+) to (%d+)")
+      local words = said:gsub("%s+", " ")
+      for w in said:gmatch("%a+") do n = n + #w end
+      if said:find("to", 1, true) then n = n + tonumber(a) + tonumber(b) end
+    end
+    return n
+  )lua";
+  const bool sandboxed = state.range(0) == 0;
+  lua::Sandbox sandbox(lua::Limits{}, false);
+  lua_State* L = sandboxed ? sandbox.L() : luaL_newstate();
+  if (!sandboxed) {
+    luaL_openlibs(L);
+    luaJIT_setmode(L, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
+  }
+  luaL_loadstring(L, work);
+  if (sandboxed) {
+    sandbox.push_environment();
+    lua_setfenv(L, -2);
+  }
+  const int function = luaL_ref(L, LUA_REGISTRYINDEX);
+  for (auto _ : state) {
+    sandbox.new_period();
+    lua_rawgeti(L, LUA_REGISTRYINDEX, function);
+    std::string error;
+    if (sandboxed ? !sandbox.call(0, 1, error) : lua_pcall(L, 0, 1, 0) != 0) state.SkipWithError("the work failed");
+    benchmark::DoNotOptimize(lua_tonumber(L, -1));
+    lua_pop(L, 1);
+  }
+  if (!sandboxed) lua_close(L);
+}
+
 // Real-time pacing without a sound card: 2 s of a match (120 frames) paced by the session's own
 // clock, as `quantum play --pace realtime` runs it. The counter is match seconds per wall second:
 // 1 is real time.
@@ -319,6 +362,7 @@ BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchma
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RealTimePacing)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrameWithReload)->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LuaStrings)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DepthFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Box2DStep)->Arg(10'000)->Iterations(20)->Unit(benchmark::kMicrosecond);

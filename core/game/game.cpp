@@ -48,7 +48,8 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
                                 std::to_string(f.bodies.size()) + " players");
   for (size_t k = 0; k < f.bodies.size(); ++k) {
     const double h = handicaps.empty() ? 1.0 : handicaps[k];
-    if (!(std::isfinite(h) && h > 0)) throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be > 0");
+    if (!(h > 0 && h <= kMostHandicap))
+      throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be in (0, 1000]");
     players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}});
   }
   teams_ = f.teams();
@@ -204,7 +205,7 @@ void Match::powerup_event(EventKind type, int player, const std::string& name) {
 
 void Match::set_handicap(int k, double handicap) {
   if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
-  if (!(std::isfinite(handicap) && handicap > 0)) throw std::invalid_argument("a handicap must be > 0");
+  if (!(handicap > 0 && handicap <= kMostHandicap)) throw std::invalid_argument("a handicap must be in (0, 1000]");
   players_[size_t(k)].handicap = handicap;
 }
 
@@ -274,6 +275,7 @@ void Match::jump(int k, double height, double seconds) {
 
 void Match::step(std::span<const BodyInput> input) {
   if (finished_) return;
+  rules_->begin_frame(*this);
   const float dt = float(1.0 / config_.fps);
   core_events_.clear();
   for (size_t k = 0; k < landing_.size(); ++k)

@@ -84,7 +84,13 @@ class Rules {
   virtual void on_event(const GameEvent& event, Match& match) = 0;
   // Once a frame, after its events: what the rules scheduled for this time (timers).
   virtual void tick(Match&) {}
+  // Once a frame, before anything of it (scripted rules start the frame's budget afresh).
+  virtual void begin_frame(Match&) {}
 };
+
+// Handicaps are in (0, kMostHandicap]: a thousand times likelier is as good as certain already,
+// and more overflows the fate factors' product.
+inline constexpr double kMostHandicap = 1000;
 
 struct MatchConfig {
   uint32_t particles = 1000;

@@ -1,12 +1,16 @@
 // Hostile rule scripts: each thing a designer's script must not do is refused with a clear error,
 // and the match goes on. Scripts run in the sandbox (bindings/lua_sandbox.h): no io, os but its
-// clock, debug, ffi, jit, native modules or bytecode; 10 million instructions per callback; 64 MiB.
+// clock, debug, ffi, jit, native modules or bytecode; one budget per frame (20 ms of CPU, 10
+// million instructions) for all of a sport's Lua; 64 MiB.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <random>
+#include <regex>
 #include <sstream>
 
+#include "game/bots.h"
 #include "sport.h"
 
 namespace quantum {
@@ -14,8 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Air hockey whose drop handler runs `body` first.
-std::string hostile_sport(const std::string& name, const std::string& body) {
+// Air hockey whose drop handler runs `body` first, with `extra` Lua before its `return sport`, and
+// `powerup` (when given) as its own power-up "evil".
+std::string hostile_sport(const std::string& name, const std::string& body, const std::string& extra = "",
+                          const std::string& powerup = "") {
   const fs::path dir = fs::temp_directory_path() / ("quantum_hostile_" + name);
   fs::create_directories(dir);
   fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", dir / "field.lua", fs::copy_options::overwrite_existing);
@@ -27,8 +33,10 @@ std::string hostile_sport(const std::string& name, const std::string& body) {
   text << in.rdbuf();
   std::string s = text.str();
   s.replace(s.rfind("return sport"), 12,
-            "local drop = sport.on.drop\nsport.on.drop = function(game, e)\n  " + body + "\n  drop(game, e)\nend\nreturn sport");
+            "local drop = sport.on.drop\nsport.on.drop = function(game, e)\n  " + body + "\n  drop(game, e)\nend\n" +
+                extra + "\nreturn sport");
   std::ofstream(dir / "sport.lua") << s;
+  if (!powerup.empty()) std::ofstream(dir / "powerups" / "evil.lua") << powerup;
   return dir.string();
 }
 
@@ -50,8 +58,17 @@ struct Played {
 struct Case {
   const char* name;
   const char* body;
-  const char* error;  // what the reported error must say
+  const char* error;  // what the reported error must say (one of them, between '|')
 };
+
+bool says_one_of(const std::string& error, const std::string& alternatives) {
+  for (size_t from = 0; from <= alternatives.size();) {
+    const size_t bar = std::min(alternatives.find('|', from), alternatives.size());
+    if (error.find(alternatives.substr(from, bar - from)) != std::string::npos) return true;
+    from = bar + 1;
+  }
+  return false;
+}
 
 TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
   const Case cases[] = {
@@ -70,7 +87,9 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
       {"endless_after_grant", "game.grant('Red\\'s mallet', 'attract') while true do end", "script runs too long"},
       {"recursion", "local function f() return 1 + f() end f()", "stack overflow"},
       {"string_bomb", "local s = string.rep('x', 2^30)", "not enough memory"},
-      {"table_bomb", "local t = {} while true do t[#t + 1] = string.rep('y', 2^20) .. #t end", "not enough memory"},
+      // 64 MiB of strings takes longer than a frame's budget: whichever limit comes first stops it.
+      {"table_bomb", "local t = {} for i = 1, 64 do t[i] = string.rep('y', i * 2^20) end",
+       "not enough memory|script runs too long"},
   };
   for (const Case& c : cases) {
     lua::Sport sport(hostile_sport(c.name, c.body));
@@ -79,7 +98,7 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
     for (int frame = 0; frame < 30; ++frame) played.step();
     const std::span<const std::string> errors = match.errors();
     ASSERT_EQ(errors.size(), 1u) << c.name;
-    EXPECT_NE(errors[0].find(c.error), std::string::npos) << c.name << ": " << errors[0];
+    EXPECT_TRUE(says_one_of(errors[0], c.error)) << c.name << ": " << errors[0];
     EXPECT_NE(errors[0].find("(on.drop skipped)"), std::string::npos) << errors[0];
     EXPECT_NEAR(match.time(), 0.5, 1e-6) << c.name << ": the match went on";
     EXPECT_TRUE(match.world().live()) << c.name;
@@ -113,6 +132,256 @@ TEST(Hostile, AnEndlessPowerUpIsSkipped) {
   EXPECT_NE(errors[0].find("power-up spin skipped"), std::string::npos) << errors[0];
   EXPECT_NEAR(match.time(), 4 / 60.0, 1e-6);
   fs::remove_all(root);
+}
+
+// A whole match between simulated players (20 s, or first to seven), and what it left.
+struct Finished {
+  std::vector<std::string> errors;
+  int goals = 0;  // goal and own_goal events
+  int scored = 0;  // the final score's sum
+  bool finished = false;
+};
+
+Finished play_out(lua::Sport& sport) {
+  game::MatchConfig config;
+  config.particles = 300;
+  config.seconds = 20;
+  config.seed = 5;
+  game::Match match(sport.field(), config, sport, sport.handicaps());
+  auto bots = game::make_bots(sport.field(), std::vector<double>(sport.field().bodies.size(), 0.9), 11, sport.throw_speed());
+  Finished out;
+  for (int frame = 0; frame < 60 * 30 && !match.finished(); ++frame) {
+    match.step(bots->move(match.time(), 1 / match.fps(), match.players()));
+    for (const game::GameEvent& e : match.events()) {
+      bots->hear(e);
+      out.goals += e.type == game::EventKind::Goal || e.type == game::EventKind::OwnGoal;
+    }
+    for (const std::string& e : match.errors()) out.errors.push_back(e);
+    match.clear_news();
+  }
+  for (const auto& [team, goals] : match.score()) out.scored += goals;
+  out.finished = match.finished();
+  return out;
+}
+
+struct Attack {
+  const char* name;
+  const char* drop;     // Lua run first in the drop handler
+  const char* extra;    // Lua before `return sport`
+  const char* powerup;  // the sport's power-up "evil.lua" ("" for none)
+  const char* error;    // what the first error says
+};
+
+// Every class of attack on the sandbox (docs/lua-api.md, "The sandbox"): the match is played to
+// its end, every goal counts, the first error names the script's file and line, and no frame's
+// Lua took more CPU than the bound (50 ms: the 20 ms budget, then at most one library call or
+// instruction that cannot be interrupted).
+void expect_survived(const Attack& a) {
+  SCOPED_TRACE(a.name);
+  lua::Sport sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
+  const Finished f = play_out(sport);
+  EXPECT_TRUE(f.finished);
+  EXPECT_GT(f.goals, 0);
+  EXPECT_EQ(f.scored, f.goals) << "a goal went uncounted";
+  ASSERT_FALSE(f.errors.empty());
+  EXPECT_TRUE(std::regex_search(f.errors[0], std::regex(R"(^/\S+/(sport|evil)\.lua:\d+: )"))) << f.errors[0];
+  EXPECT_NE(f.errors[0].find(a.error), std::string::npos) << f.errors[0];
+  EXPECT_LE(sport.sandbox().longest_period_cpu(), 0.05);
+}
+
+const char* const kLoopForever = "while true do end";
+
+TEST(Sandbox, CatchingTheBudgetErrorDoesNotResetIt) {
+  const Attack attacks[] = {
+      {"pcall_loop", "while true do pcall(function() while true do end end) end", "", "", "script runs too long"},
+      {"xpcall_handler", "while true do xpcall(function() while true do end end, function() while true do end end) end",
+       "", "", "script runs too long"},
+      {"pcall_error", "for i = 1, 1e12 do pcall(error, 'again') end", "", "", "script runs too long"},
+      {"timer", "game.after(0.1, function() while true do pcall(function() while true do end end) end end)", "", "",
+       "script runs too long"},
+  };
+  for (const Attack& a : attacks) expect_survived(a);
+}
+
+TEST(Sandbox, TimeInsideLibraryFunctionsIsBounded) {
+  const Attack attacks[] = {
+      {"find_30mb", "local s = string.rep('a', 3e7) while true do s:find('b', 1, true) end", "", "",
+       "script runs too long"},
+      {"backtracking_find", "string.find(string.rep('a', 5000), '.-.-.-.-b')", "", "", "script runs too long"},
+      {"backtracking_gmatch", "for w in string.rep('a', 5000):gmatch('.-.-.-b') do end", "", "", "script runs too long"},
+      {"backtracking_gsub", "local s = string.rep('a', 5000):gsub('.-.-.-b', '')", "", "", "script runs too long"},
+      {"sort_huge", "local t = {} for i = 1, 1e5 do t[i] = -i end table.sort(t)", "", "", "more than the sandbox sorts"},
+      {"fifty_modifiers", "",
+       "sport.modifiers = {} for i = 1, 50 do sport.modifiers[i] = function() for k = 1, 3e5 do end return 1 end end",
+       "", "script runs too long"},
+  };
+  for (const Attack& a : attacks) expect_survived(a);
+}
+
+TEST(Sandbox, CallbacksThatRecurseThroughCEndInAnError) {
+  const Attack attacks[] = {
+      {"gsub_function", "local function f(s) return (s:gsub('.', f)) end f('ab')", "", "", "nested more than 64 deep"},
+      {"gsub_table", "local t t = setmetatable({}, {__index = function(_, k) return (('x' .. k):gsub('.', t)) end}) "
+                     "local _ = ('ab'):gsub('.', t)",
+       "", "", "nested more than 64 deep"},
+      {"sort_comparator", "local function f() table.sort({2, 1}, function(a, b) f() return a < b end) end f()", "", "",
+       "nested more than 64 deep"},
+      {"grant_itself", "game.grant(\"Red's mallet\", 'evil')", "",
+       "return { duration = 5, factor = function() return 1 end,\n"
+       "  start = function(holder, game) game.grant(holder.name, 'evil') end }\n",
+       "nested more than 64 deep"},
+  };
+  for (const Attack& a : attacks) expect_survived(a);
+}
+
+TEST(Sandbox, TablesTheEngineReadsMayCarryHostileMetatables) {
+  const char* const kErring = "{__index = function() error('boo') end, __newindex = function() error('boo') end}";
+  const std::string sport_meta = std::string("setmetatable(sport, ") + kErring + ")";
+  const std::string on_meta = "setmetatable(sport.on, {__index = function() while true do end end})";
+  const std::string factors_meta = std::string("setmetatable(sport.factors, ") + kErring + ")";
+  const Attack attacks[] = {
+      // The engine reads these raw: the metatables never run, and only the drop's error is heard.
+      {"sport_meta", "error('first')", sport_meta.c_str(), "", "first"},
+      {"on_meta", "error('first')", on_meta.c_str(), "", "first"},
+      {"factors_meta", "error('first')", factors_meta.c_str(), "", "first"},
+      // A fate table the engine fills again next time, with a field gone and writes refused.
+      {"fate_meta", "",
+       "sport.modifiers = { function(fate) fate.kind = nil setmetatable(fate, {__newindex = function() error('no "
+       "writes') end}) return 1 end }",
+       "", "no writes"},
+      {"powerup_meta", "game.grant(\"Red's mallet\", 'evil') error('first')", "",
+       "return setmetatable({ duration = 5, factor = function(fate, holder) holder.name = nil\n"
+       "  setmetatable(holder, {__newindex = function() error('no writes') end}) return 1 end },\n"
+       "  {__index = function() error('boo') end})\n",
+       "first"},
+  };
+  for (const Attack& a : attacks) expect_survived(a);
+}
+
+TEST(Sandbox, EveryErrorNamesItsFileAndLine) {
+  const Attack attacks[] = {
+      {"error_table", "error({ code = 1 })", "", "", "error raised with a table"},
+      {"error_nil", "error()", "", "", "error raised with a nil"},
+      {"error_false", "error(false)", "", "", "error raised with a boolean"},
+      {"error_level0", "error('no place given', 0)", "", "", "no place given"},
+      {"error_in_powerup", "game.grant(\"Red's mallet\", 'evil')", "",
+       "return { duration = 5, factor = function() error(setmetatable({}, {__tostring = function() while true do end "
+       "end})) end }\n",
+       "error raised with a table"},
+  };
+  for (const Attack& a : attacks) expect_survived(a);
+}
+
+// The sandbox's own pattern functions (bindings/lua_bounded.h) against LuaJIT's: the same results
+// for a fixed list and 20,000 random subjects and patterns (or an error from both).
+TEST(Sandbox, PatternFunctionsMatchLuajitsOwn) {
+  const char* probe = R"(
+    local s, p = ...
+    local out = {}
+    local function add(ok, ...)
+      if not ok then out[#out + 1] = "error" return end
+      local n = select("#", ...)
+      out[#out + 1] = n .. ":"
+      for i = 1, n do out[#out + 1] = tostring((select(i, ...))) end
+    end
+    add(pcall(string.find, s, p))
+    add(pcall(string.find, s, p, 3))
+    add(pcall(string.find, s, p, -2, true))
+    add(pcall(string.match, s, p))
+    add(pcall(string.gsub, s, p, "<%0>"))
+    add(pcall(string.gsub, s, p, function(c) return c == "a" and "A" or nil end, 2))
+    add(pcall(string.gsub, s, p, { a = "1", b = false }))
+    add(pcall(function() local t = {} for a, b in s:gmatch(p) do t[#t + 1] = tostring(a) .. "," .. tostring(b) end return table.concat(t, ";") end))
+    return table.concat(out, "|")
+  )";
+  lua::Sandbox sandbox(lua::Limits{}, false);
+  lua_State* own = sandbox.L();
+  lua_State* jit = luaL_newstate();
+  luaL_openlibs(jit);
+  auto load = [&](lua_State* L, bool sandboxed) {
+    ASSERT_EQ(luaL_loadstring(L, probe), 0);
+    if (sandboxed) {
+      sandbox.push_environment();
+      lua_setfenv(L, -2);
+    }
+    lua_setglobal(L, "probe");
+  };
+  load(own, true);
+  load(jit, false);
+  auto run = [&](lua_State* L, const std::string& subject, const std::string& pattern, bool sandboxed) {
+    lua_getglobal(L, "probe");
+    lua_pushlstring(L, subject.data(), subject.size());
+    lua_pushlstring(L, pattern.data(), pattern.size());
+    std::string result, error;
+    if (sandboxed) {
+      sandbox.new_period();
+      if (!sandbox.call(2, 1, error)) return "failed: " + error;
+    } else if (lua_pcall(L, 2, 1, 0) != 0) {
+      return std::string("failed: ") + lua_tostring(L, -1);
+    }
+    result = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    return result;
+  };
+  std::vector<std::pair<std::string, std::string>> cases = {
+      {"hello world", "o w"},      {"hello world", "(o)(r)"},   {"key = value", "(%w+)%s*=%s*(%w+)"},
+      {"a(b(c)d)e", "%b()"},       {"THE (quick) fox", "%f[%a]%a+"}, {"aaa", "a-b"},
+      {"abcabc", "(abc)%1"},       {"x = 1, y = 2", "()=()"},   {"[tag]", "[%[%]]"},
+      {"", ""},                    {"abc", "^b"},               {"abc", "c$"},
+      {"a.b", "%."},               {"100%", "%d+%%"},           {"  trim  ", "^%s*(.-)%s*$"},
+      {"abc", "[a-"},              {"abc", "%"},                {"abc", "(()"},
+      {"abc", "%2"},               {"a\0b", "%z"},             {"abc", "[]]"},
+      {"a]b", "[]]"},              {"abc", "[^]a]"},            {"caab", "a*b"},
+      {"one two  three", "%S+"},   {"x", "x?x?x"},              {"abc", ".-$"},
+  };
+  std::mt19937 rng(17);
+  const std::vector<std::string> tokens = {"a", "b", ".", "%a", "%d", "%s", "[ab]", "[^a]", "[%d.]", "*", "+", "-", "?",
+                                           "(", ")", "()", "%b()", "%f[a]", "^", "$", "%1", "%", "[", "]", "x"};
+  const std::string letters = "ab(). 1x";
+  for (int k = 0; k < 20000; ++k) {
+    std::string subject, pattern;
+    for (int i = int(rng() % 9); i > 0; --i) subject += letters[rng() % letters.size()];
+    for (int i = 1 + int(rng() % 5); i > 0; --i) pattern += tokens[rng() % tokens.size()];
+    cases.push_back({subject, pattern});
+  }
+  int differ = 0;
+  for (const auto& [subject, pattern] : cases) {
+    const std::string ours = run(own, subject, pattern, true), theirs = run(jit, subject, pattern, false);
+    if (ours != theirs && ++differ <= 10)
+      ADD_FAILURE() << "'" << subject << "' ~ '" << pattern << "':\n  sandbox: " << ours << "\n  luajit:  " << theirs;
+  }
+  EXPECT_EQ(differ, 0);
+  lua_close(jit);
+}
+
+// A script that overruns again and again is disabled once, by name, and the match plays on by
+// the plain rules: a goal counts for the team that did not defend it.
+TEST(Sandbox, AScriptThatKeepsOverrunningIsDisabled) {
+  lua::Sport sport(hostile_sport("overrun", "",
+                                 "sport.modifiers = { function() while true do end end }\n"
+                                 "sport.on.goal = function(game, e) while true do end end"));
+  const Finished f = play_out(sport);
+  EXPECT_TRUE(sport.disabled());
+  int disabled = 0;
+  for (const std::string& e : f.errors) disabled += e.find("disabled") != std::string::npos;
+  EXPECT_EQ(disabled, 1);
+  EXPECT_EQ(f.errors.size(), size_t(lua::Sport::kOverrunsToDisable) + 1);
+  EXPECT_GT(f.goals, 0);
+  EXPECT_EQ(f.scored, f.goals);
+  EXPECT_TRUE(f.finished);
+}
+
+TEST(Sandbox, AnOverrunningPowerUpIsDisabledAndTheSportPlaysOn) {
+  lua::Sport sport(hostile_sport("overrun_powerup", "game.grant(\"Red's mallet\", 'evil', { seconds = 60 })", "",
+                                 "return { duration = 60, factor = function() while true do end end }\n"));
+  const Finished f = play_out(sport);
+  EXPECT_FALSE(sport.disabled());
+  EXPECT_TRUE(sport.powerup_disabled("evil"));
+  int disabled = 0;
+  for (const std::string& e : f.errors) disabled += e.find("evil.lua: power-up evil disabled") != std::string::npos;
+  EXPECT_EQ(disabled, 1);
+  EXPECT_GT(f.goals, 0);
+  EXPECT_EQ(f.scored, f.goals);
 }
 
 }  // namespace

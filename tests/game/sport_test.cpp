@@ -54,7 +54,7 @@ TEST(Sport, RulesMayChangeAHandicap) {
   EXPECT_DOUBLE_EQ(match.players()[0].handicap, 1.0);
   const std::span<const std::string> errors = match.errors();
   ASSERT_EQ(errors.size(), 1u);
-  EXPECT_NE(errors[0].find("a handicap must be > 0"), std::string::npos) << errors[0];
+  EXPECT_NE(errors[0].find("a handicap must be in (0, 1000]"), std::string::npos) << errors[0];
 }
 
 TEST(Sport, BadHandlerIsNamed) {

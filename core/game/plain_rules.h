@@ -1,0 +1,17 @@
+// The rules a match falls back on when its sport's own cannot run (a script disabled for
+// overrunning its budget, docs/lua-api.md): a goal counts for the team that did not defend it and
+// the ball drops again in front of the conceding goal after a moment. The host already brings a
+// ball back that went out or died, and ends the match on time with the leader winning.
+#pragma once
+
+#include "game/game.h"
+
+namespace quantum::game {
+
+// Seconds between a goal and the next drop.
+inline constexpr double kPlainRespawnDelay = 1.5;
+
+// What plain rules do with an event: a goal or own goal is awarded and announced.
+void plain_event(const GameEvent& event, Match& match);
+
+}  // namespace quantum::game
