@@ -6,9 +6,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "lua_reader.h"
 #include "recording.h"
@@ -22,6 +26,41 @@
 #include "spec.h"
 #include "track.h"
 
+namespace {
+
+// A number in [lo, hi] (or (lo, hi] with `open`): CLI11's own ranges let "nan" through, since no
+// comparison with NaN is true.
+CLI::Validator number_in(double lo, double hi, bool open = false) {
+  std::ostringstream name;
+  name << "FLOAT in " << (open ? "(" : "[") << lo << ", " << hi << "]";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0;
+        const bool number = CLI::detail::lexical_cast(text, v);
+        if (number && std::isfinite(v) && (open ? v > lo : v >= lo) && v <= hi) return {};
+        std::ostringstream m;
+        m << "expected a number in " << (open ? "(" : "[") << lo << ", " << hi << "], got '" << text << "'";
+        return m.str();
+      },
+      name.str());
+}
+
+// Seeds are 64-bit: "-1" and "18446744073709551616" are not seeds (CLI11 would wrap the one and
+// clamp the other).
+const CLI::Validator kSeed(
+    [](std::string& text) -> std::string {
+      errno = 0;
+      const bool digits = !text.empty() && text.size() <= 20 && text.find_first_not_of("0123456789") == std::string::npos;
+      if (digits) std::strtoull(text.c_str(), nullptr, 10);
+      if (digits && errno == 0) return {};
+      return "expected a whole number from 0 to 18446744073709551615, got '" + text + "'";
+    },
+    "UINT64");
+
+constexpr double kLongest = 24 * 3600;  // seconds: the longest match
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
   app.require_subcommand(1);
@@ -32,10 +71,10 @@ int main(int argc, char** argv) {
   quantum::tools::SimulateOptions sim;
   CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets (on a field with a hoop: a shooting practice) and report every event");
   simulate->add_option("FIELD", sim.field, "field file, or a sport folder such as rules/airhockey")->required();
-  simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str()->check(CLI::PositiveNumber);
+  simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str()->check(number_in(0, kLongest, true));
   simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str()
       ->check(CLI::Range(1u, 10'000'000u));
-  simulate->add_option("--seed", sim.seed, "seed of every random choice")->capture_default_str();
+  simulate->add_option("--seed", sim.seed, "seed of every random choice")->capture_default_str()->check(kSeed);
   simulate->add_option("--backend", sim.backend, "fast, or box2d (the reference: one Box2D body per particle)")
       ->capture_default_str()->check(CLI::IsMember({"fast", "box2d"}));
   simulate->add_option("--events", sim.events, "write one JSON object per event to FILE (- for stdout)");
@@ -55,16 +94,16 @@ int main(int argc, char** argv) {
   play->add_option("--input", game.input, "where the players come from: bots (simulated players), mouse[:PLAYER] "
                                          "(you, in the view, against simulated players), or tracking: fakenect:DIR, "
                                          "kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str();
-  play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str();
-  play->add_option("--seconds", game.seconds, "time limit (default: the sport's)")->check(CLI::PositiveNumber);
+  play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str()->check(kSeed);
+  play->add_option("--seconds", game.seconds, "time limit (default: the sport's)")->check(number_in(0, kLongest, true));
   play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)")
       ->check(CLI::Range(1u, 10'000'000u));
   play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)");
   play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
-  play->add_option("--handicap", handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
+  play->add_option("--handicap", handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED");
   play->add_option("--auto-balance", game.auto_balance, "automatic balance: each goal behind multiplies a team's "
                                                         "handicaps by 1 + this (default: the sport's)")
-      ->check(CLI::Range(0.0, 10.0));
+      ->check(number_in(0, 10));
   game.audio = "";  // the command plays sound by default
   play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)");
   play->add_flag("--quiet", quiet, "no transcript");
@@ -78,7 +117,7 @@ int main(int argc, char** argv) {
   play->add_option("--accel", game.accel, "with a tracking input: accelerometer samples t,player,ax,ay,az from FILE "
                                           "(CSV) or udp:PORT (one per datagram): a player's whip throws the ball");
   play->add_option("--fov", game.fov, "with video or camera: its horizontal field of view, degrees")
-      ->capture_default_str();
+      ->capture_default_str()->check(number_in(1, 179));
   // A Kinect's table against the sport's field, on play and on track alike.
   auto add_setup = [](CLI::App* command, std::string& field_size, quantum::tracking::SetupOptions& setup) {
     command->add_option("--field-size", field_size, "with a Kinect: L,W, the field between the markers' centres in m, "
@@ -102,11 +141,11 @@ int main(int argc, char** argv) {
                                         "p paths, r restart, q quit)");
     command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)");
     command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str()
-        ->check(CLI::Range(1.0, 240.0));
+        ->check(number_in(1, 240));
     CLI::Option* snapshot = command->add_option("--snapshot", d.snapshot, "draw the match to a PNG, at --snapshot-at "
                                                                           "or at the end");
     command->add_option("--snapshot-at", d.snapshot_at, "the match time of the snapshot, in seconds")
-        ->check(CLI::NonNegativeNumber)->needs(snapshot);
+        ->check(number_in(0, kLongest))->needs(snapshot);
   };
   add_desk(play, desk);
 
@@ -114,7 +153,7 @@ int main(int argc, char** argv) {
   bool replay_quiet = false;
   CLI::App* replay = app.add_subcommand("replay", "play a recorded match again (quantum play --record DIR)");
   replay->add_option("DIR", again.replay, "the recording's folder")->required();
-  replay->add_option("--until", again.until, "stop at this match time, in seconds")->check(CLI::PositiveNumber);
+  replay->add_option("--until", again.until, "stop at this match time, in seconds")->check(number_in(0, kLongest, true));
   replay->add_option("--events", again.events, "write one JSON object per event to FILE (- for stdout)");
   replay->add_option("--decisions", again.decisions, "write every draw as a JSON line to FILE (- for stdout)");
   replay->add_option("--audio", again.audio, "none (the default), or wav:FILE to render the match's sound")
@@ -133,16 +172,16 @@ int main(int argc, char** argv) {
                                                    "win rates and gameflow");
   balance->add_option("SPORT", study.sport, "sport folder")->capture_default_str();
   balance->add_option("--matches", matches, "how many matches (seeds --seed, --seed + 1, ...)")->capture_default_str();
-  balance->add_option("--seed", study.seed, "first seed")->capture_default_str();
+  balance->add_option("--seed", study.seed, "first seed")->capture_default_str()->check(kSeed);
   balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(0, kLongest, true));
   balance->add_option("--particles", study.particles, "particles in the cloud (default: the sport's)")
       ->check(CLI::Range(1u, 10'000'000u));
   balance->add_option("--skill", study_skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
-  balance->add_option("--handicap", study_handicaps, "handicaps (> 0, 1 is even), one per player: BLUE,RED");
+  balance->add_option("--handicap", study_handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED");
   balance->add_option("--auto-balance", study.auto_balance, "automatic balance: each goal behind multiplies a "
                                                             "team's handicaps by 1 + this (default: the sport's)")
-      ->check(CLI::Range(0.0, 10.0));
+      ->check(number_in(0, 10));
   balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
       ->capture_default_str()->check(CLI::IsMember({"sport", "flat"}));
   std::string balance_csv, balance_plot;
@@ -166,7 +205,7 @@ int main(int argc, char** argv) {
   track->add_option("--accel", tracking.accel, "with video, camera or tuio: accelerometer samples t,player,ax,ay,az from FILE "
                                                "(CSV) or udp:PORT (one per datagram)");
   track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")
-      ->capture_default_str();
+      ->capture_default_str()->check(number_in(1, 179));
   track->add_option("--field", tracking.field, "field file or sport folder: its size and who plays from which end")
       ->capture_default_str();
   add_setup(track, tracking.field_size, tracking.setup);

@@ -125,6 +125,28 @@ TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
   EXPECT_NE(r.err.find("/nonexistent/dir/x.png"), std::string::npos) << r.err;
 }
 
+// Values the engine cannot honour are refused before anything runs, naming the option.
+TEST(Cli, ValuesItCannotHonourAreRefusedByName) {
+  const std::pair<const char*, const char*> refused[] = {
+      {"--auto-balance nan", "--auto-balance"},
+      {"--auto-balance inf", "--auto-balance"},
+      {"--seed -1", "--seed"},
+      {"--seed 18446744073709551616", "--seed"},
+      {"--seed 1e3", "--seed"},
+      {"--seconds nan", "--seconds"},
+      {"--handicap 1e308,1", "--handicap"},
+      {"--handicap 0,1", "--handicap"},
+      {"--fov nan", "--fov"},
+  };
+  for (const auto& [option, name] : refused) {
+    const Outcome r = quantum(std::string("play rules/airhockey --audio none --quiet --seconds 1 ") + option);
+    EXPECT_EQ(r.status, 1) << option;
+    EXPECT_NE(r.err.find(name), std::string::npos) << option << ": " << r.err;
+  }
+  const Outcome highest = quantum("play rules/airhockey --audio none --quiet --seconds 1 --seed 18446744073709551615");
+  EXPECT_EQ(highest.status, 0) << highest.err;
+}
+
 TEST(Cli, PlayWithoutASoundCardWarnsOnceAndPlaysSilently) {
   setenv("ALSOFT_DRIVERS", "nosuchdriver", 1);  // no backend: no device can open
   const Outcome r = quantum("play rules/airhockey --seconds 5 --quiet");
