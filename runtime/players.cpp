@@ -87,6 +87,7 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
     }
     if (pending_->t > t + 1e-9 && !live()) return Status::Ready;  // not due yet
     apply(*pending_, match.config().throw_speed);
+    tell_dropped(t);
     seen_ = true;
     next_ask_ = pending_->t + 1.0 / 60;
     pending_.reset();
@@ -94,8 +95,19 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
   }
 }
 
+void TrackedPlayers::tell_dropped(double t) {
+  const size_t dropped = dropped_ + input_.dropped();
+  if (dropped == told_ || t - told_at_ < kWarnEvery) return;
+  if (warnings_)
+    *warnings_ << "quantum: " << spec_ << ": " << dropped - told_ << " tracking value" << (dropped - told_ > 1 ? "s" : "")
+               << " dropped (not a number, or a frame whose time is not; " << dropped
+               << " in all), the match goes on\n";
+  told_ = dropped, told_at_ = t;
+}
+
 // Tracking glitches must not stop a match: positions stay within a field's size of the bounds
-// and speeds under the field's limit, as the core requires.
+// and speeds under the field's limit, as the core requires; values that are not numbers are
+// dropped and counted.
 void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) {
   for (BodyInput& b : bodies_) b.velocity = {0, 0};  // no input: the body holds still
   const float slack = 0.5f * std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
@@ -103,13 +115,19 @@ void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) 
   const double tall = field_.has_height() ? 1.0 : 0.0;
   for (const tracking::TrackedAction& a : f.actions) {
     const double l = std::hypot(std::hypot(a.dx, a.dy), tall * a.dz);
-    if (a.type != "throw" || !(l > 0)) continue;
+    if (a.type != "throw") continue;
+    if (!std::isfinite(l)) ++dropped_;
+    if (!(l > 0 && std::isfinite(l))) continue;
     for (size_t k = 0; k < field_.bodies.size(); ++k)
       if (field_.bodies[k].tracked_as() == a.player)
         throws_.push_back({int(k), {float(throw_speed * a.dx / l), float(throw_speed * a.dy / l)},
                            float(throw_speed * tall * a.dz / l)});
   }
   for (const tracking::TrackedPlayer& p : f.players) {
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.vx) && std::isfinite(p.vy))) {
+      ++dropped_;
+      continue;
+    }
     for (size_t k = 0; k < field_.bodies.size(); ++k) {
       if (field_.bodies[k].tracked_as() != p.id) continue;
       bodies_[k].position = {std::clamp(float(p.x), field_.bounds_min.x - slack, field_.bounds_max.x + slack),

@@ -134,6 +134,12 @@ class TrackedPlayers final : public PlayerSource {
   std::optional<double> t0_;
   bool seen_ = false;     // a frame has come
   double next_ask_ = 0;   // match time from which a live source is asked again
+  // Values that were not numbers (NaN, infinite), dropped: counted, and told at most every
+  // kWarnEvery seconds of the match.
+  static constexpr double kWarnEvery = 5;
+  size_t dropped_ = 0, told_ = 0;
+  double told_at_ = -kWarnEvery;
+  void tell_dropped(double t);
 };
 
 }  // namespace quantum::runtime

@@ -4,6 +4,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -13,12 +14,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Wall-clock seconds from a name `%c-%f-%u.%s`; -1 when it does not parse.
+// Wall-clock seconds from a name `%c-%f-%u.%s`; -1 when it does not parse, NaN when the time is
+// not a finite number ("nan", "inf").
 double time_of(const std::string& name) {
   if (name.size() < 4 || name[1] != '-') return -1;
   char* end = nullptr;
   const double t = std::strtod(name.c_str() + 2, &end);
-  return end && *end == '-' ? t : -1;
+  if (!end || *end != '-') return -1;
+  return std::isfinite(t) && t >= 0 ? t : std::nan("");
 }
 
 // A binary PNM (P5 or P6) as libfreenect writes it. `what` names the file and frame in errors.
@@ -64,6 +67,11 @@ bool FakenectReader::next(RecordedFrame& out) {
     const fs::path path = fs::path(dir_) / name;
     const std::string what = path.string() + " (depth frame " + std::to_string(frames_) + ")";
     if (wall < 0) throw RecordingError(what + ": the name is not type-seconds-timestamp.ext");
+    // A frame whose time is not a number, or goes back, cannot be placed: dropped and counted.
+    if (std::isnan(wall) || (name[0] == 'd' && t0_ >= 0 && wall - t0_ < last_t_)) {
+      ++dropped_;
+      continue;
+    }
     if (t0_ < 0) t0_ = wall;
     if (name[0] == 'r') {
       rgb_ = read_pnm(path, path.string());
@@ -73,7 +81,7 @@ bool FakenectReader::next(RecordedFrame& out) {
       if (out.depth.type() != CV_16UC1) throw RecordingError(what + ": a depth frame must be a 16-bit PGM");
       out.rgb = rgb_;
       out.index = frames_++;
-      out.t = wall - t0_;
+      out.t = last_t_ = wall - t0_;
       out.file = path.string();
       return true;
     }

@@ -37,13 +37,16 @@ class FakenectReader {
   bool next(RecordedFrame& out);
 
   const std::string& dir() const { return dir_; }
+  // Frames skipped so far because their name's time was not a number or went back.
+  size_t dropped() const { return dropped_; }
 
  private:
   std::string dir_;
   std::vector<std::string> files_;
   size_t cursor_ = 0;
   int frames_ = 0;
-  double t0_ = -1;
+  double t0_ = -1, last_t_ = 0;
+  size_t dropped_ = 0;
   cv::Mat rgb_;
 };
 

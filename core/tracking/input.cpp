@@ -163,6 +163,8 @@ const Calibration* TrackingInput::calibration() const {
   return impl_->depth && impl_->depth->ready() ? &impl_->depth->calibration() : nullptr;
 }
 
+size_t TrackingInput::dropped() const { return impl_->recording ? impl_->recording->dropped() : 0; }
+
 std::string TrackingInput::sightings() { return impl_->depth ? impl_->depth->sightings() : ""; }
 
 std::string describe(const Calibration& c) {

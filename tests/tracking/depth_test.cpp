@@ -248,6 +248,36 @@ TEST(Depth, ATruncatedFrameIsNamedWithItsNumber) {
   EXPECT_EQ(read, 12);  // everything before it was read
 }
 
+// A frame whose name's time is not a number ("nan", "inf") or goes back cannot be placed: it is
+// dropped and counted, and the recording plays on at its own pace (not all at once).
+TEST(Depth, FramesWhoseTimeIsNotANumberAreDroppedAndCounted) {
+  TempDir dir("nan_times");
+  const std::string rec = small_recording(dir);
+  std::vector<std::string> lines = index_of(rec), depth;
+  for (const std::string& l : lines)
+    if (l[0] == 'd') depth.push_back(l);
+  auto renamed = [&](const std::string& name, const std::string& time) {
+    const std::string to = name.substr(0, 2) + time + name.substr(name.find('-', 2));
+    fs::rename(fs::path(rec) / name, fs::path(rec) / to);
+    for (std::string& l : lines)
+      if (l == name) l = to;
+  };
+  renamed(depth[3], "nan");
+  renamed(depth[5], "inf");
+  renamed(depth[7], "0.000001");  // before the first frame
+  std::ofstream index(fs::path(rec) / "INDEX.txt");
+  for (const std::string& l : lines) index << l << "\n";
+  index.close();
+  FakenectReader reader(rec);
+  RecordedFrame f;
+  std::vector<double> times;
+  while (reader.next(f)) times.push_back(f.t);
+  EXPECT_EQ(reader.dropped(), 3u);
+  EXPECT_EQ(times.size(), depth.size() - 3);
+  for (size_t k = 1; k < times.size(); ++k) EXPECT_GT(times[k], times[k - 1]) << k;
+  EXPECT_GT(times.back(), 0.5);  // still the recording's own pace
+}
+
 TEST(Depth, ANonRecordingIsNamed) {
   try {
     FakenectReader reader("/nonexistent/recording");

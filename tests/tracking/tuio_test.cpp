@@ -7,6 +7,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -215,6 +216,40 @@ TEST(Tuio, AMatchPausesWhileItsTrackerIsSilent) {
   EXPECT_GE(paused, 2);
   EXPECT_EQ(resumed, paused);
   std::filesystem::remove(events);
+}
+
+// Input from the network is data, never a reason to stop: cursors at NaN, infinity or 1e38 are
+// dropped, counted and told (at most every 5 s), and the match plays to its end.
+TEST(Tuio, ValuesThatAreNotNumbersAreDroppedAndTheMatchGoesOn) {
+  const int port = test_port() + 5;
+  runtime::SessionOptions o;
+  o.input = "tuio:" + std::to_string(port);
+  o.seconds = 2;
+  std::ostringstream out, errors;
+  std::atomic<bool> done{false};
+  tools::PlayResult result;
+  std::thread match([&] {
+    try {
+      result = tools::play(o, out, errors);
+    } catch (const std::exception& e) {
+      errors << "stopped: " << e.what();
+    }
+    done = true;
+  });
+  Sender send;
+  lo_address_free(send.to);
+  send.to = lo_address_new("127.0.0.1", std::to_string(port).c_str());
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (int k = 0; k < 60 * 6 && !done; ++k) {
+    const float bad = k % 3 == 0 ? nan : k % 3 == 1 ? inf : 1e38f;
+    send.cursors({{{1, 0.1f, 0.5f}}, {{2, k % 2 ? bad : 0.9f, 0.5f}}});
+    std::this_thread::sleep_for(std::chrono::microseconds(16667));
+  }
+  match.join();
+  ASSERT_TRUE(done);
+  EXPECT_EQ(errors.str().find("stopped"), std::string::npos) << errors.str();
+  EXPECT_NEAR(result.stats.seconds, 2, 0.02);
+  EXPECT_NE(errors.str().find("tracking value dropped (not a number"), std::string::npos) << errors.str();
 }
 
 }  // namespace
