@@ -44,8 +44,11 @@ class LineFile {
   std::ostream* stream() { return stream_; }
   // Flushes; throws std::runtime_error naming the file when anything could not be written.
   void close();
+  // Once, as soon as a write has failed (a full disk): the line that says so; "" otherwise.
+  std::string failure();
 
  private:
+  bool told_ = false;
   std::string path_;
   std::ofstream file_;
   std::ostream* stream_ = nullptr;

@@ -163,6 +163,8 @@ bool Session::frame() {
   tell();
   audio_->frame(m.time());
   write_settled();
+  for (LineFile* file : {log_.get(), decisions_.get()})
+    if (const std::string failure = file->failure(); !failure.empty()) errors_ << "quantum: " << failure << '\n';
   over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9);
   // A camera is asked again while paused, not spun on.
   if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));

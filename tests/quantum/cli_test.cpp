@@ -147,6 +147,20 @@ TEST(Cli, ValuesItCannotHonourAreRefusedByName) {
   EXPECT_EQ(highest.status, 0) << highest.err;
 }
 
+// A log that cannot be written (a full disk) is told once, as soon as a write fails, the match
+// plays to its end, and the exit code says something was lost.
+TEST(Cli, ALogOnAFullDiskIsToldAtOnceAndTheExitCodeSaysSo) {
+  for (const char* option : {"--events", "--decisions"}) {
+    const Outcome r = quantum(std::string("play rules/airhockey --audio none --seconds 20 ") + option + " /dev/full");
+    EXPECT_EQ(r.status, 1) << option;
+    const size_t told = r.err.find("cannot write to /dev/full (a full disk?)");
+    EXPECT_NE(told, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("cannot write to /dev/full", told + 1), std::string::npos) << "told once: " << r.err;
+    EXPECT_GT(r.err.find("could not write every line to /dev/full"), told) << r.err;
+    EXPECT_NE(r.out.find("0:20.00"), std::string::npos) << "the match was played to its end: " << r.out;
+  }
+}
+
 TEST(Cli, PlayWithoutASoundCardWarnsOnceAndPlaysSilently) {
   setenv("ALSOFT_DRIVERS", "nosuchdriver", 1);  // no backend: no device can open
   const Outcome r = quantum("play rules/airhockey --seconds 5 --quiet");
