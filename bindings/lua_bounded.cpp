@@ -1,5 +1,6 @@
 #include "lua_bounded.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -29,11 +30,13 @@ struct Matcher {
     ptrdiff_t len;
   } capture[kMaxCaptures];
 
-  void step() {
-    if ((++steps & (kChargeEvery - 1)) == 0) sandbox->charge(L, kChargeEvery);
+  // A step is a character compared, or a byte of a set or a replacement scanned.
+  void step(int64_t n = 1) {
+    steps += n;
+    if (steps >= kChargeEvery) sandbox->charge(L, steps), steps = 0;
   }
   // Charges what is left when a search ends, so short searches count too.
-  void settle() { sandbox->charge(L, steps & (kChargeEvery - 1)), steps = 0; }
+  void settle() { sandbox->charge(L, steps), steps = 0; }
 
   char at(const char* p) const { return p < p_end ? *p : '\0'; }
 
@@ -89,8 +92,9 @@ struct Matcher {
     return !sign;
   }
 
-  bool single(const char* s, const char* p, const char* ep) const {
+  bool single(const char* s, const char* p, const char* ep) {
     if (s >= src_end) return false;
+    if (*p == '[') step(ep - p);  // a set is scanned whole
     const int c = static_cast<unsigned char>(*s);
     switch (*p) {
       case '.': return true;
@@ -219,7 +223,7 @@ struct Matcher {
     const int k = digit - '1';
     if (k < 0 || k >= level || capture[k].len == kUnfinished) luaL_error(L, "invalid capture index");
     const size_t n = size_t(capture[k].len);
-    steps += int64_t(n);
+    step(int64_t(n));
     if (size_t(src_end - s) >= n && std::memcmp(capture[k].init, s, n) == 0) return s + n;
     return nullptr;
   }
@@ -267,7 +271,9 @@ int find_or_match(lua_State* L, bool find) {
   const size_t init = start_of(L, 3, s.size());
   if (find && (lua_toboolean(L, 4) || p.find_first_of("^$*+?.([%-") == std::string_view::npos)) {
     Sandbox::of(L).charge(L, int64_t(s.size() - init) / kBytesPerInstruction);
-    const size_t at = s.find(p, init);
+    // glibc's memmem is linear (two-way); std::string_view::find may not be.
+    const void* hit = p.empty() ? s.data() + init : memmem(s.data() + init, s.size() - init, p.data(), p.size());
+    const size_t at = hit ? size_t(static_cast<const char*>(hit) - s.data()) : std::string_view::npos;
     if (at == std::string_view::npos) {
       lua_pushnil(L);
       return 1;
@@ -342,6 +348,7 @@ void add_replacement(Matcher& m, luaL_Buffer& b, const char* s, const char* e) {
     }
     default: {  // a string: %0 the match, %1-%9 its captures, %% a percent sign
       const std::string_view r = arg_view(L, 3);
+      m.step(int64_t(r.size()));
       for (size_t i = 0; i < r.size(); ++i) {
         if (r[i] != '%' || i + 1 == r.size()) {
           luaL_addchar(&b, r[i]);
@@ -404,10 +411,20 @@ constexpr int64_t kSortPerCompare = 9, kConcatPerEntry = 25;  // instructions' w
 
 int sort(lua_State* L) {
   luaL_checktype(L, 1, LUA_TTABLE);
+  // A comparator in C (string.reverse, say) runs no Lua instruction a hook could count.
+  if (lua_iscfunction(L, 2)) luaL_error(L, "table.sort: the comparator must be a Lua function");
   const size_t n = lua_objlen(L, 1);
   if (n > kMostSorted) luaL_error(L, "table.sort: %d entries, more than the sandbox sorts (%d)", int(n), int(kMostSorted));
+  // Strings compare byte by byte: long ones cost their length at every comparison.
+  double bytes = 0;
+  for (size_t i = 1; i <= n; ++i) {
+    lua_rawgeti(L, 1, int(i));
+    if (lua_type(L, -1) == LUA_TSTRING) bytes += double(lua_objlen(L, -1));
+    lua_pop(L, 1);
+  }
+  const double log_n = std::log2(double(n) + 1);
   Sandbox& sandbox = Sandbox::of(L);
-  sandbox.charge(L, int64_t(double(n) * std::log2(double(n) + 1)) * kSortPerCompare);
+  sandbox.charge(L, int64_t(double(n) * log_n * kSortPerCompare + bytes * log_n / kBytesPerInstruction));
   const Sandbox::Nested nested(L, sandbox, "table.sort");
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
@@ -415,10 +432,24 @@ int sort(lua_State* L) {
   return 0;
 }
 
+// string.format's %s and print call __tostring from C: a __tostring that formats itself would
+// recurse on the C stack. They run as Lua's own (upvalue 1), counted as nested callbacks.
+template <const char* kName>
+int nested_call(lua_State* L) {
+  const Sandbox::Nested nested(L, Sandbox::of(L), kName);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  return lua_gettop(L);
+}
+constexpr char kFormat[] = "string.format", kPrint[] = "print";
+
 int concat(lua_State* L) {
   luaL_checktype(L, 1, LUA_TTABLE);
   const lua_Integer first = luaL_optinteger(L, 3, 1), last = luaL_optinteger(L, 4, lua_Integer(lua_objlen(L, 1)));
-  if (last >= first) Sandbox::of(L).charge(L, (int64_t(last) - int64_t(first) + 1) * kConcatPerEntry);
+  // In doubles: a range of 2^59 entries would overflow the charge and refund the budget.
+  if (last >= first)
+    Sandbox::of(L).charge(L, int64_t(std::min((double(last) - double(first) + 1) * kConcatPerEntry, 1e15)));
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
   lua_call(L, lua_gettop(L) - 1, 1);
@@ -457,7 +488,12 @@ int xpcall(lua_State* L) {
 
 void replace(lua_State* L, const char* library, const char* name, lua_CFunction f, bool wraps) {
   if (!library) {
-    lua_pushcfunction(L, f);
+    if (wraps) {
+      lua_getglobal(L, name);
+      lua_pushcclosure(L, f, 1);
+    } else {
+      lua_pushcfunction(L, f);
+    }
     lua_setglobal(L, name);
     return;
   }
@@ -482,6 +518,8 @@ void install_bounded(lua_State* L) {
   replace(L, "table", "sort", sort, true);
   replace(L, "table", "concat", concat, true);
   replace(L, nullptr, "xpcall", xpcall, false);
+  replace(L, "string", "format", nested_call<kFormat>, true);
+  replace(L, nullptr, "print", nested_call<kPrint>, true);
 }
 
 }  // namespace quantum::lua

@@ -80,9 +80,11 @@ int on_error(lua_State* L) {
 
 // One thread for every sandbox of the process: while a call runs it looks at the calling
 // thread's CPU clock every millisecond, and when the call's share of the period is used up it
-// sets a hook that fires at the script's next instruction (lua_sethook is the one Lua function
-// meant to be called asynchronously, as lua.c does from its SIGINT handler). It keeps looking
-// for a while after the last call, so a match's many short calls do not wake it each time.
+// raises the sandbox's flag, which the count hook, the allocator and the bounded library
+// functions look at. It never calls into Lua: lua_sethook from another thread rewrites the hook
+// mask while the Lua thread may be toggling its "in a hook" bit, and a stale bit turns every
+// hook off for good. It keeps looking for a while after the last call, so a match's many short
+// calls do not wake it each time.
 class Watchdog {
  public:
   static Watchdog& get() {
@@ -125,10 +127,12 @@ class Watchdog {
         wake_.wait(lock, [&] { return stop_ || !watched_.empty(); });
         idle_ = false;
       }
-      for (Entry& e : watched_) {
+      std::erase_if(watched_, [](const Entry& e) {  // each call's deadline fires once
         timespec now{};
-        if (clock_gettime(e.clock, &now) == 0 && seconds(now) >= seconds(e.deadline)) e.sandbox->time_up();
-      }
+        const bool due = clock_gettime(e.clock, &now) == 0 && seconds(now) >= seconds(e.deadline);
+        if (due) e.sandbox->time_up();
+        return due;
+      });
       if (!watched_.empty()) last_seen = std::chrono::steady_clock::now();
       wake_.wait_for(lock, 1ms);
     }
@@ -195,10 +199,7 @@ void Sandbox::run_out(lua_State* L, lua_Debug* ar) {
   std::abort();  // lua_error does not return
 }
 
-void Sandbox::time_up() {
-  time_up_.store(true, std::memory_order_relaxed);
-  lua_sethook(L_, on_hook, LUA_MASKCOUNT, 1);
-}
+void Sandbox::time_up() { time_up_.store(true, std::memory_order_relaxed); }
 
 void Sandbox::new_period() {
   instructions_ = 0;
@@ -374,6 +375,7 @@ bool Sandbox::call(int nargs, int nresults, std::string& error) {
     lua_getinfo(L_, ">S", &ar);
     const std::string where =
         ar.linedefined > 0 && ar.source[0] == '@' ? std::string(ar.source + 1) + ":" + std::to_string(ar.linedefined) + ": " : "";
+    if (time_up_ && spent_in_.empty() && ar.source[0] == '@') spent_in_ = ar.source + 1;  // whose overrun it was
     error = where + (time_up_ ? "script runs too long: the Lua budget of a frame is spent" : "not enough memory") +
             (where.empty() ? "" : " (in the function starting there)");
   }

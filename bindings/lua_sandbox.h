@@ -28,9 +28,9 @@ std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders,
 
 // What the scripts of one sandbox may spend together in one period (new_period: a match frame).
 // Instructions are counted by a count hook; CPU time (the calling thread's, so a busy machine does
-// not count against a script) is watched by a watchdog thread that stops the script at its next
-// instruction, as a signal handler would. Library functions whose work a hook cannot see are
-// bounded by lua_bounded.h.
+// not count against a script) is watched by a watchdog thread whose flag the hook looks at every
+// kHookEvery instructions. Library functions whose work a hook cannot see are bounded by
+// lua_bounded.h.
 struct Limits {
   size_t memory = 64u << 20;
   int64_t instructions = 10'000'000;
@@ -138,7 +138,7 @@ class Sandbox {
   void protect_raw(lua_CFunction trampoline, void* run);
   bool arm(std::string* refused);  // false (and why) when the period's budget is spent
   void disarm();
-  void time_up();  // the watchdog's call, from its thread
+  void time_up();  // the watchdog's call, from its thread: raises the flag, nothing more
 
   Limits limits_;
   Memory memory_;

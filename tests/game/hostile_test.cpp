@@ -211,6 +211,18 @@ TEST(Sandbox, TimeInsideLibraryFunctionsIsBounded) {
       {"backtracking_gmatch", "for w in string.rep('a', 5000):gmatch('.-.-.-b') do end", "", "", "script runs too long"},
       {"backtracking_gsub", "local s = string.rep('a', 5000):gsub('.-.-.-b', '')", "", "", "script runs too long"},
       {"sort_huge", "local t = {} for i = 1, 1e5 do t[i] = -i end table.sort(t)", "", "", "more than the sandbox sorts"},
+      {"huge_set", "local set = '[' .. string.rep('b', 2e5) .. ']' string.find(string.rep('a', 2e4), set .. '+c')", "",
+       "", "script runs too long"},
+      // A linear search (memmem) finishes this well inside the budget: the error after it says so.
+      {"plain_find_quadratic",
+       "local s = string.rep('a', 1e6) string.find(s, string.rep('a', 5e5 - 1) .. 'b', 1, true) error('searched')", "",
+       "", "searched"},
+      {"sort_by_c_comparator", "local s = string.rep('x', 2e6) local t = {} for i = 1, 2e4 do t[i] = s end "
+       "table.sort(t, string.reverse)", "", "", "the comparator must be a Lua function"},
+      {"sort_long_strings", "local t = {} for i = 1, 40 do t[i] = string.rep('x', 1e6) .. i end "
+       "for k = 41, 4e4 do t[k] = t[k % 40 + 1] end table.sort(t)", "", "", "script runs too long"},
+      {"gsub_replacement", "local _ = string.rep('x', 1e5):gsub('(x-)', string.rep('%1', 5e5))", "", "",
+       "script runs too long"},
       {"fifty_modifiers", "",
        "sport.modifiers = {} for i = 1, 50 do sport.modifiers[i] = function() for k = 1, 3e5 do end return 1 end end",
        "", "script runs too long"},
@@ -226,6 +238,8 @@ TEST(Sandbox, CallbacksThatRecurseThroughCEndInAnError) {
        "", "", "nested more than 64 deep"},
       {"sort_comparator", "local function f() table.sort({2, 1}, function(a, b) f() return a < b end) end f()", "", "",
        "nested more than 64 deep"},
+      {"format_tostring", "local mt = {} mt.__tostring = function(t) return string.format('%s', t) end "
+       "local _ = string.format('%s', setmetatable({}, mt))", "", "", "nested more than 64 deep"},
       {"grant_itself", "game.grant(\"Red's mallet\", 'evil')", "",
        "return { duration = 5, factor = function() return 1 end,\n"
        "  start = function(holder, game) game.grant(holder.name, 'evil') end }\n",
