@@ -224,12 +224,13 @@ bool Sandbox::arm(std::string* refused) {
   hook_count_ = kHookEvery;
   lua_sethook(L_, on_hook, LUA_MASKCOUNT, kHookEvery);
   armed_at_ = thread_cpu_now();
-  if (limits_.cpu_seconds > 0 && pthread_getcpuclockid(pthread_self(), &cpu_clock_) == 0) {
+  clockid_t cpu_clock{};
+  if (limits_.cpu_seconds > 0 && pthread_getcpuclockid(pthread_self(), &cpu_clock) == 0) {
     const double deadline = seconds(armed_at_) + (limits_.cpu_seconds - period_cpu_);
     timespec at{};
     at.tv_sec = time_t(deadline);
     at.tv_nsec = long((deadline - double(at.tv_sec)) * 1e9);
-    Watchdog::get().watch(this, cpu_clock_, at);
+    Watchdog::get().watch(this, cpu_clock, at);
   }
   return true;
 }

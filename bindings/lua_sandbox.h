@@ -153,7 +153,6 @@ class Sandbox {
   int64_t instructions_ = 0;
   double period_cpu_ = 0, longest_period_cpu_ = 0;
   timespec armed_at_{};
-  clockid_t cpu_clock_{};
   std::atomic<bool> time_up_{false};
   bool spent_ = false;
   std::string spent_in_;

@@ -141,7 +141,7 @@ void Sport::read_sport(int t) {
     r.only_keys(h, "handicaps", bodies);
     for (size_t k = 0; k < bodies.size(); ++k) {
       handicaps_[k] = r.number(h, bodies[k].c_str(), "handicaps", 1.0, false);
-      if (!(handicaps_[k] > 0 && handicaps_[k] <= game::kMostHandicap)) r.fail("handicaps." + bodies[k], "must be in (0, 1000]");
+      if (!game::handicap_ok(handicaps_[k])) r.fail("handicaps." + bodies[k], "must be in (0, 1000]");
     }
     lua_pop(L, 1);
   }
@@ -438,16 +438,17 @@ void Sport::set_factor(const std::string& kind, double value) {
 void Sport::factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) {
   zeroed_by_.reserve(std::max<size_t>(256, fates.size()));  // as Match's fate buffers: room for a busy moment
   zeroed_by_.assign(fates.size(), kNotZeroed);
+  bool scripted = false;
   if (!disabled_ && !sandbox_.spent()) {
     try {
       sandbox_.protect([&] { script_factors(fates, match, out); });
+      scripted = true;
     } catch (const ScriptError& e) {
       match.report_error(std::string(e.what()) + " (this frame's modifiers skipped)");
-      for (size_t k = 0; k < fates.size(); ++k) out[k] = by_kind_[int(fates[k].fate.kind)];
     }
-  } else {  // the scripts cannot run: the factors by kind as last read
-    for (size_t k = 0; k < fates.size(); ++k) out[k] = by_kind_[int(fates[k].fate.kind)];
   }
+  if (!scripted)  // the scripts could not run: the factors by kind as last read
+    for (size_t k = 0; k < fates.size(); ++k) out[k] = by_kind_[int(fates[k].fate.kind)];
   for (size_t k = 0; k < fates.size(); ++k)
     if (out[k] == 0 && zeroed_by_[k] == kNotZeroed && by_kind_[int(fates[k].fate.kind)] == 0) zeroed_by_[k] = kKindFactor;
   double kept = 0, mass = 0;

@@ -53,7 +53,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   for (const auto& [kind, value] : settings.factors) sport_->set_factor(kind, value);
   const std::vector<double> handicaps = per_player(settings.handicaps, sport_->handicaps(), *sport_, "--handicap", "handicaps");
   for (size_t k = 0; k < handicaps.size(); ++k)
-    if (!(handicaps[k] > 0 && handicaps[k] <= game::kMostHandicap))
+    if (!game::handicap_ok(handicaps[k]))
       throw std::invalid_argument("--handicap: " + sport_->field().bodies[k].name + "'s handicap must be in (0, 1000], got " +
                                   (std::ostringstream() << handicaps[k]).str());
   game::MatchConfig config;

@@ -31,18 +31,17 @@ namespace {
 // A number in [lo, hi] (or (lo, hi] with `open`): CLI11's own ranges let "nan" through, since no
 // comparison with NaN is true.
 CLI::Validator number_in(double lo, double hi, bool open = false) {
-  std::ostringstream name;
-  name << "FLOAT in " << (open ? "(" : "[") << lo << ", " << hi << "]";
+  std::ostringstream range;
+  range << (open ? "(" : "[") << lo << ", " << hi << "]";
+  const std::string interval = range.str();
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         double v = 0;
         const bool number = CLI::detail::lexical_cast(text, v);
         if (number && std::isfinite(v) && (open ? v > lo : v >= lo) && v <= hi) return {};
-        std::ostringstream m;
-        m << "expected a number in " << (open ? "(" : "[") << lo << ", " << hi << "], got '" << text << "'";
-        return m.str();
+        return "expected a number in " + interval + ", got '" + text + "'";
       },
-      name.str());
+      "FLOAT in " + interval);
 }
 
 // Seeds are 64-bit: "-1" and "18446744073709551616" are not seeds (CLI11 would wrap the one and

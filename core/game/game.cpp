@@ -48,7 +48,7 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
                                 std::to_string(f.bodies.size()) + " players");
   for (size_t k = 0; k < f.bodies.size(); ++k) {
     const double h = handicaps.empty() ? 1.0 : handicaps[k];
-    if (!(h > 0 && h <= kMostHandicap))
+    if (!handicap_ok(h))
       throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be in (0, 1000]");
     players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}});
   }
@@ -205,7 +205,7 @@ void Match::powerup_event(EventKind type, int player, const std::string& name) {
 
 void Match::set_handicap(int k, double handicap) {
   if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
-  if (!(handicap > 0 && handicap <= kMostHandicap)) throw std::invalid_argument("a handicap must be in (0, 1000]");
+  if (!handicap_ok(handicap)) throw std::invalid_argument("a handicap must be in (0, 1000]");
   players_[size_t(k)].handicap = handicap;
 }
 

@@ -91,6 +91,7 @@ class Rules {
 // Handicaps are in (0, kMostHandicap]: a thousand times likelier is as good as certain already,
 // and more overflows the fate factors' product.
 inline constexpr double kMostHandicap = 1000;
+inline bool handicap_ok(double h) { return h > 0 && h <= kMostHandicap; }  // false for NaN too
 
 struct MatchConfig {
   uint32_t particles = 1000;
