@@ -383,7 +383,7 @@ void Sport::read_audio(const Reader& r, int t) {
   lua_pop(L, 1);
 }
 
-const std::string& Sport::team_name(const std::string& team) const {
+std::string Sport::team_name(const std::string& team) const {
   const auto it = team_names_.find(team);
   return it == team_names_.end() ? team : it->second;
 }

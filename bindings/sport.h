@@ -146,7 +146,7 @@ class Sport final : public game::Rules {
   lua_State* L() const { return sandbox_.L(); }
   const Sandbox& sandbox() const { return sandbox_; }
   // A team's display name (sport.lua's `teams`), else the team's own name.
-  const std::string& team_name(const std::string& team) const;
+  std::string team_name(const std::string& team) const;
 
  private:
   struct Script;

@@ -328,7 +328,7 @@ int teams(lua_State* L) {
 
 // game.team_name(team): the team's name as the announcer says it (sport.lua's `teams`).
 int team_name(lua_State* L) {
-  const std::string& name = sport_of(L).team_name(check_string(L, 1));
+  const std::string name = sport_of(L).team_name(check_string(L, 1));
   lua_pushlstring(L, name.data(), name.size());
   return 1;
 }

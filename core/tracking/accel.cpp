@@ -16,12 +16,16 @@ namespace {
 constexpr double kSteepest = 1.3;  // rad, 75 degrees: a throw straighter up is the sensor's noise
 constexpr double kGravity = 9.81;
 
-// "t,player,ax,ay,az"; false when the line does not have that shape.
-bool parse_sample(const std::string& line, AccelSample& s) {
+enum class Parsed { Sample, Malformed, NotFinite };
+
+// "t,player,ax,ay,az". A line of that shape with a number that is NaN or infinite is a sensor's
+// glitch (dropped and counted), not a malformed file.
+Parsed parse_sample(const std::string& line, AccelSample& s) {
   std::stringstream in(line);
   std::string field[5];
   for (int k = 0; k < 5; ++k)
-    if (!std::getline(in, field[k], ',')) return false;
+    if (!std::getline(in, field[k], ',')) return Parsed::Malformed;
+  bool finite = true;
   double* numbers[] = {&s.t, &s.ax, &s.ay, &s.az};
   const int columns[] = {0, 2, 3, 4};
   for (int k = 0; k < 4; ++k) {
@@ -29,10 +33,12 @@ bool parse_sample(const std::string& line, AccelSample& s) {
     char* end = nullptr;
     *numbers[k] = std::strtod(text.c_str(), &end);
     while (end && (*end == ' ' || *end == '\r' || *end == '\n')) ++end;
-    if (end == text.c_str() || !end || *end != 0 || !std::isfinite(*numbers[k])) return false;
+    if (end == text.c_str() || !end || *end != 0) return Parsed::Malformed;
+    finite = finite && std::isfinite(*numbers[k]);
   }
   s.player = field[1];
-  return !s.player.empty();
+  if (s.player.empty()) return Parsed::Malformed;
+  return finite ? Parsed::Sample : Parsed::NotFinite;
 }
 
 }  // namespace
@@ -59,8 +65,10 @@ AccelSource::AccelSource(const std::string& spec) {
     ++n;
     if (line.empty() || line[0] == '#' || (n == 1 && line.rfind("t,", 0) == 0)) continue;  // header, comments
     AccelSample s;
-    if (!parse_sample(line, s)) throw TrackingError(spec + ":" + std::to_string(n) + ": expected t,player,ax,ay,az");
-    samples_.push_back(s);
+    const Parsed parsed = parse_sample(line, s);
+    if (parsed == Parsed::Malformed) throw TrackingError(spec + ":" + std::to_string(n) + ": expected t,player,ax,ay,az");
+    if (parsed == Parsed::NotFinite) ++dropped_;
+    else samples_.push_back(s);
   }
   std::stable_sort(samples_.begin(), samples_.end(), [](const AccelSample& a, const AccelSample& b) { return a.t < b.t; });
 }
@@ -73,9 +81,11 @@ std::vector<AccelSample> AccelSource::until(double t) {
   std::vector<AccelSample> out;
   if (socket_ >= 0) {
     char buf[512];
-    for (ssize_t n; (n = ::recv(socket_, buf, sizeof buf - 1, 0)) > 0;) {
+    // An empty datagram reads as 0 bytes: a datagram all the same, dropped, and more may follow.
+    for (ssize_t n; (n = ::recv(socket_, buf, sizeof buf - 1, 0)) >= 0;) {
       AccelSample s;
-      if (parse_sample(std::string(buf, size_t(n)), s)) s.t = t, out.push_back(s);  // a bad datagram is dropped
+      if (parse_sample(std::string(buf, size_t(n)), s) == Parsed::Sample) s.t = t, out.push_back(s);
+      else ++dropped_;
     }
     return out;
   }

@@ -15,6 +15,10 @@
 
 namespace quantum::tracking {
 
+// camera:N is a video device (a webcam, a capture card). Left to choose, OpenCV also asks
+// gphoto2 to look for still cameras on USB, a few thousand enumerations that leak each time.
+constexpr int kCameraApi = cv::CAP_V4L2;
+
 using Clock = std::chrono::steady_clock;
 using Status = TrackingInput::Status;
 
@@ -102,7 +106,7 @@ struct TrackingInput::Impl {
     if (!video->read(image)) {
       if (camera < 0) return Status::Ended;
       // A camera that went away: ask for it again twice a second.
-      if (since(retried) > 0.5) retried = Clock::now(), video->open(camera);
+      if (since(retried) > 0.5) retried = Clock::now(), video->open(camera, kCameraApi);
       return Status::Lost;
     }
     const double t = camera >= 0 ? since(start) : frames / fps;
@@ -138,7 +142,7 @@ TrackingInput::TrackingInput(const std::string& spec, const TrackedField& field,
     m.video.emplace();
     if (spec.rfind("camera:", 0) == 0) {
       m.camera = std::atoi(after("camera:").c_str());
-      if (!m.video->open(m.camera)) throw TrackingError(spec + ": cannot open the camera");
+      if (!m.video->open(m.camera, kCameraApi)) throw TrackingError(spec + ": cannot open the camera");
     } else if (!m.video->open(after("video:"))) {
       throw TrackingError(after("video:") + ": cannot open the video");
     }
@@ -163,7 +167,9 @@ const Calibration* TrackingInput::calibration() const {
   return impl_->depth && impl_->depth->ready() ? &impl_->depth->calibration() : nullptr;
 }
 
-size_t TrackingInput::dropped() const { return impl_->recording ? impl_->recording->dropped() : 0; }
+size_t TrackingInput::dropped() const {
+  return (impl_->recording ? impl_->recording->dropped() : 0) + (impl_->accel ? impl_->accel->dropped() : 0);
+}
 
 std::string TrackingInput::sightings() { return impl_->depth ? impl_->depth->sightings() : ""; }
 

@@ -39,7 +39,8 @@ class TrackingInput {
   // What the source has seen since the last call (for a Kinect: markers, background, blobs and
   // arms), to tell an operator whose players are not found; "" when it has nothing to add.
   std::string sightings();
-  // Frames of a recording dropped so far because they could not be placed in time (fakenect.h).
+  // Frames of a recording dropped so far because they could not be placed in time (fakenect.h),
+  // and accelerometer samples that were not numbers or not samples.
   size_t dropped() const;
 
  private:

@@ -296,10 +296,12 @@ class AccelSource {
   ~AccelSource();
   // Samples up to time t (for UDP: everything received so far, stamped t).
   std::vector<AccelSample> until(double t);
+  // Samples dropped so far: a value NaN or infinite, or a datagram that is not a sample.
+  size_t dropped() const { return dropped_; }
 
  private:
   std::vector<AccelSample> samples_;
-  size_t cursor_ = 0;
+  size_t cursor_ = 0, dropped_ = 0;
   int socket_ = -1;
 };
 

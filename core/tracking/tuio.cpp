@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <map>
 
 #include "tracking/tracking.h"
@@ -9,6 +10,24 @@
 namespace quantum::tracking {
 
 using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// liblo's arguments point into the packet at 4-byte boundaries, while its lo_arg union asks for 8
+// (it holds doubles): read them as bytes, not through a misaligned union.
+int32_t int_arg(const lo_arg* a) {
+  int32_t v;
+  std::memcpy(&v, a, sizeof v);
+  return v;
+}
+float float_arg(const lo_arg* a) {
+  float v;
+  std::memcpy(&v, a, sizeof v);
+  return v;
+}
+const char* string_arg(const lo_arg* a) { return reinterpret_cast<const char*>(a); }
+
+}  // namespace
 
 struct TuioSource::State {
   TrackedField field;
@@ -53,26 +72,29 @@ struct TuioSource::State {
     last = Clock::now();
     if (!first) first = last;
     if (argc < 1 || types[0] != 's') return;
-    const std::string command = &argv[0]->s;
+    const std::string command = string_arg(argv[0]);
     std::map<int32_t, Touch>& touches = object ? objects : cursors;
     if (command == "alive") {
       std::map<int32_t, Touch> alive;
       for (int k = 1; k < argc; ++k)
-        if (types[k] == 'i' && touches.count(argv[k]->i)) alive[argv[k]->i] = touches[argv[k]->i];
-        else if (types[k] == 'i') alive[argv[k]->i] = Touch{};
+        if (types[k] == 'i') {
+          const int32_t id = int_arg(argv[k]);
+          const auto known = touches.find(id);
+          alive[id] = known != touches.end() ? known->second : Touch{};
+        }
       touches = std::move(alive);
     } else if (command == "set") {
       // 2Dcur: s x y X Y m; 2Dobj: s i x y a X Y A m r.
       const std::string want = object ? "siiffffffff" : "sifffff";
       if (argc < int(want.size()) || std::string(types).compare(0, want.size(), want) != 0)
         return;  // not TUIO 1.1's shape: ignored, like any other unknown message
-      Touch& t = touches[argv[1]->i];
+      Touch& t = touches[int_arg(argv[1])];
       if (object) {
-        const int32_t cls = argv[2]->i;
+        const int32_t cls = int_arg(argv[2]);
         t.player = cls >= 0 && size_t(cls) < field.players.size() ? cls : -1;
-        place(t, argv[3]->f, argv[4]->f, argv[6]->f, argv[7]->f);
+        place(t, float_arg(argv[3]), float_arg(argv[4]), float_arg(argv[6]), float_arg(argv[7]));
       } else {
-        place(t, argv[2]->f, argv[3]->f, argv[4]->f, argv[5]->f);
+        place(t, float_arg(argv[2]), float_arg(argv[3]), float_arg(argv[4]), float_arg(argv[5]));
       }
     } else if (command == "fseq") {
       complete = true;

@@ -57,6 +57,23 @@ TEST(Sport, RulesMayChangeAHandicap) {
   EXPECT_NE(errors[0].find("a handicap must be in (0, 1000]"), std::string::npos) << errors[0];
 }
 
+// A team the sport's `teams` does not name is called by its own name. (The name was once handed
+// back as a reference to the argument's temporary: the sport fuzzer found the read after its end.)
+TEST(Sport, ATeamWithoutANameIsCalledByItself) {
+  lua::Sport sport(sport_with("team_name", "return { teams = { blue = 'The Blues' }, on = { drop = function(game, e)\n"
+                                           "  game.say(game.team_name('blue') .. ', ' .. game.team_name('red') .. ', ' .. "
+                                           "game.team_name('a team nobody named, longer than a short string'))\n"
+                                           "end } }"));
+  game::MatchConfig config;
+  config.particles = 100;
+  game::Match match(sport.field(), config, sport);
+  std::vector<BodyInput> still;
+  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
+  match.step(still);
+  ASSERT_EQ(match.said().size(), 1u);
+  EXPECT_EQ(match.said()[0].text, "The Blues, red, a team nobody named, longer than a short string");
+}
+
 TEST(Sport, BadHandlerIsNamed) {
   const std::string e = load_error("handler", "return { on = { gaol = function() end } }");
   EXPECT_NE(e.find("sport.lua: on: unknown event 'gaol' (did you mean 'goal'?"), std::string::npos) << e;

@@ -20,13 +20,6 @@
 
 #include "session.h"
 
-extern "C" {
-void* __libc_malloc(size_t);
-void* __libc_calloc(size_t, size_t);
-void* __libc_realloc(void*, size_t);
-void* __libc_memalign(size_t, size_t);
-}
-
 namespace {
 
 thread_local bool counting = false;
@@ -48,7 +41,22 @@ void count() {
 
 }  // namespace
 
+#if defined(__SANITIZE_ADDRESS__) || (defined(__has_feature) && __has_feature(address_sanitizer))
+// The address sanitizer owns malloc; it calls these hooks for every allocation instead.
+#include <sanitizer/allocator_interface.h>
+
+namespace {
+void on_malloc(const volatile void*, size_t) { count(); }
+void on_free(const volatile void*) {}
+[[maybe_unused]] const int hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_malloc, on_free);
+}  // namespace
+#else
 extern "C" {
+void* __libc_malloc(size_t);
+void* __libc_calloc(size_t, size_t);
+void* __libc_realloc(void*, size_t);
+void* __libc_memalign(size_t, size_t);
+
 void* malloc(size_t n) {
   count();
   return __libc_malloc(n);
@@ -75,6 +83,7 @@ int posix_memalign(void** out, size_t alignment, size_t n) {
   return *out ? 0 : ENOMEM;
 }
 }
+#endif
 
 namespace quantum {
 namespace {

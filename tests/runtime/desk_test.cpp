@@ -50,10 +50,15 @@ const cv::Vec3b kWall(230, 230, 230), kBlue(235, 140, 45), kRed(70, 70, 235);
 TEST(Desk, TheLiveViewShowsTheFieldAndThePlayers) {
   const fs::path shot = fs::temp_directory_path() / "quantum_view.png";
   fs::remove(shot);
-  // A virtual display; the window is photographed from the screen itself, as a person sees it.
-  const std::string out = output_of("timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' sh -c '" QUANTUM_BINARY
-                                    " play " QUANTUM_SOURCE_DIR "/rules/airhockey --view --seconds 30 --audio none --quiet "
-                                    "& p=$!; sleep 5; import -window root " + shot.string() + "; kill $p'");
+  // A virtual display; the window is photographed from the screen itself, as a person sees it,
+  // once anything is drawn on the black screen (a slow build, such as the sanitizers', takes
+  // seconds to open it), then a second later.
+  const std::string out = output_of(
+      "timeout 120 xvfb-run -a -s '-screen 0 1280x1024x24' sh -c '" QUANTUM_BINARY " play " QUANTUM_SOURCE_DIR
+      "/rules/airhockey --view --seconds 60 --audio none --quiet & p=$!; "
+      "for i in $(seq 100); do sleep 0.5; import -window root " + shot.string() + "; "
+      "[ \"$(convert " + shot.string() + " -format \"%[fx:mean>0.01]\" info:)\" = 1 ] && break; done; "
+      "sleep 1; import -window root " + shot.string() + "; kill $p'");
   const cv::Mat image = cv::imread(shot.string());
   ASSERT_FALSE(image.empty()) << out;
   EXPECT_GT(pixels_of(image, kWall), 3000) << "the walls";   // 2 m + 1 m of wall, 3 px thick

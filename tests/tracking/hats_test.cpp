@@ -154,6 +154,20 @@ TEST(Hats, ABadAccelerometerLineIsNamed) {
   fs::remove(file);
 }
 
+// A sensor's glitch is data: a sample whose value is NaN or infinite is dropped and counted, and
+// the file's other samples play.
+TEST(Hats, AnAccelerometerValueThatIsNotANumberIsDroppedAndCounted) {
+  const fs::path file = fs::temp_directory_path() / "quantum_accel_nan.csv";
+  std::ofstream(file) << "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n0.01,blue 1,nan,0,9.8\n0.02,blue 1,0,inf,9.8\n"
+                         "0.03,blue 1,0,0,9.8\n";
+  tracking::AccelSource accel(file.string());
+  EXPECT_EQ(accel.dropped(), 2u);
+  const auto samples = accel.until(1);
+  ASSERT_EQ(samples.size(), 2u);
+  EXPECT_DOUBLE_EQ(samples[1].t, 0.03);
+  fs::remove(file);
+}
+
 // Live accelerometers: one sample per UDP datagram, stamped when it is read.
 TEST(Hats, AccelerometerSamplesArriveOverUdp) {
   const int port = 47000 + int(getpid() % 1000);
@@ -163,7 +177,7 @@ TEST(Hats, AccelerometerSamplesArriveOverUdp) {
   to.sin_family = AF_INET;
   to.sin_port = htons(uint16_t(port));
   to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  for (const char* line : {"0.5,red 2,31.0,2.0,9.8", "not a sample", "0.6,red 2,1,2,3"})
+  for (const char* line : {"0.5,red 2,31.0,2.0,9.8", "not a sample", "0.55,red 2,nan,2.0,9.8", "0.6,red 2,1,2,3"})
     ::sendto(out, line, std::strlen(line), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
   ::close(out);
   std::vector<tracking::AccelSample> got;
@@ -172,7 +186,8 @@ TEST(Hats, AccelerometerSamplesArriveOverUdp) {
     got.insert(got.end(), more.begin(), more.end());
     if (got.size() < 2) usleep(10000);
   }
-  ASSERT_EQ(got.size(), 2u);  // the malformed datagram is dropped
+  ASSERT_EQ(got.size(), 2u);  // the malformed datagram and the one at NaN are dropped, and counted
+  EXPECT_EQ(accel.dropped(), 2u);
   EXPECT_EQ(got[0].player, "red 2");
   EXPECT_DOUBLE_EQ(got[0].ax, 31.0);
   EXPECT_DOUBLE_EQ(got[0].t, 1.25);
