@@ -22,6 +22,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev
   libboost-math-dev            # chi-square distribution for the statistical tests
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-dev        # tools/sanitize.sh: the sanitizers and libFuzzer (docs/reliability.md)
 )
 
 missing=()
