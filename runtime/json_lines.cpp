@@ -115,14 +115,15 @@ LineFile::LineFile(const std::string& path) : path_(path) {
 void LineFile::close() {
   if (!stream_) return;
   stream_->flush();
-  if (!*stream_) throw std::runtime_error("could not write every line to " + (path_ == "-" ? "stdout" : path_));
+  if (!*stream_) throw std::runtime_error("could not write every line to " + shown());
 }
+
+std::string LineFile::shown() const { return path_ == "-" ? "stdout" : path_; }
 
 std::string LineFile::failure() {
   if (!stream_ || *stream_ || told_) return {};
   told_ = true;
-  return "cannot write to " + (path_ == "-" ? std::string("stdout") : path_) +
-         " (a full disk?): what follows is lost; the match goes on, and quantum will exit with 1";
+  return "cannot write to " + shown() + " (a full disk?): what follows is lost; the match goes on, and quantum will exit with 1";
 }
 
 }  // namespace quantum::runtime

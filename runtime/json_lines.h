@@ -48,6 +48,7 @@ class LineFile {
   std::string failure();
 
  private:
+  std::string shown() const;  // the path, or "stdout" for "-"
   bool told_ = false;
   std::string path_;
   std::ofstream file_;

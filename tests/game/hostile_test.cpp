@@ -18,6 +18,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// `from` (a sport.lua) with `lua` run just before its closing `return sport`, written to `to`.
+void write_with_before_return(const fs::path& from, const fs::path& to, const std::string& lua) {
+  std::ifstream in(from);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  s.replace(s.rfind("return sport"), 12, lua + "\nreturn sport");
+  std::ofstream(to) << s;
+}
+
 // Air hockey whose drop handler runs `body` first, with `extra` Lua before its `return sport`, and
 // `powerup` (when given) as its own power-up "evil".
 std::string hostile_sport(const std::string& name, const std::string& body, const std::string& extra = "",
@@ -28,14 +38,9 @@ std::string hostile_sport(const std::string& name, const std::string& body, cons
   fs::create_directories(dir / "powerups");  // the sport's own power-ups come first
   fs::copy_file(QUANTUM_SOURCE_DIR "/rules/powerups/attract.lua", dir / "powerups" / "attract.lua",
                 fs::copy_options::overwrite_existing);
-  std::ifstream in(QUANTUM_SOURCE_DIR "/rules/airhockey/sport.lua");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  s.replace(s.rfind("return sport"), 12,
-            "local drop = sport.on.drop\nsport.on.drop = function(game, e)\n  " + body + "\n  drop(game, e)\nend\n" +
-                extra + "\nreturn sport");
-  std::ofstream(dir / "sport.lua") << s;
+  write_with_before_return(QUANTUM_SOURCE_DIR "/rules/airhockey/sport.lua", dir / "sport.lua",
+                           "local drop = sport.on.drop\nsport.on.drop = function(game, e)\n  " + body +
+                               "\n  drop(game, e)\nend\n" + extra);
   if (!powerup.empty()) std::ofstream(dir / "powerups" / "evil.lua") << powerup;
   return dir.string();
 }
@@ -399,12 +404,7 @@ TEST(Sandbox, ADisabledTeamSportIsStillPlayed) {
   const fs::path dir = fs::temp_directory_path() / "quantum_hostile_handball";
   fs::remove_all(dir);
   fs::copy(QUANTUM_SOURCE_DIR "/rules/handball", dir, fs::copy_options::recursive);
-  std::ifstream in(dir / "sport.lua");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  s.replace(s.rfind("return sport"), 12, "sport.modifiers = { function() while true do end end }\nreturn sport");
-  std::ofstream(dir / "sport.lua") << s;
+  write_with_before_return(dir / "sport.lua", dir / "sport.lua", "sport.modifiers = { function() while true do end end }");
   lua::Sport sport(dir.string());
   const Finished f = play_out(sport, 60);
   EXPECT_TRUE(sport.disabled());

@@ -32,6 +32,19 @@ std::string load_error(const std::string& name, const std::string& text) {
   return "";
 }
 
+game::MatchConfig small_match() {
+  game::MatchConfig config;
+  config.particles = 100;
+  return config;
+}
+
+// One frame (the first: the ball drops) with every player standing where the field starts it.
+void step_standing(game::Match& match, const Field& field) {
+  std::vector<BodyInput> still;
+  for (const BodySpec& b : field.bodies) still.push_back({b.start, {0, 0}});
+  match.step(still);
+}
+
 TEST(Sport, SyntaxErrorNamesFileAndLine) {
   const std::string e = load_error("syntax", "return {\n name = 'x',\n on = { goal = function( }\n}");
   EXPECT_NE(e.find("sport.lua:3:"), std::string::npos) << e;
@@ -44,12 +57,8 @@ TEST(Sport, RulesMayChangeAHandicap) {
                                           "  game.handicap(\"Red's mallet\", 3)\n"
                                           "  game.handicap(\"Blue's mallet\", -1)\n"
                                           "end } }\nreturn s"));
-  game::MatchConfig config;
-  config.particles = 100;
-  game::Match match(sport.field(), config, sport);
-  std::vector<BodyInput> still;
-  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
-  match.step(still);
+  game::Match match(sport.field(), small_match(), sport);
+  step_standing(match, sport.field());
   EXPECT_DOUBLE_EQ(match.players()[1].handicap, 3.0);
   EXPECT_DOUBLE_EQ(match.players()[0].handicap, 1.0);
   const std::span<const std::string> errors = match.errors();
@@ -64,12 +73,8 @@ TEST(Sport, ATeamWithoutANameIsCalledByItself) {
                                            "  game.say(game.team_name('blue') .. ', ' .. game.team_name('red') .. ', ' .. "
                                            "game.team_name('a team nobody named, longer than a short string'))\n"
                                            "end } }"));
-  game::MatchConfig config;
-  config.particles = 100;
-  game::Match match(sport.field(), config, sport);
-  std::vector<BodyInput> still;
-  for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
-  match.step(still);
+  game::Match match(sport.field(), small_match(), sport);
+  step_standing(match, sport.field());
   ASSERT_EQ(match.said().size(), 1u);
   EXPECT_EQ(match.said()[0].text, "The Blues, red, a team nobody named, longer than a short string");
 }
