@@ -807,19 +807,24 @@ void Sport::reload_powerup(const std::string& name) {
 
 namespace {
 
+// Copies sport.state from the old version's Lua state into the new one's. Recursive in C, so the
+// nesting is bounded (a chain of tables 10^5 deep would overflow the C and Lua stacks); a state
+// past a limit is refused whole rather than carried over in part.
 struct PlainCopy {
-  static constexpr int kMaxNodes = 100000;
+  static constexpr int kMaxValues = 100000;
+  static constexpr int kMaxDepth = 100;
   lua_State* from;
   lua_State* to;
   int seen;  // index in `to` of a table: from's table pointer -> its copy
-  int nodes = 0;
+  int values = 0;
+  int depth = 0;
 
+  // Raised in `to`, which runs this under lua_cpcall: `from` never raises (lua_next and the
+  // pushes below cannot, and lua_checkstack reports rather than raises).
   void copy(int index) {
     index = index < 0 ? lua_gettop(from) + index + 1 : index;
-    if (++nodes > kMaxNodes) {
-      lua_pushnil(to);
-      return;
-    }
+    if (++values > kMaxValues)
+      luaL_error(to, "sport.state holds more than %d values", kMaxValues);
     switch (lua_type(from, index)) {
       case LUA_TBOOLEAN: lua_pushboolean(to, lua_toboolean(from, index)); return;
       case LUA_TNUMBER: lua_pushnumber(to, lua_tonumber(from, index)); return;
@@ -835,6 +840,9 @@ struct PlainCopy {
     lua_pushlightuserdata(to, const_cast<void*>(lua_topointer(from, index)));
     lua_rawget(to, seen);
     if (!lua_isnil(to, -1)) return;
+    if (depth == kMaxDepth) luaL_error(to, "sport.state nests tables more than %d deep", kMaxDepth);
+    if (!lua_checkstack(from, 4) || !lua_checkstack(to, 6)) luaL_error(to, "not enough memory");
+    ++depth;
     lua_pop(to, 1);
     lua_newtable(to);
     lua_pushlightuserdata(to, const_cast<void*>(lua_topointer(from, index)));
@@ -851,6 +859,7 @@ struct PlainCopy {
       }
       lua_pop(from, 1);
     }
+    --depth;
   }
 
   // Under lua_cpcall on `to`: running out of the new sandbox's memory is an error, not a panic.

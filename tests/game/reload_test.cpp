@@ -145,6 +145,32 @@ TEST(Reload, ANewVersionKeepsItsOwnStateWhenTheOldHadNone) {
   EXPECT_TRUE(m.match->errors().empty()) << m.match->errors()[0];
 }
 
+// The old state is copied by the engine, in C: a state too deep or too large for it is refused
+// whole with the limit named (60,000 entries are 120,000 keys and values), on_reload gets
+// nothing, and the match goes on.
+TEST(Reload, AStateTooDeepOrTooLargeToCarryIsReportedAndTheMatchGoesOn) {
+  const std::vector<std::pair<std::string, std::string>> states = {
+      {"local t = {} sport.state = t for i = 1, 1000 do t.next = {} t = t.next end\n", "more than 100 deep"},
+      {"sport.state = {} for i = 1, 60000 do sport.state[i] = i end\n", "more than 100000 values"}};
+  for (const auto& [state, limit] : states) {
+    const Rules r("too_much_state");
+    r.write(r.sport / "sport.lua", r.sport_ending_with(state));
+    Running m(r);
+    lua::Reloader reloader(*m.sport);
+    r.write(r.sport / "sport.lua",
+            r.sport_ending_with("sport.on_reload = function(game, old) game.say(old and 'carried' or 'nothing carried') end\n"));
+    std::ostringstream errors;
+    ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
+    ASSERT_EQ(m.match->errors().size(), 1u) << limit;
+    EXPECT_NE(m.match->errors()[0].find("could not be carried over"), std::string::npos) << m.match->errors()[0];
+    EXPECT_NE(m.match->errors()[0].find(limit), std::string::npos) << m.match->errors()[0];
+    ASSERT_FALSE(m.match->said().empty());
+    EXPECT_EQ(m.match->said().back().text, "nothing carried");
+    for (int frame = 0; frame < 10; ++frame) m.match->step(m.still);
+    EXPECT_TRUE(m.match->world().live());
+  }
+}
+
 TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
   const Rules r("sport");
   Running m(r);
