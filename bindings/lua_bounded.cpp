@@ -432,8 +432,8 @@ int sort(lua_State* L) {
   return 0;
 }
 
-// string.format's %s and print call __tostring from C: a __tostring that formats itself would
-// recurse on the C stack. They run as Lua's own (upvalue 1), counted as nested callbacks.
+// string.format's %s calls __tostring from C: a __tostring that formats itself would recurse on
+// the C stack. It runs as Lua's own (upvalue 1), counted as a nested callback.
 template <const char* kName>
 int nested_call(lua_State* L) {
   const Sandbox::Nested nested(L, Sandbox::of(L), kName);
@@ -442,7 +442,39 @@ int nested_call(lua_State* L) {
   lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
   return lua_gettop(L);
 }
-constexpr char kFormat[] = "string.format", kPrint[] = "print";
+constexpr char kFormat[] = "string.format";
+
+// Lua's print, but to the sandbox's print_line (stderr: stdout carries `--events -` and
+// `quantum track`'s JSON). Arguments go through the global tostring, whose __tostring may
+// recurse through print, hence the nesting count. The line is cut at a fixed size in a buffer
+// of its own: a script printing a 30 MB string must not cost 30 MB more.
+int print(lua_State* L) {
+  Sandbox& sandbox = Sandbox::of(L);
+  const Sandbox::Nested nested(L, sandbox, "print");
+  char line[Sandbox::kPrintedLine + 1];
+  size_t used = 0, whole = 0;
+  const int n = lua_gettop(L);
+  lua_getglobal(L, "tostring");
+  for (int i = 1; i <= n; ++i) {
+    lua_pushvalue(L, n + 1);
+    lua_pushvalue(L, i);
+    lua_call(L, 1, 1);
+    size_t length = 0;
+    const char* text = lua_tolstring(L, -1, &length);
+    if (!text) return luaL_error(L, "'tostring' must return a string to 'print'");
+    const char* separator = i > 1 ? "\t" : "";
+    for (const auto& [piece, size] : {std::pair{separator, std::strlen(separator)}, std::pair{text, length}}) {
+      const size_t room = Sandbox::kPrintedLine - used, taken = std::min(size, room);
+      std::memcpy(line + used, piece, taken);
+      used += taken;
+      whole += size;
+    }
+    lua_pop(L, 1);
+  }
+  line[used] = '\0';
+  sandbox.print_line(L, std::string_view(line, used), whole);
+  return 0;
+}
 
 int concat(lua_State* L) {
   luaL_checktype(L, 1, LUA_TTABLE);
@@ -519,7 +551,7 @@ void install_bounded(lua_State* L) {
   replace(L, "table", "concat", concat, true);
   replace(L, nullptr, "xpcall", xpcall, false);
   replace(L, "string", "format", nested_call<kFormat>, true);
-  replace(L, nullptr, "print", nested_call<kPrint>, true);
+  replace(L, nullptr, "print", print, false);
 }
 
 }  // namespace quantum::lua

@@ -203,10 +203,25 @@ void Sandbox::time_up() { time_up_.store(true, std::memory_order_relaxed); }
 
 void Sandbox::new_period() {
   instructions_ = 0;
+  printed_ = 0;
   period_cpu_ = 0;
   time_up_ = false;
   spent_ = false;
   spent_in_.clear();
+}
+
+void Sandbox::print_line(lua_State* L, std::string_view text, size_t whole) {
+  if (++printed_ > kPrintedPerPeriod) {
+    if (printed_ == kPrintedPerPeriod + 1)
+      std::fprintf(stderr, "print: more than %d lines in one frame: the rest of this frame's are not shown\n",
+                   kPrintedPerPeriod);
+    return;
+  }
+  std::string line = "print: " + innermost_script_line(L);
+  line.append(text);  // as written, NUL bytes too
+  if (whole > text.size()) line += "... (" + std::to_string(whole) + " bytes in all)";
+  line += '\n';
+  std::fwrite(line.data(), 1, line.size(), stderr);
 }
 
 bool Sandbox::arm(std::string* refused) {

@@ -114,6 +114,14 @@ class Sandbox {
   };
   static Sandbox& of(lua_State* L);
 
+  // Scripts' print: one line on stderr, "print: file:line: text", the text cut at kPrintedLine
+  // bytes (`whole` is its length before the cut). At most kPrintedPerPeriod lines a period, then
+  // one line that says the rest is not shown: a script printing every instruction must not
+  // flood the terminal or cost the frame its writes.
+  static constexpr size_t kPrintedLine = 1000;
+  static constexpr int kPrintedPerPeriod = 20;
+  void print_line(lua_State* L, std::string_view text, size_t whole);
+
   // require(name) for scripts: "util" or "lib.util" is util.lua or lib/util.lua in the first
   // module folder that has it, loaded once (as text, in the sandbox) and its result kept.
   // Pushes the result. Throws ScriptError for a bad name, a module that is not there (saying
@@ -151,6 +159,7 @@ class Sandbox {
   static constexpr int kHookEvery = 1000;  // instructions between two looks at the budget
   int hook_count_ = kHookEvery;
   int64_t instructions_ = 0;
+  int printed_ = 0;  // print lines this period
   double period_cpu_ = 0, longest_period_cpu_ = 0;
   timespec armed_at_{};
   std::atomic<bool> time_up_{false};

@@ -110,6 +110,29 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
   }
 }
 
+// print writes stderr (stdout carries `--events -`), names its line, and holds a flood back: a
+// line is cut at 1000 bytes and a frame shows at most 20.
+TEST(Sandbox, PrintGoesToStderrWithItsLineAndAFloodIsHeldBack) {
+  lua::Sport sport(hostile_sport("print", "print('dropped', 1, nil, true) print(string.rep('x', 3e6)) "
+                                          "for i = 1, 1000 do print(i) end"));
+  Played played(sport);
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  for (int frame = 0; frame < 30; ++frame) played.step();
+  const std::string out = testing::internal::GetCapturedStdout(), err = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(out, "");
+  EXPECT_TRUE(played.match.errors().empty()) << played.match.errors()[0];
+  std::vector<std::string> lines;
+  for (std::istringstream in(err); std::getline(in, lines.emplace_back());) {}
+  lines.pop_back();
+  ASSERT_EQ(lines.size(), 21u) << err.substr(0, 3000);
+  EXPECT_TRUE(std::regex_match(lines[0], std::regex(R"(print: /\S+/sport\.lua:\d+: dropped\t1\tnil\ttrue)"))) << lines[0];
+  EXPECT_TRUE(std::regex_match(lines[1], std::regex(R"(print: /\S+/sport\.lua:\d+: x{1000}\.\.\. \(3000000 bytes in all\))")))
+      << lines[1].substr(0, 200);
+  EXPECT_TRUE(std::regex_match(lines[19], std::regex(R"(print: /\S+/sport\.lua:\d+: 18)"))) << lines[19];
+  EXPECT_EQ(lines[20], "print: more than 20 lines in one frame: the rest of this frame's are not shown");
+}
+
 TEST(Hostile, OsClockIsThere) {
   lua::Sport sport(hostile_sport("clock", "assert(type(os.clock()) == 'number')"));
   Played played(sport);
@@ -253,6 +276,8 @@ TEST(Sandbox, CallbacksThatRecurseThroughCEndInAnError) {
        "nested more than 64 deep"},
       {"format_tostring", "local mt = {} mt.__tostring = function(t) return string.format('%s', t) end "
        "local _ = string.format('%s', setmetatable({}, mt))", "", "", "nested more than 64 deep"},
+      {"print_tostring", "local mt = {} mt.__tostring = function(t) print(t) return 'x' end print(setmetatable({}, mt))",
+       "", "", "nested more than 64 deep"},
       {"grant_itself", "game.grant(\"Red's mallet\", 'evil')", "",
        "return { duration = 5, factor = function() return 1 end,\n"
        "  start = function(holder, game) game.grant(holder.name, 'evil') end }\n",
