@@ -241,8 +241,10 @@ TEST(Tuio, ValuesThatAreNotNumbersAreDroppedAndTheMatchGoesOn) {
   send.to = lo_address_new("127.0.0.1", std::to_string(port).c_str());
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 60 * 6 && !done; ++k) {
-    const float bad = k % 3 == 0 ? nan : k % 3 == 1 ? inf : 1e38f;
-    send.cursors({{{1, 0.1f, 0.5f}}, {{2, k % 2 ? bad : 0.9f, 0.5f}}});
+    // The second player starts far outside the field (1e38), then comes and goes between it and
+    // the field every other frame.
+    const float bad = k % 3 == 0 ? 1e38f : k % 3 == 1 ? nan : inf;
+    send.cursors({{{1, 0.1f, 0.5f}}, {{2, k % 2 ? 0.9f : bad, 0.5f}}});
     std::this_thread::sleep_for(std::chrono::microseconds(16667));
   }
   match.join();
