@@ -147,12 +147,14 @@ class Watchdog {
 void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
   auto* s = static_cast<Sandbox*>(ud);
   Memory& memory = s->memory_;
+  if (ptr == nullptr) old_size = 0;
+  const size_t old_large = old_size >= kSmallAllocation ? old_size : 0;
   if (new_size == 0) {
     memory.used -= old_size;
+    memory.large -= old_large;
     std::free(ptr);
     return nullptr;
   }
-  if (ptr == nullptr) old_size = 0;
   if (new_size > old_size && memory.used + (new_size - old_size) > memory.limit) return nullptr;
   // Out of time: a library function building something big (string.rep, table.concat) stops at
   // its next big allocation instead of finishing. Small ones go on: the error message needs one.
@@ -160,7 +162,13 @@ void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
     return nullptr;
   ++memory.calls;
   void* p = std::realloc(ptr, new_size);
-  if (p) memory.used = memory.used + new_size - old_size;
+  if (!p) return nullptr;
+  memory.used = memory.used + new_size - old_size;
+  memory.large = memory.large - old_large + (new_size >= kSmallAllocation ? new_size : 0);
+  // A script that just built a large string may compare it next: look more often from now on,
+  // not from the next look. (lua_sethook is safe here: this is the thread running the script.)
+  if (s->depth_ > 0 && new_size >= kSmallAllocation && s->hook_period() < s->hook_count_)
+    s->set_hook_period(s->hook_period());
   return p;
 }
 
@@ -174,6 +182,18 @@ void Sandbox::on_hook(lua_State* L, lua_Debug* ar) {
   Sandbox& s = of(L);
   s.instructions_ += s.hook_count_;
   if (s.time_up_.load(std::memory_order_relaxed) || s.instructions_ >= s.limits_.instructions) s.run_out(L, ar);
+  if (const int period = s.hook_period(); period != s.hook_count_) s.set_hook_period(period);
+}
+
+int Sandbox::hook_period() const {
+  if (spent_) return 1;
+  const size_t period = kLargeBytesPerHook / std::max<size_t>(memory_.large, 1);
+  return int(std::clamp<size_t>(period, 1, kHookEvery));
+}
+
+void Sandbox::set_hook_period(int period) {
+  hook_count_ = period;
+  lua_sethook(L_, on_hook, LUA_MASKCOUNT, period);
 }
 
 void Sandbox::charge(lua_State* L, int64_t work) {
@@ -185,8 +205,7 @@ void Sandbox::run_out(lua_State* L, lua_Debug* ar) {
   spent_ = true;
   // From now on every instruction raises this again: a script that catches it with pcall cannot
   // go on, and neither can an error handler.
-  hook_count_ = 1;
-  lua_sethook(L, on_hook, LUA_MASKCOUNT, 1);
+  set_hook_period(1);
   std::string where = ar ? where_of(L, *ar, "Sl") : innermost_script_line(L);
   if (spent_in_.empty()) spent_in_ = where.substr(0, where.find(':'));
   char message[160];
@@ -236,8 +255,7 @@ bool Sandbox::arm(std::string* refused) {
     return false;
   }
   if (depth_++ > 0) return true;  // a call made from inside another spends the outer one's budget
-  hook_count_ = kHookEvery;
-  lua_sethook(L_, on_hook, LUA_MASKCOUNT, kHookEvery);
+  set_hook_period(hook_period());
   armed_at_ = thread_cpu_now();
   clockid_t cpu_clock{};
   if (limits_.cpu_seconds > 0 && pthread_getcpuclockid(pthread_self(), &cpu_clock) == 0) {

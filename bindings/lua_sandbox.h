@@ -139,11 +139,18 @@ class Sandbox {
   friend class Watchdog;
   struct Memory {
     size_t used = 0, limit = 0, calls = 0;
+    size_t large = 0;  // in blocks of kSmallAllocation or more: the longest string is no longer
   };
   static void* alloc(void* ud, void* ptr, size_t old_size, size_t new_size);
   static void on_hook(lua_State* L, lua_Debug* ar);
   [[noreturn]] void run_out(lua_State* L, lua_Debug* ar);
   void protect_raw(lua_CFunction trampoline, void* run);
+  // Instructions between two hooks. One instruction may compare, scan or move a whole string
+  // or table part in C (a < b, tonumber, table.insert at the front), work a count hook cannot
+  // see: the more large blocks the state holds, the more often the hook looks (every
+  // instruction with 32 MB of them), so that time between two looks stays a few milliseconds.
+  int hook_period() const;
+  void set_hook_period(int period);
   bool arm(std::string* refused);  // false (and why) when the period's budget is spent
   void disarm();
   void time_up();  // the watchdog's call, from its thread: raises the flag, nothing more
@@ -156,7 +163,8 @@ class Sandbox {
   int nesting_ = 0;
   static constexpr int kMostNested = 64;     // calls, or library callbacks, inside one another
   static constexpr size_t kSmallAllocation = 64 << 10;
-  static constexpr int kHookEvery = 1000;  // instructions between two looks at the budget
+  static constexpr int kHookEvery = 1000;  // instructions between two looks at the budget, at most
+  static constexpr size_t kLargeBytesPerHook = 32u << 20;  // large blocks' bytes x hook period
   int hook_count_ = kHookEvery;
   int64_t instructions_ = 0;
   int printed_ = 0;  // print lines this period
