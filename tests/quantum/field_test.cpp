@@ -1,9 +1,12 @@
 // Field files: the air hockey table loads, and every kind of mistake names its file and place.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
+#include "quantum/contact.h"
 #include "test_scenes.h"
 
 namespace quantum {
@@ -141,6 +144,48 @@ TEST_F(FieldFile, BytecodeIsRefused) {
   // LuaJIT bytecode starts with ESC 'L' 'J'; text mode loading must refuse it.
   const std::string e = error_for(std::string("\x1bLJ\x02\x00", 5));
   EXPECT_NE(e.find("binary"), std::string::npos) << e;
+}
+
+float distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
+  const double t = l2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
+  return float(std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy)));
+}
+
+// The contact grid is built per wall and goal over the cells near it, and the safe box grows in
+// bulk: every point of every shipped field's grid must still list each wall and goal line that a
+// ball there can reach within the grid's reach, and no ball inside the safe box may touch one.
+TEST(Field, TheContactGridListsEveryWallABallCanReach) {
+  std::mt19937 rng(7);
+  int near_walls = 0;
+  for (const std::string sport : {"airhockey", "handball", "basketball", "keepaway", "practice"}) {
+    SCOPED_TRACE(sport);
+    const Field f = lua::load_field(QUANTUM_SOURCE_DIR "/rules/" + sport);
+    const detail::Geometry g(f);
+    std::uniform_real_distribution<float> x(f.bounds_min.x, f.bounds_max.x), y(f.bounds_min.y, f.bounds_max.y);
+    for (int draw = 0; draw < 200000; ++draw) {
+      const Vec2 p{x(rng), y(rng)};
+      const detail::Geometry::Candidates c = g.candidates(p.x, p.y, 0);
+      const std::vector<uint16_t> segments(c.segments, c.segments + c.n_segments), goals(c.goals, c.goals + c.n_goals);
+      for (size_t k = 0; k < f.segments.size(); ++k) {
+        if (distance_to_segment(p, f.segments[k].a, f.segments[k].b) > g.r + g.grid_reach) continue;
+        ++near_walls;
+        ASSERT_NE(std::find(segments.begin(), segments.end(), k), segments.end())
+            << "wall " << k << " missing at (" << p.x << ", " << p.y << ")";
+      }
+      for (size_t k = 0; k < g.goal_id.size(); ++k) {
+        const Goal& gl = f.goals[size_t(g.goal_id[k])];
+        if (distance_to_segment(p, gl.a, gl.b) > g.grid_reach) continue;
+        ASSERT_NE(std::find(goals.begin(), goals.end(), k), goals.end())
+            << "goal line " << k << " missing at (" << p.x << ", " << p.y << ")";
+      }
+      if (g.safe.contains(p.x, p.y)) {
+        for (const Segment& s : f.segments) ASSERT_GT(distance_to_segment(p, s.a, s.b), g.r) << "in the safe box";
+      }
+    }
+    EXPECT_LT(g.safe.x0, g.safe.x1);
+  }
+  EXPECT_GT(near_walls, 1000);  // the draws did come near walls
 }
 
 TEST(Field, MissingFileIsNamed) {
