@@ -201,7 +201,9 @@ Geometry::Candidates Geometry::candidates(float x, float y, float travel2) const
     return {all_items.data(), all_items.data(), all_items.data(), uint16_t(ax.size()), uint16_t(cap_x.size()),
             uint16_t(gax.size()), true};
   const uint32_t* at = &cell_start[3 * size_t(row * cols + col)];
-  return {&cell_items[at[0]], &cell_items[at[1]], &cell_items[at[2]], uint16_t(at[1] - at[0]),
+  // Pointers, not references: a list may end the items, or there may be none (a field without walls).
+  const uint16_t* items = cell_items.data();
+  return {items + at[0], items + at[1], items + at[2], uint16_t(at[1] - at[0]),
           uint16_t(at[2] - at[1]), uint16_t(at[3] - at[2]), cell_near_bounds[row * cols + col] != 0};
 }
 

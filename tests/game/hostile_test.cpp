@@ -227,8 +227,6 @@ void expect_survived(const Attack& a) {
   EXPECT_LE(sport.sandbox().longest_period_cpu(), 0.05);
 }
 
-const char* const kLoopForever = "while true do end";
-
 TEST(Sandbox, CatchingTheBudgetErrorDoesNotResetIt) {
   const Attack attacks[] = {
       {"pcall_loop", "while true do pcall(function() while true do end end) end", "", "", "script runs too long"},
