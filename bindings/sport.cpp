@@ -117,6 +117,9 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params)
     push_game_api(L, this);
     game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   });
+  // Loading is not a frame: what it spent must not leave the first frame (or a grant before it)
+  // without a budget, as it did on a slow machine.
+  sandbox_.new_period();
   timers_.reserve(16);
 }
 
