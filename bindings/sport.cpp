@@ -63,6 +63,16 @@ void raw_field(lua_State* L, int index, const char* key) {
   lua_rawget(L, index);
 }
 
+// Runs `read` (reading sport.lua's table): a ReadError becomes a ScriptError naming the file.
+template <class Read>
+void or_script_error(const std::string& file, Read&& read) {
+  try {
+    read();
+  } catch (const ReadError& e) {
+    throw ScriptError(file + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 fs::path engine_rules_folder() {
@@ -100,20 +110,23 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params)
   if (!fs::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
   std::fill(std::begin(by_kind_), std::end(by_kind_), 1.0);
   lua_State* L = sandbox_.L();
+  std::string field_file;
   sandbox_.protect([&] {
     sandbox_.push_environment();
     params_.install(L);
     lua_pop(L, 1);
     sandbox_.run_file(file_);
     if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
-    try {
-      read_sport(lua_gettop(L));
-    } catch (const ReadError& e) {
-      throw ScriptError(file_ + ": " + e.what());
-    }
+    or_script_error(file_, [&] { field_file = Reader(L).string(lua_gettop(L), "field", "", "field.lua", false); });
+    sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+  });
+  // Outside the sport's budget: the field file runs in a sandbox of its own, with its own.
+  field_ = load_field((fs::path(folder_) / field_file).string(), &params_);
+  sandbox_.protect([&] {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+    or_script_error(file_, [&] { read_sport(lua_gettop(L)); });
     check_said_keys();
     params_.check_read(folder_);
-    sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
     push_game_api(L, this);
     game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   });
@@ -130,7 +143,6 @@ void Sport::read_sport(int t) {
   const Reader r(L);
   r.only_keys(t, "", kSportKeys);
   name_ = r.string(t, "name", "", folder_, false);
-  field_ = load_field((fs::path(folder_) / r.string(t, "field", "", "field.lua", false)).string(), &params_);
   const double particles = r.number(t, "particles", "", double(particles_), false);
   if (!(particles >= 1 && particles <= 10'000'000)) r.fail("particles", "must be between 1 and 10,000,000");
   particles_ = uint32_t(particles);
