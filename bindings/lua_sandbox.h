@@ -88,6 +88,11 @@ class Sandbox {
 
   // Starts a new period: the budget is whole again.
   void new_period();
+  // The instructions and CPU time of a period from now on (the memory limit is the state's).
+  void set_budget(const Limits& limits) {
+    limits_.instructions = limits.instructions;
+    limits_.cpu_seconds = limits.cpu_seconds;
+  }
   // The budget ran out this period (the rest of its calls are refused).
   bool spent() const { return spent_ || time_up_.load(std::memory_order_relaxed); }
   // Where the budget ran out: the source file of the script running then ("" for none).

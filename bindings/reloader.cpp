@@ -68,8 +68,8 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   }
   if (sport_changed) {
     // A new sport loads the power-ups in use afresh when it first needs them.
-    try {
-      auto fresh = std::make_unique<Sport>(folder_.string(), sport->engine(), Params(sport->params().pairs()));
+    try {  // between two frames of a running match: loading gets a frame's budget
+      auto fresh = std::make_unique<Sport>(folder_.string(), sport->engine(), Params(sport->params().pairs()), Limits{});
       for (const auto& [kind, value] : factors_) fresh->set_factor(kind, value);
       // The new rules hear whatever on_reload sets off; the old ones are still there to read.
       match.set_rules(*fresh);

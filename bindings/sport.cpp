@@ -99,7 +99,7 @@ class Sport::Acting {
   const game::Match* outer_reading_;
 };
 
-Sport::Sport(const std::string& folder, const fs::path& engine, Params params)
+Sport::Sport(const std::string& folder, const fs::path& engine, Params params, const Limits& load)
     : folder_(normal_folder(folder).string()),
       file_((fs::path(folder_) / "sport.lua").string()),
       engine_(engine),
@@ -111,6 +111,7 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params)
   std::fill(std::begin(by_kind_), std::end(by_kind_), 1.0);
   lua_State* L = sandbox_.L();
   std::string field_file;
+  sandbox_.set_budget(load);
   sandbox_.protect([&] {
     sandbox_.push_environment();
     params_.install(L);
@@ -132,6 +133,7 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params)
   });
   // Loading is not a frame: what it spent must not leave the first frame (or a grant before it)
   // without a budget, as it did on a slow machine.
+  sandbox_.set_budget(Limits{});
   sandbox_.new_period();
   timers_.reserve(16);
 }

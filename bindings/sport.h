@@ -39,15 +39,21 @@ struct SportAudio {
 // (rules/lib). The QUANTUM_RULES environment variable overrides the built-in place.
 std::filesystem::path engine_rules_folder();
 
+// What loading sport.lua and the modules it requires may spend before a match: a second of CPU,
+// as a field file gets (on a slow machine, or under the sanitizers, loading alone passed a
+// frame's 20 ms). A reload loads between two frames of a running match: Limits{}, a frame's.
+inline constexpr Limits kLoadLimits{64u << 20, 100'000'000, 1.0};
+
 class Sport final : public game::Rules {
  public:
   // `folder` holds sport.lua; `engine` is where the engine's own power-ups and helpers are
   // (a replay uses the copy it recorded); `params` are what its field and sport read with
   // param() (params.h). Throws ScriptError naming the file (and line, or the place in the
   // returned table) for a script that does not load, FieldError for a bad field, and
-  // std::invalid_argument for a parameter neither reads.
+  // std::invalid_argument for a parameter neither reads. Loading spends at most `load`; the
+  // match's frames then get Limits{} each.
   explicit Sport(const std::string& folder, const std::filesystem::path& engine = engine_rules_folder(),
-                 Params params = {});
+                 Params params = {}, const Limits& load = kLoadLimits);
   ~Sport() override;
 
   const std::string& name() const { return name_; }

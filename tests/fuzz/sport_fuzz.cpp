@@ -16,7 +16,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   quantum::fuzz::write_file(dir / "sport.lua", data, size);
   try {
-    quantum::lua::Sport sport(dir.string());
+    // Loaded as a reload would be, within a frame's budget: an input that loops while loading
+    // costs the fuzzer 20 ms, not a second.
+    quantum::lua::Sport sport(dir.string(), quantum::lua::engine_rules_folder(), {}, quantum::lua::Limits{});
     quantum::game::MatchConfig config;
     config.particles = 50;
     config.seconds = 1;

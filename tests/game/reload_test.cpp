@@ -171,6 +171,21 @@ TEST(Reload, AStateTooDeepOrTooLargeToCarryIsReportedAndTheMatchGoesOn) {
   }
 }
 
+// A reload loads between two frames of a running match, so within a frame's budget: a version
+// that spends 40 ms loading is refused, named, and the old one goes on.
+TEST(Reload, AVersionThatLoadsLongerThanAFrameIsRefused) {
+  const Rules r("slow_load");
+  Running m(r);
+  lua::Reloader reloader(*m.sport);
+  r.write(r.sport / "sport.lua", r.sport_ending_with("local t = os.clock() while os.clock() - t < 0.04 do end\n"));
+  std::ostringstream errors;
+  EXPECT_EQ(poll_until_reloaded(reloader, m, errors), 0);
+  EXPECT_NE(errors.str().find("reload failed"), std::string::npos) << errors.str();
+  EXPECT_NE(errors.str().find("script runs too long"), std::string::npos) << errors.str();
+  m.match->step(m.still);
+  EXPECT_TRUE(m.match->world().live());
+}
+
 TEST(Reload, AReloadedSportKeepsTheMatchAndCarriesItsState) {
   const Rules r("sport");
   Running m(r);
