@@ -219,6 +219,15 @@ Finished play_out(lua::Sport& sport, double seconds = 40) {
   return out;
 }
 
+// The bound on a frame's Lua CPU: the 20 ms budget, then at most one instruction or library call
+// that cannot be interrupted. Under the sanitizers that C work (copying, hashing a 30 MB string)
+// runs about twice as slow (54 ms seen once): the product's bound is checked in the optimized build.
+#ifdef QUANTUM_SANITIZED
+constexpr double kFrameBound = 0.1;
+#else
+constexpr double kFrameBound = 0.05;
+#endif
+
 struct Attack {
   const char* name;
   const char* drop;     // Lua run first in the drop handler
@@ -229,7 +238,7 @@ struct Attack {
 
 // Every class of attack on the sandbox (docs/lua-api.md, "The sandbox"): the match is played to
 // its end, every goal counts, the first error names the script's file and line, and no frame's
-// Lua took more CPU than the bound (50 ms: the 20 ms budget, then at most one library call or
+// Lua took more CPU than the bound (kFrameBound: 50 ms, the 20 ms budget then at most one library call or
 // instruction that cannot be interrupted).
 void expect_survived(const Attack& a) {
   SCOPED_TRACE(a.name);
@@ -241,7 +250,7 @@ void expect_survived(const Attack& a) {
   ASSERT_FALSE(f.errors.empty());
   EXPECT_TRUE(std::regex_search(f.errors[0], std::regex(R"(^/\S+/(sport|evil)\.lua:\d+: )"))) << f.errors[0];
   EXPECT_TRUE(says_one_of(f.errors[0], a.error)) << f.errors[0];
-  EXPECT_LE(sport.sandbox().longest_period_cpu(), 0.05);
+  EXPECT_LE(sport.sandbox().longest_period_cpu(), kFrameBound);
 }
 
 TEST(Sandbox, CatchingTheBudgetErrorDoesNotResetIt) {
