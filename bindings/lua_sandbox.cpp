@@ -167,8 +167,8 @@ void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
   memory.large = memory.large - old_large + (new_size >= kSmallAllocation ? new_size : 0);
   // A script that just built a large string may compare it next: look more often from now on,
   // not from the next look. (lua_sethook is safe here: this is the thread running the script.)
-  if (s->depth_ > 0 && new_size >= kSmallAllocation && s->hook_period() < s->hook_count_)
-    s->set_hook_period(s->hook_period());
+  if (s->depth_ > 0 && new_size >= kSmallAllocation)
+    if (const int period = s->hook_period(); period < s->hook_count_) s->set_hook_period(period);
   return p;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace quantum::detail {
 namespace {
@@ -164,7 +165,6 @@ void Geometry::build_grid(const Field& f) {
   };
   // Two passes over the same visits: count each cell's lists, then fill them in item order.
   const size_t cells = size_t(rows) * size_t(cols);
-  std::vector<uint32_t> count(3 * cells + 1, 0);
   auto visit_all = [&](auto&& add) {
     for (size_t k = 0; k < ax.size(); ++k)
       for_each_cell_near(sx0[k], sy0[k], sx1[k], sy1[k], wall_reach, [&](size_t c, const Box& b) {
@@ -180,9 +180,9 @@ void Geometry::build_grid(const Field& f) {
         if (segment_touches_box(gl.a, gl.b, grown(b, goal_reach))) add(3 * c + 2, k);
       });
   };
-  visit_all([&](size_t list, size_t) { ++count[list + 1]; });
-  cell_start.assign(count.size(), 0);
-  for (size_t list = 1; list < count.size(); ++list) cell_start[list] = cell_start[list - 1] + count[list];
+  cell_start.assign(3 * cells + 1, 0);
+  visit_all([&](size_t list, size_t) { ++cell_start[list + 1]; });
+  std::partial_sum(cell_start.begin(), cell_start.end(), cell_start.begin());
   cell_items.resize(cell_start.back());
   std::vector<uint32_t> next(cell_start.begin(), cell_start.end() - 1);
   visit_all([&](size_t list, size_t k) { cell_items[next[list]++] = uint16_t(k); });
