@@ -159,7 +159,7 @@ void BM_FateReport3D(benchmark::State& state) {
   const Shot shot;
   WorldConfig config;
   config.particles = uint32_t(state.range(0));
-  config.prediction_threads = uint32_t(state.range(1));
+  config.threads = uint32_t(state.range(1));
   World world(shot.field, config);
   world.place_bodies(shot.players);
   shot.shoot(world);
@@ -171,18 +171,46 @@ void BM_FateReport3D(benchmark::State& state) {
   state.counters["groups"] = double(report.groups.size());
 }
 
+// The flat fate report of a spread cloud with the mallets in motion, on state.range(1) threads.
+// Timed by the wall clock.
 void BM_FateReport(benchmark::State& state) {
   const Field& field = airhockey();
   const uint32_t n = uint32_t(state.range(0));
   WorldConfig config;
   config.particles = n;
+  config.threads = uint32_t(state.range(1));
   World world(field, config);
   world.set_cloud(tools::spread_cloud(field, n, 7));
   std::vector<Event> events;
   // Mallets in motion, so prediction extrapolates them.
   world.step(1.0f / 60, tools::scripted_mallets(field, 1.0 / 60), events);
-  for (auto _ : state) benchmark::DoNotOptimize(world.predict(3.0f));
+  FateReport report;
+  for (auto _ : state) {
+    world.predict(report, 3.0f);
+    benchmark::DoNotOptimize(report.groups.data());
+  }
   state.counters["particles"] = double(world.cloud().size());
+}
+
+// The memory-bandwidth limit of a step: a plain streaming pass over the arrays the step's fast
+// pass must read and write (x and y read and written, vx and vy read: 24 bytes a particle),
+// with nothing else in it. No step over this cloud can run faster than this on one core.
+void BM_CloudStream(benchmark::State& state) {
+  const size_t n = size_t(state.range(0));
+  const Cloud cloud = tools::spread_cloud(airhockey(), uint32_t(n), 7);
+  std::vector<float> x = cloud.x, y = cloud.y;
+  const float* vx = cloud.vx.data();
+  const float* vy = cloud.vy.data();
+  const float dt = 1.0f / 60;
+  for (auto _ : state) {
+    float* px = x.data();
+    float* py = y.data();
+    for (size_t i = 0; i < n; ++i) px[i] += vx[i] * dt, py[i] += vy[i] * dt;
+    benchmark::ClobberMemory();
+  }
+  state.counters["particle_steps/s"] = benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["bytes/s"] = benchmark::Counter(24.0 * double(n), benchmark::Counter::kIsIterationInvariantRate,
+                                                 benchmark::Counter::kIs1024);
 }
 
 // One second of Quantum air hockey between two simulated players, through the session every
@@ -199,6 +227,32 @@ void BM_MatchSecond(benchmark::State& state) {
   runtime::Session session(o, nullptr, errors);
   for (auto _ : state)
     for (int frame = 0; frame < 60; ++frame) session.frame();
+  if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
+}
+
+// One frame of a running match of Quantum air hockey between two simulated players, through the
+// session as `quantum play` runs it (step, decisions, prediction, tweak, the Lua rules, the bots;
+// sound and log off): state.range(0) particles on state.range(1) threads, timed by the wall clock.
+// The match plays 2 s before timing starts, so the cloud has grown to N and been hit; every run
+// replays the same seeded frames (fixed iteration counts).
+void BM_MatchFrame(benchmark::State& state) {
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.particles = uint32_t(state.range(0));
+  o.threads = uint32_t(state.range(1));
+  o.seconds = 86400;
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors);
+  for (int frame = 0; frame < 120; ++frame) session.frame();
+  double longest = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    session.frame();
+    longest = std::max(longest, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  state.counters["longest_ms"] = longest;
+  state.counters["particles"] = double(session.match().world().cloud().size());
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
@@ -353,12 +407,16 @@ BENCHMARK(BM_Step)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond)
 BENCHMARK(BM_Step)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepSilentWalls)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StepSilentWalls)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_FateReport)->Arg(1'000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FateReport)->Args({1'000, 1})->Args({10'000, 1})->Args({100'000, 1})->Args({100'000, 2})
+    ->Args({1'000'000, 1})->Args({1'000'000, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CloudStream)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step3D)->Arg(1'000)->Iterations(3000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step3D)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step3DFlight)->Arg(10'000)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FateReport3D)->Args({1'000, 1})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MatchFrame)->Args({100'000, 1})->Args({100'000, 2})->Iterations(300)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MatchFrame)->Args({1'000'000, 1})->Args({1'000'000, 2})->Iterations(120)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RealTimePacing)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrameWithReload)->Iterations(200)->Unit(benchmark::kMillisecond);

@@ -97,6 +97,9 @@ int main(int argc, char** argv) {
   play->add_option("--seconds", game.seconds, "time limit (default: the sport's)")->check(number_in(0, kLongest, true));
   play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)")
       ->check(CLI::Range(1u, 10'000'000u));
+  play->add_option("--threads", game.threads, "threads of the quantum core, 1 or 2: a large cloud's prediction "
+                                              "shares its work (the match is the same either way)")
+      ->capture_default_str()->check(CLI::Range(1u, 2u));
   play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)");
   play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
   play->add_option("--handicap", handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED");

@@ -96,6 +96,7 @@ inline bool handicap_ok(double h) { return h > 0 && h <= kMostHandicap; }  // fa
 struct MatchConfig {
   uint32_t particles = 1000;
   uint64_t seed = 1;
+  uint32_t threads = 2;       // the world's threads (WorldConfig::threads): 1 or 2
   double fps = 60;
   double seconds = 120;       // time limit; the rules hear time_up when it runs out
   int first_spot = 0;         // where the first ball drops, at once...

@@ -157,15 +157,41 @@ bool meets_nothing(const detail::Geometry& g, const detail::BodyPath* bodies, in
   return true;
 }
 
-// Fates of every particle of the cloud: each round searches all still-flying particles of a
-// chunk at once (vectorized), then moves each to its contact. The first `drift_end` seconds run
-// with the next step's drift (see NextStep), the rest without.
-void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const Endings& ends,
-                 const Cloud& c, const NextStep& next, float horizon, Flight& flying, Flight& later,
-                 std::vector<Fate>& fates) {
+// The fates of a whole cloud, traced chunk by chunk. Chunks are independent (each writes the
+// fates of its own particles), so two threads share them out: each takes the next chunk from
+// `next` until none is left, with its own pair of scratch flights. Which thread traces a chunk
+// changes nothing in it, so the report is the same on one thread or two.
+template <class FlightT>
+struct FateJob {
+  const detail::Geometry& g;
+  const detail::Sky& sky;
+  const detail::BodyPath* bodies;
+  int nb;
+  const Endings& ends;
+  const Cloud& c;
+  const NextStep& next_step;
+  float horizon;
+  std::vector<Fate>& fates;
+  FlightT* scratch;                // two pairs: flying and later for each thread
+  std::atomic<size_t> next{0};     // the first particle of the next chunk to trace
+  std::atomic<int> threads{0};     // which pair of scratch a thread takes
+};
+
+// Fates on a flat field: each round searches all still-flying particles of a chunk at once
+// (vectorized), then moves each to its contact. The first `drift_end` seconds run with the next
+// step's drift (see NextStep), the rest without.
+void trace_fates(FateJob<Flight>& job) {
   constexpr size_t kChunk = Flight::kChunk;
-  const float drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
-  for (size_t begin = 0; begin < c.size(); begin += kChunk) {
+  const int pair = job.threads.fetch_add(1);
+  Flight& flying = job.scratch[2 * pair];
+  Flight& later = job.scratch[2 * pair + 1];
+  const detail::Geometry& g = job.g;
+  const detail::BodyPath* bodies = job.bodies;
+  const int nb = job.nb;
+  const Cloud& c = job.c;
+  const NextStep& next = job.next_step;
+  const float horizon = job.horizon, drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
+  for (size_t begin; (begin = job.next.fetch_add(kChunk)) < c.size();) {
     flying.n = later.n = 0;
     for (size_t i = begin; i < std::min(begin + kChunk, c.size()); ++i) {
       const detail::Mover m = start_of(c, i, next);
@@ -189,9 +215,9 @@ void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int 
                        flying.id[j], flying.contacts[j]);
             continue;
           }
-          Fate& f = fates[flying.id[j]];
+          Fate& f = job.fates[flying.id[j]];
           const int index = detail::code_index(b.code[j]);
-          if (ends_at(f, kind, index, ends)) continue;
+          if (ends_at(f, kind, index, job.ends)) continue;
           if (kind == detail::HitKind::Wall) add_to_path(f, index);  // a wormhole is no wall
           const uint8_t touched = uint8_t(flying.contacts[j] + 1);
           if (touched >= kMaxFateContacts) continue;
@@ -208,24 +234,7 @@ void trace_fates(const detail::Geometry& g, const detail::BodyPath* bodies, int 
 }
 
 // trace_fates on a field with height: the same rounds over a chunk, with the batched 3D search.
-// Chunks are independent (each writes the fates of its own particles), so two threads share
-// them out: each takes the next chunk from `next` until none is left, with its own scratch.
-struct Fates3 {
-  const detail::Geometry& g;
-  const detail::Sky& sky;
-  const detail::BodyPath* bodies;
-  int nb;
-  const Endings& ends;
-  const Cloud& c;
-  const NextStep& next_step;
-  float horizon;
-  std::vector<Fate>& fates;
-  Flight3* scratch;                // two pairs: flying and later for each thread
-  std::atomic<size_t> next{0};     // the first particle of the next chunk to trace
-  std::atomic<int> threads{0};     // which pair of scratch a thread takes
-};
-
-void trace_fates3(Fates3& job) {
+void trace_fates3(FateJob<Flight3>& job) {
   constexpr size_t kChunk = Flight3::kChunk;
   const int pair = job.threads.fetch_add(1);
   Flight3& flying = job.scratch[2 * pair];
@@ -420,17 +429,16 @@ void World::predict(FateReport& report, float horizon) const {
   s.fates.assign(cloud_.size(), Fate{});
   const Endings ends{s.body_kind.data(), s.own_goal.data()};
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
+  // A few chunks are not worth waking a second thread for.
+  const bool shared = config_.threads > 1 && cloud_.size() > 4 * Flight::kChunk;
+  const auto run = [&](auto& job, void (*trace)(void*)) { shared ? s.helper.together(trace, &job) : trace(&job); };
+  const int nb = int(s.predicted_bodies.size());
   if (cloud_.tall()) {
-    Fates3 job{s.geometry, s.sky, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next,
-               horizon, s.fates, s.flights3.data()};
-    // A few chunks are not worth waking a second thread for.
-    if (config_.prediction_threads > 1 && cloud_.size() > 4 * Flight3::kChunk)
-      s.helper.together([](void* j) { trace_fates3(*static_cast<Fates3*>(j)); }, &job);
-    else
-      trace_fates3(job);
+    FateJob<Flight3> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, horizon, s.fates, s.flights3.data()};
+    run(job, [](void* j) { trace_fates3(*static_cast<FateJob<Flight3>*>(j)); });
   } else {
-    trace_fates(s.geometry, s.predicted_bodies.data(), int(s.predicted_bodies.size()), ends, cloud_, next, flight(horizon),
-                s.flying, s.later, s.fates);
+    FateJob<Flight> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, flight(horizon), s.fates, s.flights.data()};
+    run(job, [](void* j) { trace_fates(*static_cast<FateJob<Flight>*>(j)); });
   }
   s.index.clear();
   for (size_t i = 0; i < cloud_.size(); ++i) {

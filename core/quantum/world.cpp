@@ -41,8 +41,8 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
     : field_(std::move(field)), config_(config), rng_(config.seed) {
   finish_field(field_);
   if (config_.particles < 1) throw std::invalid_argument("the cloud needs at least one particle");
-  if (config_.prediction_threads < 1 || config_.prediction_threads > 2)
-    throw std::invalid_argument("prediction_threads must be 1 or 2, got " + std::to_string(config_.prediction_threads));
+  if (config_.threads < 1 || config_.threads > 2)
+    throw std::invalid_argument("threads must be 1 or 2, got " + std::to_string(config_.threads));
   if (config_.purgatory_frames < 1) throw std::invalid_argument("purgatory needs at least one frame");
   if (!(config_.split_jitter >= 0 && config_.split_jitter < 1.6f))
     throw std::invalid_argument("split jitter must be between 0 and 1.6 rad");

@@ -27,9 +27,9 @@ struct WorldConfig {
   uint64_t seed = 1;
   float split_jitter = 0.05f;     // rad: largest turn given to a particle split at a collision
   float body_lookahead = 0.25f;   // s: prediction moves bodies on their velocity this long, then holds them
-  // A fate report on a field with height shares a large cloud's chunks among this many threads
-  // (1 or 2; docs/PERFORMANCE.md). The report is the same either way.
-  uint32_t prediction_threads = 2;
+  // A fate report shares a large cloud's chunks among this many threads (1 or 2; more than 4,096
+  // particles; docs/PERFORMANCE.md). The report is the same either way.
+  uint32_t threads = 2;
 };
 
 // Catch: a body that catches met the ball and holds it now. Throw: its holder let it go.

@@ -90,7 +90,7 @@ struct GroupIndex {
 
 struct WorldInternals {
   explicit WorldInternals(const Field& field)
-      : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky), flights3(field.has_height() ? 4 : 0) {}
+      : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky), flights(field.has_height() ? 0 : 4), flights3(field.has_height() ? 4 : 0) {}
   detail::Geometry geometry;
   detail::Sky sky;
   detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
@@ -102,9 +102,10 @@ struct WorldInternals {
   std::vector<detail::BodyPath> predicted_bodies;
   std::vector<uint8_t> body_kind, own_goal;
   std::vector<Fate> fates;
-  Flight flying, later;
-  std::vector<Flight3> flights3;  // on a field with height: flying and later, for each of two threads
-  detail::HelperThread helper;    // shares the 3D prediction's chunks
+  // Flying and later, for each of two threads: flat fields use flights, fields with height flights3.
+  std::vector<Flight> flights;
+  std::vector<Flight3> flights3;
+  detail::HelperThread helper;    // shares the prediction's chunks
   GroupIndex index;
 };
 

@@ -90,6 +90,19 @@ TEST(Cli, SameSeedSameLog) {
   EXPECT_FALSE(a.out.empty());
 }
 
+// A cloud large enough that the prediction shares its chunks with a second thread: the same
+// match, event for event, on one thread or two.
+TEST(Cli, SameSeedSameLogWhateverTheThreads) {
+  const std::string match = "play rules/airhockey --audio none --quiet --seconds 3 --seed 4 --particles 20000 --events - ";
+  const Outcome one = quantum(match + "--threads 1");
+  const Outcome two = quantum(match + "--threads 2");
+  ASSERT_EQ(one.status, 0) << one.err;
+  ASSERT_EQ(two.status, 0) << two.err;
+  EXPECT_EQ(one.out, two.out);
+  EXPECT_NE(one.out.find("\"type\":\"shot\""), std::string::npos) << "the players met the ball";
+  EXPECT_NE(quantum(match + "--threads 3").status, 0);
+}
+
 TEST(Cli, SnapshotIsAPicture) {
   const std::string png = std::filesystem::temp_directory_path() / "quantum_cli_snapshot.png";
   std::filesystem::remove(png);

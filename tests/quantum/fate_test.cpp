@@ -129,6 +129,37 @@ TEST(Fate, NextStepsNoiseDecidesAsPredicted) {
   EXPECT_LT(met, 180);
 }
 
+// Chunks of a large cloud are shared between two threads; which thread traces a chunk must not
+// change a particle's fate or a group's mass.
+TEST(Fate, ALargeCloudIsPredictedTheSameOnOneThreadOrTwo) {
+  const Field f = test::airhockey();  // with its Brownian motion: the next step's noise is per particle
+  std::vector<FateReport> reports;
+  for (uint32_t threads : {1u, 2u, 2u}) {
+    WorldConfig config;
+    config.particles = 40'000, config.threads = threads, config.seed = 3;
+    World world(f, config);
+    Cloud cloud = test::fan(0.0f, 0.1f, 2.0f, -3.1f, 3.1f, 20'000);
+    const Cloud slow = test::fan(-0.3f, -0.2f, 0.4f, -3.1f, 3.1f, 20'000);
+    for (size_t i = 0; i < slow.size(); ++i) cloud.push_from(slow, i);
+    world.set_cloud(cloud);
+    std::vector<BodyInput> in = test::resting(f);
+    in[0].velocity = {1.5f, 0.5f}, in[1].velocity = {-1.0f, -0.8f};  // extrapolated for the lookahead
+    world.place_bodies(in);
+    reports.push_back(world.predict(3.0f));
+  }
+  const FateReport& one = reports[0];
+  ASSERT_GE(one.groups.size(), 6u) << "a fan all round meets walls, goals and both mallets";
+  for (const FateReport& r : {reports[1], reports[2]}) {
+    ASSERT_EQ(r.groups.size(), one.groups.size());
+    ASSERT_EQ(r.group_of, one.group_of);
+    for (size_t g = 0; g < one.groups.size(); ++g) {
+      EXPECT_EQ(r.groups[g].fate.key(), one.groups[g].fate.key());
+      EXPECT_EQ(r.groups[g].mass, one.groups[g].mass);
+      EXPECT_EQ(r.groups[g].count, one.groups[g].count);
+    }
+  }
+}
+
 TEST(Fate, ReportGroupsCountsMassesAndPaths) {
   const Field f = test::quiet_airhockey();
   WorldConfig config;

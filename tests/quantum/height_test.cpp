@@ -288,7 +288,7 @@ TEST(Height, ALargeCloudsFatesAreEachParticlesOwn) {
   const std::unique_ptr<World> large = test::scene_world(f, config, 9, in, all, maya);
   const std::unique_ptr<World> small = test::scene_world(f, config, 9, in, few, maya);
   WorldConfig alone = config;
-  alone.prediction_threads = 1;
+  alone.threads = 1;
   const std::unique_ptr<World> single = test::scene_world(f, alone, 9, in, all, maya);
   const FateReport big = large->predict(3.0f), again = large->predict(3.0f), little = small->predict(3.0f);
   const FateReport one_thread = single->predict(3.0f);
@@ -305,7 +305,7 @@ TEST(Height, ALargeCloudsFatesAreEachParticlesOwn) {
     ASSERT_EQ(key, again.groups[again.group_of[i]].fate.key()) << "particle " << i;
     ASSERT_EQ(key, one_thread.groups[one_thread.group_of[i]].fate.key()) << "particle " << i;
   }
-  EXPECT_THROW(World(f, WorldConfig{.prediction_threads = 3}), std::invalid_argument);
+  EXPECT_THROW(World(f, WorldConfig{.threads = 3}), std::invalid_argument);
 }
 
 }  // namespace
