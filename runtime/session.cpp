@@ -59,7 +59,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   game::MatchConfig config;
   config.particles = settings.particles ? settings.particles : sport_->particles();
   config.seed = settings.seed;
-  config.threads = o.threads;
+  config.threads = settings.threads;
   config.seconds = settings.seconds > 0 ? settings.seconds : sport_->seconds();
   config.first_spot = sport_->first_spot();
   config.first_holder = sport_->first_holder();

@@ -40,7 +40,7 @@ struct SessionOptions {
   uint64_t seed = 1;
   double seconds = 0;           // 0: the sport's own time limit
   uint32_t particles = 0;       // 0: the sport's own
-  uint32_t threads = 2;         // the core's threads for prediction and the step: 1 or 2
+  uint32_t threads = 2;         // threads a large cloud's fate prediction shares: 1 or 2
   std::vector<double> skills;   // per player, 0..1; empty: 0.6 each
   std::vector<double> handicaps;  // per player; empty: the sport's
   double auto_balance = -1;       // handicap boost per goal behind; < 0: the sport's (docs/lua-api.md)

@@ -32,7 +32,10 @@ const std::vector<std::string>& event_names() {
 constexpr double kRetouch = 0.25;  // s
 
 Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps)
-    : world_(std::move(field), WorldConfig{.particles = config.particles, .purgatory_frames = 3, .seed = config.seed, .threads = config.threads}), config_(config), rules_(&rules) {
+    : world_(std::move(field),
+             WorldConfig{.particles = config.particles, .purgatory_frames = 3, .seed = config.seed, .threads = config.threads}),
+      config_(config),
+      rules_(&rules) {
   if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
   if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
   if (!(config.balance_per_goal >= 0 && config.balance_per_goal <= 10 && config.balance_most >= 1))
