@@ -189,6 +189,7 @@ struct MoverBatch {
   std::vector<float> x, y, ux, uy, vx, vy, t;
   std::vector<float> when, hnx, hny;  // the search's answer: time from t, normal
   std::vector<int32_t> code;          // kind << 16 | index, or -1 for none
+  std::vector<int16_t> cap;           // a wall contact at an end point: which one (else -1)
   void resize(size_t n);
   void set(size_t j, const Mover& m, float at) {
     x[j] = m.x, y[j] = m.y, ux[j] = m.ux, uy[j] = m.uy, vx[j] = m.vx, vy[j] = m.vy, t[j] = at;
