@@ -217,6 +217,8 @@ void MoverBatch::resize(size_t n) {
   for (auto* v : {&x, &y, &ux, &uy, &vx, &vy, &t, &when, &hnx, &hny}) v->resize(n);
   code.resize(n);
   cap.resize(n);
+  maybe.resize(n + 8);  // collect_flagged reads whole words of eight
+  marked.resize(n);
 }
 
 Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Mover& m, float t0, float t1,
@@ -309,17 +311,26 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
       hnx[i] = better ? nx : hnx[i], hny[i] = better ? ny : hny[i];
     }
   }
+  // End points: a path passes near a given one rarely (a corner or a post a few centimetres
+  // wide, seen from across the field). A vectorized pass without a square root or a division
+  // marks the particles whose line comes within reach of the point, or that overlap it; only
+  // those take the exact test.
+  uint8_t* __restrict maybe = b.maybe.data();
+  int16_t* __restrict marked = b.marked.data();
   for (size_t k = 0; k < g.cap_x.size(); ++k) {
     const int32_t c = hit_code(HitKind::Wall, g.cap_wall[k]);
     const float px = g.cap_x[k], py = g.cap_y[k];
     // Each iteration reads and writes only particle i.
 #pragma GCC ivdep
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < n; ++i)
+      maybe[i] = uint8_t(circle_may_meet(x[i] - px, y[i] - py, ux[i], uy[i], r));
+    const int m = collect_flagged(maybe, int(n), marked);
+    for (int j = 0; j < m; ++j) {
+      const size_t i = size_t(marked[j]);
       const float qx = x[i] - px, qy = y[i] - py;
       const float dt = circle_time(qx, qy, ux[i], uy[i], r, t1 - t[i]);
       const float hx = qx + ux[i] * dt, hy = qy + uy[i] * dt;
-      const bool better = dt < when[i] && hx * hx + hy * hy > 0;
-      when[i] = better ? dt : when[i], code[i] = better ? c : code[i], cap[i] = better ? int16_t(k) : cap[i];
+      if (dt < when[i] && hx * hx + hy * hy > 0) when[i] = dt, code[i] = c, cap[i] = int16_t(k);
     }
   }
   for (size_t k = 0; k < g.gax.size(); ++k) {
@@ -361,12 +372,15 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
   for (int k = 0; k < n_bodies; ++k) {
     const BodyPath body = bodies[k];
     const int32_t c = hit_code(HitKind::Body, k);
-    // Each iteration reads and writes only particle i.
+    // As for end points: the pre-pass marks the paths that can come within reach of the body
+    // while it moves or once it rests, and only those take body_time's two exact tests.
 #pragma GCC ivdep
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < n; ++i) maybe[i] = uint8_t(body_may_meet(body, r, x[i], y[i], ux[i], uy[i], t[i]));
+    const int m = collect_flagged(maybe, int(n), marked);
+    for (int j = 0; j < m; ++j) {
+      const size_t i = size_t(marked[j]);
       const float dt = body_time(body, r, x[i], y[i], ux[i], uy[i], t[i], t1);
-      const bool better = dt < when[i];
-      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
+      if (dt < when[i]) when[i] = dt, code[i] = c;
     }
   }
   // The normals at end points and bodies take a square root and two divisions each: computed

@@ -124,6 +124,20 @@ inline SegmentParams segment(const Geometry& g, size_t k) {
   return (inside || (b < 0 && disc >= 0)) && dt <= span ? dt : kInf;
 }
 
+// A superset of the cases circle_time finds a contact in, without its square root and division:
+// the point inside already, or closing on the circle (b < 0) along a line that passes within
+// reach of its centre (disc >= 0). The slack is far above what rounding b and disc can change
+// (a few ulps of |q||w| and of |w|^2 (|q|^2 + rr^2)), so a contact the exact test finds is never
+// left out, whichever way the compiler contracts the two.
+[[gnu::always_inline]] inline bool circle_may_meet(float qx, float qy, float wx, float wy, float rr) {
+  const float qq = qx * qx + qy * qy, ww = wx * wx + wy * wy;
+  const float c = qq - rr * rr, b = qx * wx + qy * wy;
+  const float disc = b * b - ww * c;
+  constexpr float kSlack = 1e-5f;
+  const bool closing = (b < 0) | (b * b < kSlack * kSlack * qq * ww);
+  return (c < 0) | (closing & (disc >= -kSlack * ww * (qq + rr * rr)));
+}
+
 // The ball's centre crossing a goal line into the goal (n points into the goal).
 inline SegmentParams goal_line(const Geometry& g, size_t k) {
   return {g.gax[k], g.gay[k], g.gtx[k], g.gty[k], g.gnx[k], g.gny[k], g.glen[k]};
@@ -169,6 +183,14 @@ inline SegmentParams goal_line(const Geometry& g, size_t k) {
   return std::min(first, second);
 }
 
+// A superset of the cases body_time finds a contact in (circle_may_meet for its two phases).
+[[gnu::always_inline]] inline bool body_may_meet(const BodyPath& b, float r, float x, float y, float ux, float uy,
+                                                 float t0) {
+  const float rr = b.radius + r, ts = std::max(t0, b.stop);
+  return circle_may_meet(x - body_x(b, t0), y - body_y(b, t0), ux - b.ux, uy - b.uy, rr) |
+         circle_may_meet(x + ux * (ts - t0) - body_x(b, ts), y + uy * (ts - t0) - body_y(b, ts), ux, uy, rr);
+}
+
 // --- Searches.
 
 enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed, Wormhole };
@@ -190,6 +212,8 @@ struct MoverBatch {
   std::vector<float> when, hnx, hny;  // the search's answer: time from t, normal
   std::vector<int32_t> code;          // kind << 16 | index, or -1 for none
   std::vector<int16_t> cap;           // a wall contact at an end point: which one (else -1)
+  std::vector<uint8_t> maybe;         // scratch: particles an end point may meet...
+  std::vector<int16_t> marked;        // ...and their indices
   void resize(size_t n);
   void set(size_t j, const Mover& m, float at) {
     x[j] = m.x, y[j] = m.y, ux[j] = m.ux, uy[j] = m.uy, vx[j] = m.vx, vy[j] = m.vy, t[j] = at;
