@@ -384,8 +384,8 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     }
   }
   // The normals at end points and bodies take a square root and two divisions each: computed
-  // here for the one contact a particle meets first, not in the loops for every candidate (they
-  // were a third of the search's time).
+  // here for the one contact a particle meets first, not in the loops for every candidate (in a
+  // match's frame that was a third of its time: docs/PERFORMANCE.md).
   for (size_t i = 0; i < n; ++i) {
     const HitKind kind = code_kind(code[i]);
     if (kind == HitKind::Body) {
