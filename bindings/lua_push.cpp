@@ -139,6 +139,10 @@ void TablePool::push(lua_State* L, size_t k) {
     lua_rawseti(L, -3, int(k + 1));
   }
   lua_remove(L, -2);
+  // The sport's modifiers and every power-up's factor are handed the same tables: a metatable one
+  // of them set must not run when the engine fills the table, or when the next script reads it.
+  lua_pushnil(L);
+  lua_setmetatable(L, -2);
 }
 
 void fill_fate(lua_State* L, const game::FateView& f, const Field& field) {

@@ -20,8 +20,23 @@
 namespace quantum::lua {
 namespace {
 
+// require's upvalue 4 is the module cache of the script whose environment holds it.
 int require_module(lua_State* L) {
-  upvalue_self<Sandbox>(L).require_module(check_string(L, 1));
+  const std::string name = check_string(L, 1);
+  lua_pushvalue(L, lua_upvalueindex(4));
+  upvalue_self<Sandbox>(L).require_module(name, lua_gettop(L));
+  return 1;
+}
+
+// Lua's rawset, except on sealed tables (lua_wrap.h), which it would otherwise change behind
+// their metatable's back.
+int guarded_rawset(lua_State* L) {
+  luaL_checktype(L, 1, LUA_TTABLE);
+  luaL_checkany(L, 2);
+  luaL_checkany(L, 3);
+  if (is_read_only(L, 1)) return luaL_error(L, "rawset: the table is read-only (the game table or a library)");
+  lua_settop(L, 3);
+  lua_rawset(L, 1);
   return 1;
 }
 
@@ -283,7 +298,7 @@ Sandbox::Nested::Nested(lua_State* L, Sandbox& sandbox, const char* what) : sand
 }
 
 Sandbox::Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders)
-    : limits_(limits), module_folders_(std::move(module_folders)) {
+    : limits_(limits), rules_(rules), module_folders_(std::move(module_folders)) {
   Watchdog::get();  // made before any sandbox is whole, so it outlives even a static one
   memory_.limit = limits.memory;
   L_ = lua_newstate(alloc, this);
@@ -294,36 +309,42 @@ Sandbox::Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> m
   // run a few times a second; the JIT would not pay for itself. (After openlibs: opening the
   // jit library switches it back on.)
   luaJIT_setmode(L_, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
+  // Scripts sharing this state (a sport, its modules and power-ups) must not change what the
+  // others run: the libraries are sealed (lua_wrap.h), the string metatable protected, and each
+  // script file runs in an environment of its own, a copy of this template (new_environment).
+  lua_pushstring(L_, "");
+  lua_getmetatable(L_, -1);
+  lua_pushstring(L_, "read-only");
+  lua_setfield(L_, -2, "__metatable");
+  lua_pop(L_, 2);
   lua_newtable(L_);
   const int env = lua_gettop(L_);
   const char* base[] = {"assert", "error",    "ipairs", "next",   "pairs",  "pcall",  "select", "tonumber",
-                        "tostring", "type", "unpack", "rawequal", "rawget", "rawset", "setmetatable",
+                        "tostring", "type", "unpack", "rawequal", "rawget", "setmetatable",
                         "getmetatable", "xpcall", "print"};
   for (const char* name : base) {
     lua_getglobal(L_, name);
     lua_setfield(L_, env, name);
   }
+  lua_pushcfunction(L_, guarded_rawset);
+  lua_setfield(L_, env, "rawset");
   for (const char* name : {"math", "string", "table"}) {
+    lua_newtable(L_);
     lua_getglobal(L_, name);
+    seal(L_, -2, -1, name);
+    lua_pop(L_, 1);
     lua_setfield(L_, env, name);
   }
   // Of os, only its clock: a rule may time itself, never touch the machine.
+  lua_newtable(L_);
   lua_newtable(L_);
   lua_getglobal(L_, "os");
   lua_getfield(L_, -1, "clock");
   lua_setfield(L_, -3, "clock");
   lua_pop(L_, 1);
+  seal(L_, -2, -1, "os");
+  lua_pop(L_, 1);
   lua_setfield(L_, env, "os");
-  if (rules) {
-    push_module(L_, "", {{"require", guard<lua::require_module>}}, this);
-    lua_getfield(L_, -1, "require");
-    lua_setfield(L_, env, "require");
-    lua_pop(L_, 1);
-    lua_newtable(L_);
-    modules_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-  }
-  lua_pushvalue(L_, env);
-  lua_setfield(L_, env, "_G");
   env_ = luaL_ref(L_, LUA_REGISTRYINDEX);
   lua_pushcfunction(L_, on_error);
   on_error_ = luaL_ref(L_, LUA_REGISTRYINDEX);
@@ -340,39 +361,59 @@ std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders,
   return {};
 }
 
-void Sandbox::require_module(const std::string& name) {
+void Sandbox::require_module(const std::string& name, int cache) {
   namespace fs = std::filesystem;
   bool valid = !name.empty() && name.front() != '.' && name.back() != '.' && name.find("..") == std::string::npos;
   for (char c : name) valid &= (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '.';
   if (!valid)
     throw ScriptError("'" + name + "' is not a module name: lower-case words joined by dots, e.g. 'util' or 'lib.util'");
-  lua_rawgeti(L_, LUA_REGISTRYINDEX, modules_);
-  lua_getfield(L_, -1, name.c_str());
-  if (!lua_isnil(L_, -1)) {
-    lua_remove(L_, -2);
-    return;
-  }
-  lua_pop(L_, 2);
+  lua_getfield(L_, cache, name.c_str());
+  if (!lua_isnil(L_, -1)) return;
+  lua_pop(L_, 1);
   std::string relative = name;
   std::replace(relative.begin(), relative.end(), '.', '/');
   relative += ".lua";
   std::string looked;
   if (const fs::path file = find_in(module_folders_, relative, looked); !file.empty()) {
-    run_file(file.string());
+    run_file(file.string(), cache);
     if (lua_isnil(L_, -1)) {  // a module that returns nothing is loaded all the same
       lua_pop(L_, 1);
       lua_pushboolean(L_, 1);
     }
-    lua_rawgeti(L_, LUA_REGISTRYINDEX, modules_);
-    lua_pushvalue(L_, -2);
-    lua_setfield(L_, -2, name.c_str());
-    lua_pop(L_, 1);
+    lua_pushvalue(L_, -1);
+    lua_setfield(L_, cache, name.c_str());
     return;
   }
   throw ScriptError("no module '" + name + "': the sandbox loads only the sport's own Lua modules (" +
                     (looked.empty() ? std::string("no folders") : looked) +
                     "); Lua's own libraries beyond math, string, table and os.clock, and native modules, are "
                     "not available to rules");
+}
+
+void Sandbox::new_environment(int cache) {
+  const int top = lua_gettop(L_);
+  lua_newtable(L_);
+  const int env = top + 1;
+  lua_rawgeti(L_, LUA_REGISTRYINDEX, env_);
+  for (lua_pushnil(L_); lua_next(L_, env + 1);) {
+    lua_pushvalue(L_, -2);
+    lua_insert(L_, -2);
+    lua_rawset(L_, env);
+  }
+  lua_pop(L_, 1);
+  lua_pushvalue(L_, env);
+  lua_setfield(L_, env, "_G");
+  if (!rules_) return;
+  // Each script's own `require` and module cache: a power-up's `require "two_teams"` is its own
+  // copy, so what it does to the module's table the sport never sees. A module shares the cache
+  // of the script that required it. (Upvalues as push_module's, then the cache.)
+  lua_pushstring(L_, "require");
+  lua_newtable(L_);
+  lua_pushlightuserdata(L_, this);
+  if (cache != 0) lua_pushvalue(L_, cache);
+  else lua_newtable(L_);
+  lua_pushcclosure(L_, guard<lua::require_module>, 4);
+  lua_setfield(L_, env, "require");
 }
 
 Sandbox::~Sandbox() {
@@ -432,7 +473,7 @@ void Sandbox::protect_raw(lua_CFunction trampoline, void* run) {
   lua_settop(L_, top);
 }
 
-void Sandbox::run_file(const std::string& file) {
+void Sandbox::run_file(const std::string& file, int cache) {
   if (!std::filesystem::exists(file)) throw ScriptError(file + ": no such file");
   files_.push_back(file);
   const int status = luaL_loadfilex(L_, file.c_str(), "t");
@@ -443,7 +484,7 @@ void Sandbox::run_file(const std::string& file) {
       m = file + ": binary chunk (precompiled bytecode) refused: scripts must be Lua text";
     throw ScriptError(m.rfind(file, 0) == 0 ? m : file + ": " + m);
   }
-  lua_rawgeti(L_, LUA_REGISTRYINDEX, env_);
+  new_environment(cache);
   lua_setfenv(L_, -2);
   std::string error;
   if (!call(0, 1, error)) throw ScriptError(error.rfind(file, 0) == 0 ? error : file + ": " + error);

@@ -49,12 +49,15 @@ class Sandbox {
   Sandbox& operator=(const Sandbox&) = delete;
 
   lua_State* L() const { return L_; }
-  // Pushes the scripts' environment table (to add a global of the caller's, like `param`).
+  // Pushes the template of the scripts' environments (to add a global of the caller's, like
+  // `param`): every script file runs in a copy of it made when it loads.
   void push_environment() const;
 
-  // Loads `file` as Lua text with the sandbox as its environment and runs it; leaves its one
-  // result on the stack. Throws ScriptError "file:line: message" (or "file: message").
-  void run_file(const std::string& file);
+  // Loads `file` as Lua text and runs it in an environment of its own (a copy of the template:
+  // globals one script sets, no other sees); leaves its one result on the stack. `cache` (a stack
+  // index, 0 for a new one) is the module cache its `require` uses: a module shares the cache of
+  // the script that required it. Throws ScriptError "file:line: message" (or "file: message").
+  void run_file(const std::string& file, int cache = 0);
 
   // lua_pcall with the period's budget armed; on failure returns the message and pops it. The
   // message always starts with the file and line that failed (errors raised with a table, or
@@ -128,10 +131,11 @@ class Sandbox {
   void print_line(lua_State* L, std::string_view text, size_t whole);
 
   // require(name) for scripts: "util" or "lib.util" is util.lua or lib/util.lua in the first
-  // module folder that has it, loaded once (as text, in the sandbox) and its result kept.
+  // module folder that has it, loaded once for the calling script's cache (as text, in the
+  // sandbox) and its result kept there. `cache` is the stack index of that cache.
   // Pushes the result. Throws ScriptError for a bad name, a module that is not there (saying
   // that the sandbox looks only in its folders) or one that fails.
-  void require_module(const std::string& name);
+  void require_module(const std::string& name, int cache);
 
   // Every Lua allocation, freeing and resizing so far: the tests' measure of the garbage a frame
   // makes.
@@ -159,8 +163,10 @@ class Sandbox {
   bool arm(std::string* refused);  // false (and why) when the period's budget is spent
   void disarm();
   void time_up();  // the watchdog's call, from its thread: raises the flag, nothing more
+  void new_environment(int cache);  // pushes a copy of the template, its module cache `cache`
 
   Limits limits_;
+  bool rules_;  // scripts get `require`
   Memory memory_;
   lua_State* L_ = nullptr;
   int env_ = LUA_NOREF;
@@ -180,7 +186,6 @@ class Sandbox {
   std::string spent_in_;
   int on_error_ = LUA_NOREF;  // the message handler that puts the file and line on every error
   std::vector<std::filesystem::path> module_folders_;
-  int modules_ = LUA_NOREF;  // name -> result of every module loaded
   std::vector<std::string> files_;
 };
 

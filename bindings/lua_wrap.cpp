@@ -31,16 +31,56 @@ bool style_ok(lua_State* L) {
 
 }  // namespace wrap_detail
 
+namespace {
+
+// __newindex of a module: every key of the proxy is absent, so every assignment lands here.
+int refuse_write(lua_State* L) {
+  luaL_where(L, 1);
+  lua_pushfstring(L, "%s is read-only: scripts share it, so none may change it for the others (assigning '%s')",
+                  lua_tostring(L, lua_upvalueindex(1)), lua_tostring(L, 2) ? lua_tostring(L, 2) : luaL_typename(L, 2));
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
+}  // namespace
+
+void seal(lua_State* L, int proxy, int contents, const char* name) {
+  const auto absolute = [L](int index) { return index > 0 ? index : lua_gettop(L) + index + 1; };
+  proxy = absolute(proxy), contents = absolute(contents);
+  lua_createtable(L, 0, 3);
+  lua_pushvalue(L, contents);
+  lua_setfield(L, -2, "__index");
+  lua_pushstring(L, name);
+  lua_pushcclosure(L, refuse_write, 1);
+  lua_setfield(L, -2, "__newindex");
+  lua_pushstring(L, "read-only");
+  lua_setfield(L, -2, "__metatable");
+  lua_setmetatable(L, proxy);
+}
+
 void push_module(lua_State* L, const char* prefix, std::initializer_list<Function> functions, void* self) {
+  // The functions live in a hidden table behind the empty proxy scripts see (seal).
+  lua_newtable(L);
+  const int proxy = lua_gettop(L);
   lua_createtable(L, 0, int(functions.size()));
   const int module = lua_gettop(L);
   for (const Function& f : functions) {
     lua_pushstring(L, (*prefix ? std::string(prefix) + "." + f.name : std::string(f.name)).c_str());
-    lua_pushvalue(L, module);
+    lua_pushvalue(L, proxy);  // what a colon call passes first: style_ok compares with it
     lua_pushlightuserdata(L, self);
     lua_pushcclosure(L, f.call, 3);
     lua_setfield(L, module, f.name);
   }
+  seal(L, proxy, module, *prefix ? prefix : "this module");
+  lua_pop(L, 1);
+}
+
+bool is_read_only(lua_State* L, int index) {
+  if (!lua_getmetatable(L, index)) return false;
+  lua_getfield(L, -1, "__newindex");
+  const bool read_only = lua_tocfunction(L, -1) == refuse_write;
+  lua_pop(L, 2);
+  return read_only;
 }
 
 void register_type(lua_State* L, const char* type, std::initializer_list<Function> methods, lua_CFunction gc) {

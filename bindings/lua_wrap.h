@@ -51,8 +51,16 @@ struct Function {
   lua_CFunction call;  // guard<f>
 };
 
-// Pushes a module table: `prefix.name` for each function, each seeing `self` (upvalue_self).
+// Pushes a module table: `prefix.name` for each function, each seeing `self` (upvalue_self). The
+// table is read-only to scripts (an assignment is an error naming the module).
 void push_module(lua_State* L, const char* prefix, std::initializer_list<Function> functions, void* self);
+// Makes the empty table at `proxy` a read-only view of the table at `contents`: reads go
+// through, an assignment is an error naming `name`, and its metatable is protected. Scripts that
+// share a Lua state share these tables (`game`, the libraries), so none may change them for the
+// others; the contents stay reachable only to C++.
+void seal(lua_State* L, int proxy, int contents, const char* name);
+// Whether the table at `index` is sealed (the sandbox's rawset refuses those).
+bool is_read_only(lua_State* L, int index);
 // Registers the metatable of a userdata type whose methods are called as `object:name(...)`;
 // `gc` (may be null) runs when the object is collected.
 void register_type(lua_State* L, const char* type, std::initializer_list<Function> methods, lua_CFunction gc);
