@@ -27,4 +27,9 @@ inline constexpr size_t kMaxSpots = 1'000;
 inline constexpr size_t kMaxBodies = 1'000;
 inline constexpr size_t kMaxAreas = 1'000;
 
+// The contact grid's memory while it is built, whatever the bounds: its cells grow coarser until
+// it fits. Every shipped field keeps its 5 cm cells (basketball's court, the largest, 1.1 MB);
+// bounds of +-1000 m get 1.6 m cells and 20 MB.
+inline constexpr size_t kMaxGridBytes = size_t(64) << 20;
+
 }  // namespace quantum::limits
