@@ -32,4 +32,8 @@ inline constexpr size_t kMaxAreas = 1'000;
 // bounds of +-1000 m get 1.6 m cells and 20 MB.
 inline constexpr size_t kMaxGridBytes = size_t(64) << 20;
 
+// Text one phrase says, filled in (and so its template too): a minute of speech, far more than
+// an announcer says at once, and what `print` keeps of a line.
+inline constexpr size_t kMaxPhraseBytes = 1'000;
+
 }  // namespace quantum::limits
