@@ -75,6 +75,9 @@ class Reader {
     lua_pop(L, 1);
   }
 
+  // Fails when the table at idx has more than `most` entries: checked before any is read.
+  void at_most(int idx, const std::string& place, size_t most) const;
+
   // Calls each(key, place) with t[key] on top of the stack for every string key of the map at
   // idx (in no particular order); a key that is not a string fails.
   template <class Each>

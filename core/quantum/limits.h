@@ -35,5 +35,8 @@ inline constexpr size_t kMaxGridBytes = size_t(64) << 20;
 // Text one phrase says, filled in (and so its template too): a minute of speech, far more than
 // an announcer says at once, and what `print` keeps of a line.
 inline constexpr size_t kMaxPhraseBytes = 1'000;
+// A sport's phrases: each is parsed and kept, so a table of a million keys naming one long text
+// would take a gigabyte outside the script's 64 MiB. The shipped sports have a dozen or two.
+inline constexpr size_t kMaxPhrases = 1'000;
 
 }  // namespace quantum::limits
