@@ -55,15 +55,26 @@ TEST(HostileLimits, APhraseJustWithinTheLimitIsSaid) {
   EXPECT_TRUE(played.match.errors().empty()) << played.match.errors()[0];
 }
 
-TEST(HostileLimits, ASportPhraseLongerThanTheLimitIsRefusedWhenItLoads) {
-  const std::string dir = hostile_sport("long_phrase", "", "sport.phrases.long = string.rep('a', 1001)");
+// Each phrase is parsed and kept outside the script's memory: a long one, or 100,000 keys
+// naming one text, are refused when the sport loads.
+void expect_sport_refused(const std::string& name, const std::string& extra, const std::string& error) {
+  SCOPED_TRACE(name);
+  const std::string dir = hostile_sport(name, "", extra);
+  const double start = thread_cpu_seconds();
   try {
     lua::Sport sport(dir);
-    FAIL() << "loaded";
+    ADD_FAILURE() << "loaded";
   } catch (const std::exception& e) {
-    EXPECT_TRUE(says_one_of(e.what(), "phrases.long")) << e.what();
-    EXPECT_TRUE(says_one_of(e.what(), "longer than 1000 bytes")) << e.what();
+    EXPECT_TRUE(says_one_of(e.what(), error)) << e.what();
   }
+  std::cout << "  " << name << ": refused in " << (thread_cpu_seconds() - start) * 1e3 << " ms of CPU\n";
+}
+
+TEST(HostileLimits, ASportOfTooLongOrTooManyPhrasesIsRefusedWhenItLoads) {
+  expect_sport_refused("long_phrase", "sport.phrases.long = string.rep('a', 1001)",
+                       "phrases.long: the text is longer than 1000 bytes (1001)");
+  expect_sport_refused("many_phrases", "local s = string.rep('a', 1000) for i = 1, 1e5 do sport.phrases['p' .. i] = s end",
+                       "phrases: more than the 1000 entries allowed");
 }
 
 // A sport of air hockey whose field.lua is the table's with `lua` run on it (`field`) before it
