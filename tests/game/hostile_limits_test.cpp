@@ -181,6 +181,19 @@ TEST(HostileLimits, AFieldOfTooManyWallsIsRefusedAtOnce) {
                           "for i = 1, 1e6 do field.areas[i] = a end", "areas");
 }
 
+// A field built in C++ meets the same limits before the engine builds anything for it.
+TEST(HostileLimits, AFieldBuiltInCppIsHeldToTheSameLimits) {
+  Field f = lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  const Segment piece = f.segments[0];
+  f.segments.assign(limits::kMaxSegments + 1, piece);
+  try {
+    finish_field(f);
+    FAIL() << "finished";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(std::string(e.what()), "walls: 10001 wall pieces, more than the 10000 allowed");
+  }
+}
+
 // The shipped sports load as they did, each with the 5 cm cells of its contact grid.
 TEST(HostileLimits, TheShippedSportsLoadWithTheirOwnGrids) {
   for (const auto& entry : fs::directory_iterator(QUANTUM_SOURCE_DIR "/rules")) {
