@@ -2,6 +2,7 @@
 
 #include "lua_reader.h"
 #include "lua_sandbox.h"
+#include "quantum/limits.h"
 
 #include <filesystem>
 #include <string>
@@ -43,7 +44,7 @@ Field read_field(Reader& r, int top) {
     f.friction = r.number(b, "friction", "ball", f.friction, false);
     lua_pop(L, 1);
   }
-  r.array(top, "walls", "", [&](int w, const std::string& place) {
+  r.array(top, "walls", "", limits::kMaxSegments, [&](int w, const std::string& place) {
     r.only_keys(w, place, {"name", "points"});
     const std::string name = r.string(w, "name", place, "wall " + number_of(place), false);
     const int id = f.wall_id(name);
@@ -52,6 +53,10 @@ Field read_field(Reader& r, int top) {
     const int pts = lua_gettop(L);
     const size_t n = lua_objlen(L, pts);
     if (n < 2) r.fail(place + ".points", "a wall needs at least 2 points, got " + std::to_string(n));
+    if (f.segments.size() + n - 1 > limits::kMaxSegments)
+      r.fail(place + ".points", std::to_string(n) + " points make " + std::to_string(f.segments.size() + n - 1) +
+                                    " wall pieces in all, more than the " + std::to_string(limits::kMaxSegments) +
+                                    " allowed");
     Vec2 prev;
     for (size_t i = 1; i <= n; ++i) {
       lua_rawgeti(L, pts, int(i));
@@ -61,7 +66,7 @@ Field read_field(Reader& r, int top) {
     }
     lua_pop(L, 1);
   });
-  r.array(top, "goals", "", [&](int g, const std::string& place) {
+  r.array(top, "goals", "", limits::kMaxGoals - f.goals.size(), [&](int g, const std::string& place) {
     r.only_keys(g, place, {"name", "team", "from", "to"});
     Goal goal;
     goal.team = r.string(g, "team", place, "", true);
@@ -70,7 +75,7 @@ Field read_field(Reader& r, int top) {
     goal.b = r.point_at(g, "to", place);
     f.goals.push_back(goal);
   });
-  r.array(top, "hoops", "", [&](int h, const std::string& place) {
+  r.array(top, "hoops", "", limits::kMaxGoals - f.goals.size(), [&](int h, const std::string& place) {
     r.only_keys(h, place, {"name", "team", "at", "height", "radius", "thickness", "restitution", "rim"});
     Goal hoop;
     hoop.team = r.string(h, "team", place, "", false);
@@ -84,7 +89,7 @@ Field read_field(Reader& r, int top) {
     hoop.rim_wall = f.wall_id(rim);
     f.goals.push_back(hoop);
   });
-  r.array(top, "boards", "", [&](int b, const std::string& place) {
+  r.array(top, "boards", "", limits::kMaxBoards, [&](int b, const std::string& place) {
     r.only_keys(b, place, {"name", "from", "to", "bottom", "top", "restitution"});
     Board board;
     const std::string name = r.string(b, "name", place, "board " + number_of(place), false);
@@ -96,7 +101,7 @@ Field read_field(Reader& r, int top) {
     board.restitution = float(r.number(b, "restitution", place, board.restitution, false));
     f.boards.push_back(board);
   });
-  r.array(top, "spots", "", [&](int s, const std::string& place) {
+  r.array(top, "spots", "", limits::kMaxSpots, [&](int s, const std::string& place) {
     r.only_keys(s, place, {"name", "team", "at"});
     Spot spot;
     spot.team = r.string(s, "team", place, "", false);
@@ -104,7 +109,7 @@ Field read_field(Reader& r, int top) {
     spot.at = r.point_at(s, "at", place);
     f.spots.push_back(spot);
   });
-  r.array(top, "bodies", "", [&](int b, const std::string& place) {
+  r.array(top, "bodies", "", limits::kMaxBodies, [&](int b, const std::string& place) {
     r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "role", "track", "reach"});
     BodySpec body;
     body.team = r.string(b, "team", place, "", true);
@@ -117,7 +122,7 @@ Field read_field(Reader& r, int top) {
     body.reach = float(r.number(b, "reach", place, 0, false));
     f.bodies.push_back(body);
   });
-  r.array(top, "areas", "", [&](int a, const std::string& place) {
+  r.array(top, "areas", "", limits::kMaxAreas, [&](int a, const std::string& place) {
     r.only_keys(a, place, {"name", "team", "from", "to", "at", "radius"});
     Area area;
     area.team = r.string(a, "team", place, "", false);

@@ -68,6 +68,19 @@ void Reader::only_keys(int idx, const std::string& place, std::span<const std::s
   }
 }
 
+void Reader::at_most(int idx, const std::string& place, size_t most) const {
+  idx = absolute(idx);
+  size_t n = 0;
+  lua_pushnil(L);
+  while (lua_next(L, idx)) {
+    lua_pop(L, 1);
+    if (++n > most) {
+      lua_pop(L, 1);
+      fail(place, "more than the " + std::to_string(most) + " entries allowed");
+    }
+  }
+}
+
 bool Reader::field(int idx, const char* key) const {
   idx = absolute(idx);
   lua_pushstring(L, key);

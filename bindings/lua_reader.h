@@ -56,14 +56,15 @@ class Reader {
   Vec2 point_at(int idx, const char* key, const std::string& place) const;
 
   // Calls each(i, place) with entry i of the list t[key] on top of the stack; each entry must be
-  // a table.
+  // a table. A list of more than `most` entries fails before any entry is read.
   template <class Each>
-  void array(int idx, const char* key, const std::string& place, Each each) const {
+  void array(int idx, const char* key, const std::string& place, size_t most, Each each) const {
     if (!field(idx, key)) return;
     const std::string here = place.empty() ? key : place + "." + key;
     expect(LUA_TTABLE, here, "a list");
     const int list = lua_gettop(L);
     const size_t n = lua_objlen(L, list);
+    if (n > most) fail(here, std::to_string(n) + " entries, more than the " + std::to_string(most) + " allowed");
     for (size_t i = 1; i <= n; ++i) {
       lua_rawgeti(L, list, int(i));
       const std::string entry = here + "[" + std::to_string(i) + "]";
@@ -73,6 +74,9 @@ class Reader {
     }
     lua_pop(L, 1);
   }
+
+  // Fails when the table at idx has more than `most` entries: checked before any is read.
+  void at_most(int idx, const std::string& place, size_t most) const;
 
   // Calls each(key, place) with t[key] on top of the stack for every string key of the map at
   // idx (in no particular order); a key that is not a string fails.

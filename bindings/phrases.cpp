@@ -1,5 +1,7 @@
 #include "phrases.h"
 
+#include "quantum/limits.h"
+
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +9,12 @@
 
 namespace quantum::lua {
 namespace {
+
+using limits::kMaxPhraseBytes;
+
+std::string longer_than_the_limit(size_t bytes) {
+  return "longer than " + std::to_string(kMaxPhraseBytes) + " bytes (" + std::to_string(bytes) + ")";
+}
 
 // %[flags][width][.precision]conversion, numbers only: anything else could read past its value.
 bool valid_format(std::string_view f) {
@@ -26,6 +34,8 @@ bool valid_format(std::string_view f) {
 }  // namespace
 
 PhraseTemplate::PhraseTemplate(std::string_view text) {
+  // Checked first, so a hostile template costs one comparison, not a parse.
+  if (text.size() > kMaxPhraseBytes) throw std::invalid_argument("the text is " + longer_than_the_limit(text.size()));
   std::string literal;
   for (size_t i = 0; i < text.size(); ++i) {
     if (text[i] != '{') {
@@ -69,10 +79,17 @@ void PhraseTemplate::missing(const std::string& name) {
   throw std::invalid_argument("no value for {" + name + "}");
 }
 
+void PhraseTemplate::append_within_limit(std::string& out, std::string_view text, const Piece& p) {
+  if (out.size() + text.size() > kMaxPhraseBytes)
+    throw std::invalid_argument((p.name.empty() ? std::string("the text") : "{" + p.name + "}") +
+                                " makes the phrase " + longer_than_the_limit(out.size() + text.size()));
+  out += text;
+}
+
 void PhraseTemplate::append(std::string& out, const Piece& p, const PhraseValue& v) {
   if (!v.number) {
     if (!p.text.empty()) throw std::invalid_argument("{" + p.name + "} has a number format but got text");
-    out += v.text;
+    append_within_limit(out, v.text, p);
     return;
   }
   char buf[64];
@@ -84,7 +101,7 @@ void PhraseTemplate::append(std::string& out, const Piece& p, const PhraseValue&
   } else {
     std::snprintf(buf, sizeof buf, p.text.c_str(), x);
   }
-  out += buf;
+  append_within_limit(out, buf, p);
 }
 
 void Phrases::add(const std::string& key, std::string_view text) { phrases_.insert_or_assign(key, PhraseTemplate(text)); }

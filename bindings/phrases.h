@@ -22,8 +22,9 @@ struct PhraseValue {
 // One parsed template: literal pieces and placeholders in order.
 class PhraseTemplate {
  public:
-  // Throws std::invalid_argument naming what is wrong: an unclosed "{", an empty name, a format
-  // other than %[flags][width][.precision] followed by d, i, f, e or g.
+  // Throws std::invalid_argument naming what is wrong: text longer than limits::kMaxPhraseBytes,
+  // an unclosed "{", an empty name, a format other than %[flags][width][.precision] followed by
+  // d, i, f, e or g.
   explicit PhraseTemplate(std::string_view text);
 
   // The names of its placeholders, in order.
@@ -32,12 +33,14 @@ class PhraseTemplate {
   bool numeric(const std::string& name) const;
 
   // Appends the filled text to `out`. lookup(name) gives a placeholder's value, or nothing when
-  // it has none (then this throws std::invalid_argument naming the placeholder).
+  // it has none (then this throws std::invalid_argument naming the placeholder). A phrase longer
+  // than limits::kMaxPhraseBytes throws std::invalid_argument before the value that would make it
+  // so is copied.
   template <class Lookup>
   void fill(std::string& out, Lookup&& lookup) const {
     for (const Piece& p : pieces_) {
       if (p.name.empty()) {
-        out += p.text;
+        append_within_limit(out, p.text, p);
         continue;
       }
       const std::optional<PhraseValue> v = lookup(std::string_view(p.name));
@@ -53,6 +56,7 @@ class PhraseTemplate {
   };
   [[noreturn]] static void missing(const std::string& name);
   static void append(std::string& out, const Piece& p, const PhraseValue& v);
+  static void append_within_limit(std::string& out, std::string_view text, const Piece& p);
   std::vector<Piece> pieces_;
 };
 

@@ -9,6 +9,7 @@
 #include "field_loader.h"
 #include "game/plain_rules.h"
 #include "lua_reader.h"
+#include "quantum/limits.h"
 
 namespace quantum::lua {
 namespace fs = std::filesystem;
@@ -210,6 +211,7 @@ void Sport::read_sport(int t) {
   }
   if (r.field(t, "phrases")) {
     r.expect(LUA_TTABLE, "phrases");
+    r.at_most(-1, "phrases", limits::kMaxPhrases);
     r.map(-1, "phrases", [&](const std::string& key, const std::string& place) {
       r.expect(LUA_TSTRING, place, "text, e.g. shot = \"{team} shoots\"");
       try {

@@ -1,9 +1,13 @@
 #include "quantum/contact.h"
 
+#include "quantum/limits.h"
+
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <unordered_set>
 
 namespace quantum::detail {
 namespace {
@@ -36,6 +40,12 @@ bool segment_touches_box(Vec2 p, Vec2 q, const Box& b) {
 }
 
 Box grown(const Box& b, float m) { return {b.x0 - m, b.y0 - m, b.x1 + m, b.y1 + m}; }
+
+// A point's coordinates as one key, equal where they compare equal: -0 becomes +0 (NaN never
+// gets here: finish_field refuses it). Thousands of wall pieces find their shared ends at once.
+uint64_t point_key(Vec2 p) {
+  return uint64_t(std::bit_cast<uint32_t>(p.x + 0.0f)) << 32 | std::bit_cast<uint32_t>(p.y + 0.0f);
+}
 
 bool box_is_clear(const Field& f, const Box& box, float r) {
   constexpr float kMargin = 1e-3f;
@@ -100,6 +110,7 @@ Box largest_clear_box(const Field& f, Vec2 centre, float r) {
 
 Geometry::Geometry(const Field& f)
     : r(f.ball_radius), e_wall(f.wall_restitution), e_body(f.body_restitution), audible_bounce(f.audible_bounce) {
+  std::unordered_set<uint64_t> end_points;  // a point two pieces share is one cap
   for (const Segment& s : f.segments) {
     const float dx = s.b.x - s.a.x, dy = s.b.y - s.a.y, l = norm(dx, dy);
     ax.push_back(s.a.x), ay.push_back(s.a.y);
@@ -109,11 +120,8 @@ Geometry::Geometry(const Field& f)
     wall.push_back(s.wall);
     sx0.push_back(std::min(s.a.x, s.b.x)), sx1.push_back(std::max(s.a.x, s.b.x));
     sy0.push_back(std::min(s.a.y, s.b.y)), sy1.push_back(std::max(s.a.y, s.b.y));
-    for (Vec2 p : {s.a, s.b}) {
-      bool known = false;
-      for (size_t k = 0; k < cap_x.size(); ++k) known |= cap_x[k] == p.x && cap_y[k] == p.y;
-      if (!known) cap_x.push_back(p.x), cap_y.push_back(p.y), cap_wall.push_back(s.wall);
-    }
+    for (Vec2 p : {s.a, s.b})
+      if (end_points.insert(point_key(p)).second) cap_x.push_back(p.x), cap_y.push_back(p.y), cap_wall.push_back(s.wall);
   }
   Vec2 centre{0, 0};
   for (const Spot& s : f.spots) centre.x += s.at.x / f.spots.size(), centre.y += s.at.y / f.spots.size();
@@ -139,53 +147,98 @@ Geometry::Geometry(const Field& f)
   build_grid(f);
 }
 
-void Geometry::build_grid(const Field& f) {
-  cell = 0.05f;
+namespace {
+
+// A step's path is a few centimetres: in 5 cm cells its contact search tests one or two primitives.
+constexpr float kFinestCell = 0.05f;
+
+// The cells an item's box grown by `reach` overlaps, and one more on each side for rounding.
+struct CellRange {
+  int c0, c1, r0, r1;
+  size_t count() const { return c1 < c0 || r1 < r0 ? 0 : size_t(c1 - c0 + 1) * size_t(r1 - r0 + 1); }
+};
+
+CellRange cells_near(const Geometry& g, float x0, float y0, float x1, float y1, float reach) {
+  return {std::max(0, int(std::floor((x0 - reach - g.bounds.x0) * g.inv_cell)) - 1),
+          std::min(g.cols - 1, int(std::floor((x1 + reach - g.bounds.x0) * g.inv_cell)) + 1),
+          std::max(0, int(std::floor((y0 - reach - g.bounds.y0) * g.inv_cell)) - 1),
+          std::min(g.rows - 1, int(std::floor((y1 + reach - g.bounds.y0) * g.inv_cell)) + 1)};
+}
+
+// Calls visit(list, item, cells, touches) for every segment (list 0), end point (1) and goal line
+// (2): the cells its reach covers, and whether it reaches a ball starting in a given cell's box.
+template <class Visit>
+void for_each_item(const Geometry& g, const Field& f, Visit&& visit) {
+  // Conservative: a square grown by the reach stands in for the rounded one.
+  const float wall_reach = g.r + g.grid_reach + 1e-3f, goal_reach = g.grid_reach + 1e-3f;
+  for (size_t k = 0; k < g.ax.size(); ++k)
+    visit(0, k, cells_near(g, g.sx0[k], g.sy0[k], g.sx1[k], g.sy1[k], wall_reach), [&](const Box& b) {
+      return segment_touches_box(f.segments[k].a, f.segments[k].b, grown(b, wall_reach));
+    });
+  for (size_t k = 0; k < g.cap_x.size(); ++k)
+    visit(1, k, cells_near(g, g.cap_x[k], g.cap_y[k], g.cap_x[k], g.cap_y[k], wall_reach),
+          [&](const Box& b) { return grown(b, wall_reach).contains(g.cap_x[k], g.cap_y[k]); });
+  for (size_t k = 0; k < g.gax.size(); ++k)
+    visit(2, k, cells_near(g, g.gx0[k], g.gy0[k], g.gx1[k], g.gy1[k], goal_reach), [&](const Box& b) {
+      const Goal& gl = f.goals[size_t(g.goal_id[k])];
+      return segment_touches_box(gl.a, gl.b, grown(b, goal_reach));
+    });
+}
+
+// What building the grid takes at its peak: per cell three list offsets and as many fill
+// cursors (uint32_t) and a near-bounds flag, and an entry (uint16_t) for every cell an item's
+// reach covers, whether or not it is listed there. Building visits those cells, so this bounds
+// its time as well.
+size_t grid_bytes_at_most(const Geometry& g, const Field& f) {
+  size_t visits = 0;
+  for_each_item(g, f, [&](int, size_t, const CellRange& cells, auto&&) { visits += cells.count(); });
+  const size_t cells = size_t(g.cols) * size_t(g.rows);
+  return (3 * cells + 1) * sizeof(uint32_t) * 2 + cells * sizeof(uint8_t) + (visits + g.all_items.size()) * sizeof(uint16_t);
+}
+
+}  // namespace
+
+void Geometry::use_cells_of(float size) {
+  cell = size;
   inv_cell = 1 / cell;
   grid_reach = cell;
   cols = std::max(1, int(std::ceil((bounds.x1 - bounds.x0) / cell)));
   rows = std::max(1, int(std::ceil((bounds.y1 - bounds.y0) / cell)));
+}
+
+size_t Geometry::grid_bytes() const {
+  return cell_start.size() * sizeof(uint32_t) + (cell_items.size() + all_items.size()) * sizeof(uint16_t) +
+         cell_near_bounds.size() * sizeof(uint8_t);
+}
+
+void Geometry::build_grid(const Field& f) {
   const size_t most = std::max({ax.size(), cap_x.size(), gax.size(), size_t(1)});
   for (size_t k = 0; k < most; ++k) all_items.push_back(uint16_t(k));
+  // Large bounds, or long walls reaching across many cells, make the cells coarser until the
+  // grid fits: a contact search then tests more primitives, but memory stays bounded.
+  use_cells_of(kFinestCell);
+  while (grid_bytes_at_most(*this, f) > limits::kMaxGridBytes) use_cells_of(2 * cell);
   auto cell_box = [&](int col, int row) {
     return Box{bounds.x0 + col * cell, bounds.y0 + row * cell, bounds.x0 + (col + 1) * cell, bounds.y0 + (row + 1) * cell};
   };
-  // Conservative: a square grown by the reach stands in for the rounded one.
-  const float wall_reach = r + grid_reach + 1e-3f, goal_reach = grid_reach + 1e-3f;
-  // Each primitive visits only the cells its reach-grown bounding box overlaps (a cell more on
-  // each side for rounding), not the whole grid: a hall's 320,000 cells made building a World
-  // cost 11 ms. The exact test per cell is the same, so every cell lists the same items.
-  auto for_each_cell_near = [&](float x0, float y0, float x1, float y1, float reach, auto&& visit) {
-    const int c0 = std::max(0, int(std::floor((x0 - reach - bounds.x0) * inv_cell)) - 1);
-    const int c1 = std::min(cols - 1, int(std::floor((x1 + reach - bounds.x0) * inv_cell)) + 1);
-    const int r0 = std::max(0, int(std::floor((y0 - reach - bounds.y0) * inv_cell)) - 1);
-    const int r1 = std::min(rows - 1, int(std::floor((y1 + reach - bounds.y0) * inv_cell)) + 1);
-    for (int row = r0; row <= r1; ++row)
-      for (int col = c0; col <= c1; ++col) visit(size_t(row) * size_t(cols) + size_t(col), cell_box(col, row));
-  };
-  // Two passes over the same visits: count each cell's lists, then fill them in item order.
-  const size_t cells = size_t(rows) * size_t(cols);
+  // Each item visits only the cells its reach covers, not the whole grid: a hall's 320,000 cells
+  // made building a World cost 11 ms. Two passes over the same visits: count each cell's lists,
+  // then fill them in item order.
   auto visit_all = [&](auto&& add) {
-    for (size_t k = 0; k < ax.size(); ++k)
-      for_each_cell_near(sx0[k], sy0[k], sx1[k], sy1[k], wall_reach, [&](size_t c, const Box& b) {
-        if (segment_touches_box(f.segments[k].a, f.segments[k].b, grown(b, wall_reach))) add(3 * c, k);
-      });
-    for (size_t k = 0; k < cap_x.size(); ++k)
-      for_each_cell_near(cap_x[k], cap_y[k], cap_x[k], cap_y[k], wall_reach, [&](size_t c, const Box& b) {
-        if (grown(b, wall_reach).contains(cap_x[k], cap_y[k])) add(3 * c + 1, k);
-      });
-    for (size_t k = 0; k < gax.size(); ++k)
-      for_each_cell_near(gx0[k], gy0[k], gx1[k], gy1[k], goal_reach, [&](size_t c, const Box& b) {
-        const Goal& gl = f.goals[size_t(goal_id[k])];
-        if (segment_touches_box(gl.a, gl.b, grown(b, goal_reach))) add(3 * c + 2, k);
-      });
+    for_each_item(*this, f, [&](int list, size_t k, const CellRange& cells, auto&& touches) {
+      for (int row = cells.r0; row <= cells.r1; ++row)
+        for (int col = cells.c0; col <= cells.c1; ++col)
+          if (touches(cell_box(col, row))) add(3 * (size_t(row) * size_t(cols) + size_t(col)) + size_t(list), k);
+    });
   };
+  const size_t cells = size_t(rows) * size_t(cols);
   cell_start.assign(3 * cells + 1, 0);
   visit_all([&](size_t list, size_t) { ++cell_start[list + 1]; });
   std::partial_sum(cell_start.begin(), cell_start.end(), cell_start.begin());
   cell_items.resize(cell_start.back());
   std::vector<uint32_t> next(cell_start.begin(), cell_start.end() - 1);
   visit_all([&](size_t list, size_t k) { cell_items[next[list]++] = uint16_t(k); });
+  const float goal_reach = grid_reach + 1e-3f;
   cell_near_bounds.resize(cells);
   for (int row = 0; row < rows; ++row)
     for (int col = 0; col < cols; ++col) {

@@ -66,8 +66,11 @@ struct Geometry {
   std::vector<uint16_t> cell_items;
   std::vector<uint8_t> cell_near_bounds;
   std::vector<uint16_t> all_items;   // 0, 1, 2, ... for searches the grid cannot serve
+  // What the grid holds, in bytes: at most limits::kMaxGridBytes whatever the bounds.
+  size_t grid_bytes() const;
 
  private:
+  void use_cells_of(float size);
   void build_grid(const Field& field);
 };
 

@@ -1,5 +1,7 @@
 #include "quantum/field.h"
 
+#include "quantum/limits.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -52,10 +54,9 @@ Vec3 Field::throw_at(Vec3 from, Vec3 to, float speed) const {
 }
 
 int Field::wall_id(const std::string& wall) {
-  for (size_t i = 0; i < wall_names.size(); ++i)
-    if (wall_names[i] == wall) return int(i);
-  wall_names.push_back(wall);
-  return int(wall_names.size() - 1);
+  const auto [it, added] = wall_ids_.try_emplace(wall, int(wall_names.size()));
+  if (added) wall_names.push_back(wall);
+  return it->second;
 }
 
 Vec2 Field::release_point(int body, Vec2 at, Vec2 toward) const {
@@ -97,8 +98,7 @@ int Field::area_at(Vec2 p) const {
 
 namespace {
 
-// Coordinates beyond this are typos (centimetres for metres), not fields.
-constexpr float kMaxCoordinate = 1000.0f;
+using limits::kMaxCoordinate;
 
 void check_point(const Vec2& p, const std::string& place) {
   if (!std::isfinite(p.x) || !std::isfinite(p.y))
@@ -159,9 +159,25 @@ void finish_height(Field& f) {
   if (f.ceiling > 0 && f.ceiling_wall < 0) f.ceiling_wall = f.wall_id("ceiling");
 }
 
+// What limits.h allows a field to hold, checked before any per-item work: a field built in C++
+// comes here as a loaded one does (whose loader refused a longer list before reading it).
+void check_counts(const Field& f) {
+  const auto check = [](size_t count, size_t most, const char* place, const char* what) {
+    if (count > most)
+      throw FieldError(place, std::to_string(count) + " " + what + ", more than the " + std::to_string(most) + " allowed");
+  };
+  check(f.segments.size(), limits::kMaxSegments, "walls", "wall pieces");
+  check(f.goals.size(), limits::kMaxGoals, "goals", "goals and hoops");
+  check(f.boards.size(), limits::kMaxBoards, "boards", "boards");
+  check(f.spots.size(), limits::kMaxSpots, "spots", "spots");
+  check(f.bodies.size(), limits::kMaxBodies, "bodies", "bodies");
+  check(f.areas.size(), limits::kMaxAreas, "areas", "areas");
+}
+
 }  // namespace
 
 void finish_field(Field& f) {
+  check_counts(f);
   check_range(f.ball_radius, 1e-4f, 10.0f, "ball.radius");
   check_range(f.wall_restitution, 0.0f, 1.0f, "ball.wall_restitution");
   check_range(f.body_restitution, 0.0f, 1.0f, "ball.body_restitution");
@@ -195,7 +211,6 @@ void finish_field(Field& f) {
     check_point(f.bodies[i].start, place);
     check_range(f.bodies[i].radius, 1e-3f, 10.0f, place + ".radius");
   }
-  if (f.bodies.size() > 1000) throw FieldError("bodies", "more than 1000 bodies");
   for (size_t i = 0; i < f.bodies.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if ((!f.bodies[i].track.empty() || !f.bodies[j].track.empty()) && f.bodies[i].tracked_as() == f.bodies[j].tracked_as())
@@ -208,7 +223,8 @@ void finish_field(Field& f) {
     check_point(f.areas[i].b, place);
     check_range(f.areas[i].radius, 0.0f, kMaxCoordinate, place + ".radius");
   }
-  if (f.wall_names.size() > 1000) throw FieldError("walls", "more than 1000 named walls");
+  if (f.wall_names.size() > limits::kMaxWalls)
+    throw FieldError("walls", "more than " + std::to_string(limits::kMaxWalls) + " named walls");
 
   if (!f.has_bounds) {
     // Everything the ball can reach lies inside the walls; a margin of two ball radii keeps a

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace quantum {
@@ -152,6 +153,10 @@ struct Field {
   // Fields with height: the flattest throw at `speed` from `from` through `to` (a pass); where
   // no throw that fast gets there, the one at 45 degrees toward it, which gets furthest.
   Vec3 throw_at(Vec3 from, Vec3 to, float speed) const;
+
+ private:
+  // wall_names' indices by name: a field of thousands of wall pieces finds each name at once.
+  std::unordered_map<std::string, int> wall_ids_;
 };
 
 // A field that is not usable. `place` says where, e.g. "walls[2].points[3]".

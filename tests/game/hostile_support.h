@@ -1,5 +1,6 @@
 // What the hostile-script tests share: a sport built from air hockey with a hostile piece of Lua
-// in it, a match of it with its players standing still, and a check of the error's wording.
+// in it, a match of it with its players standing still, a match of it played out by simulated
+// players with the bound on a frame's Lua, and a check of the error's wording.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -119,9 +120,9 @@ inline Finished play_out(lua::Sport& sport, double seconds = 40) {
 // that cannot be interrupted. Under the sanitizers that C work (copying, hashing a 30 MB string)
 // runs about twice as slow (54 ms seen once): the product's bound is checked in the optimized build.
 #ifdef QUANTUM_SANITIZED
-constexpr double kFrameBound = 0.1;
+inline constexpr double kFrameBound = 0.1;
 #else
-constexpr double kFrameBound = 0.05;
+inline constexpr double kFrameBound = 0.05;
 #endif
 
 struct Attack {
