@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "system/utf8.h"
+
 namespace quantum::lua {
 namespace {
 
@@ -26,6 +28,8 @@ bool valid_format(std::string_view f) {
 }  // namespace
 
 PhraseTemplate::PhraseTemplate(std::string_view text) {
+  if (const size_t bad = utf8::first_invalid(text); bad != std::string_view::npos)
+    throw std::invalid_argument("byte " + std::to_string(bad + 1) + " is not UTF-8 (phrases are UTF-8 text)");
   std::string literal;
   for (size_t i = 0; i < text.size(); ++i) {
     if (text[i] != '{') {
