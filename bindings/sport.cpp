@@ -63,6 +63,35 @@ void raw_field(lua_State* L, int index, const char* key) {
   lua_rawget(L, index);
 }
 
+// "rules/x/sport.lua:12: ", where the Lua function at `index` is defined; `fallback` + ": " when
+// that is unknown.
+std::string defined_at(lua_State* L, int index, const std::string& fallback) {
+  lua_Debug ar;
+  lua_pushvalue(L, index);
+  lua_getinfo(L, ">S", &ar);
+  if (ar.source[0] != '@' || ar.linedefined <= 0) return fallback + ": ";
+  return std::string(ar.source + 1) + ":" + std::to_string(ar.linedefined) + ": ";
+}
+
+// A factor's term never takes the product past game::kMostFactor, so no number of them
+// overflows.
+double times(double factor, double term) { return std::min(factor * term, game::kMostFactor); }
+
+// A term of a factor at the top of the stack (a number, not nil), in bounds; what is out of them
+// is reported, the error starting with what `culprit()` names (made only then: this runs for
+// every fate every frame). The text names no value, so that a term out of bounds every frame is
+// one message, shown once.
+template <class Culprit>
+double checked_term(lua_State* L, game::Match& match, Culprit&& culprit) {
+  if (lua_type(L, -1) != LUA_TNUMBER) {
+    match.report_error(culprit() + "a " + luaL_typename(L, -1) + ", not a factor in [0, 1e6] (skipped)");
+    return 1;
+  }
+  const game::BoundedFactor f = game::bounded_factor(lua_tonumber(L, -1));
+  if (f.problem) match.report_error(culprit() + f.problem);
+  return f.value;
+}
+
 // Runs `read` (reading sport.lua's table): a ReadError becomes a ScriptError naming the file.
 template <class Read>
 void or_script_error(const std::string& file, Read&& read) {
@@ -179,7 +208,7 @@ void Sport::read_sport(int t) {
     r.only_keys(f, "factors", kinds);
     for (const std::string& kind : kinds) {
       const double v = r.number(f, kind.c_str(), "factors", 1, false);
-      if (!(v >= 0 && std::isfinite(v))) r.fail("factors." + kind, "must be a number >= 0");
+      if (game::bounded_factor(v).problem) r.fail("factors." + kind, "must be a number in [0, 1e6]");
     }
     lua_pop(L, 1);
   }
@@ -434,7 +463,7 @@ void Sport::set_factor(const std::string& kind, double value) {
   const std::vector<std::string> kinds = fate_kind_names();
   if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
     throw std::invalid_argument(unknown_key(kind, kinds, "fate kind"));
-  if (!(std::isfinite(value) && value >= 0)) throw std::invalid_argument("factor for " + kind + " must be a number >= 0");
+  if (game::bounded_factor(value).problem) throw std::invalid_argument("factor for " + kind + " must be a number in [0, 1e6]");
   lua_State* L = sandbox_.L();
   sandbox_.protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
@@ -479,14 +508,12 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int sport = lua_gettop(L);
   raw_field(L, sport, "factors");
-  if (lua_istable(L, -1)) {
+  if (lua_istable(L, -1))  // checked when loaded, but a handler may have changed it since
     for (FateKind k : kFateKinds) {
       raw_field(L, -1, to_string(k));
-      const double v = lua_tonumber(L, -1);
-      by_kind_[int(k)] = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(v) && v >= 0 ? v : 1.0;
+      by_kind_[int(k)] = lua_isnil(L, -1) ? 1.0 : checked_term(L, match, [&] { return file_ + ": factors." + to_string(k) + " is "; });
       lua_pop(L, 1);
     }
-  }
   raw_field(L, sport, "modifiers");
   const int modifiers = lua_gettop(L);
   const size_t n_modifiers = lua_istable(L, modifiers) ? lua_objlen(L, modifiers) : 0;
@@ -519,17 +546,19 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
         match.report_error(error + " (modifiers[" + std::to_string(i) + "] skipped)");
         continue;
       }
-      const double m = lua_tonumber(L, -1);
-      if (lua_isnumber(L, -1) && std::isfinite(m) && m >= 0) {
-        factor *= m;
+      if (!lua_isnil(L, -1)) {
+        const double m = checked_term(L, match, [&] {
+          lua_rawgeti(L, modifiers, int(i));
+          const std::string at = defined_at(L, -1, file_);
+          lua_pop(L, 1);
+          return at + "modifiers[" + std::to_string(i) + "] returned ";
+        });
+        factor = times(factor, m);
         if (m == 0 && zeroed_by_[k] == kNotZeroed) zeroed_by_[k] = modifier_code(i);
-      } else if (!lua_isnil(L, -1)) {
-        match.report_error(file_ + ": modifiers[" + std::to_string(i) + "] returned " + luaL_typename(L, -1) +
-                           ", not a number >= 0 (skipped)");
       }
       lua_pop(L, 1);
     }
-    out[k] = factor * powerup_factors(k, match, zeroed_by_[k]);
+    out[k] = times(factor, powerup_factors(k, match, zeroed_by_[k]));
   }
 }
 
@@ -793,12 +822,15 @@ double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
     std::string error;
     if (!sandbox_.call(4, 1, error)) {
       match.report_error(error + " (power-up " + a.name + " skipped)");
-    } else if (lua_isnumber(L, -1) && std::isfinite(lua_tonumber(L, -1)) && lua_tonumber(L, -1) >= 0) {
-      factor *= lua_tonumber(L, -1);
-      if (lua_tonumber(L, -1) == 0 && zeroed_by == kNotZeroed) zeroed_by = powerup_code(j);
     } else if (!lua_isnil(L, -1)) {
-      match.report_error("power-up " + a.name + ": factor returned " + luaL_typename(L, -1) +
-                         ", not a number >= 0 (skipped)");
+      const double f = checked_term(L, match, [&] {
+        raw_field(L, top + 1, "factor");
+        const std::string at = defined_at(L, -1, powerup_files_[a.name]);
+        lua_pop(L, 1);
+        return at + "power-up " + a.name + ": factor returned ";
+      });
+      factor = times(factor, f);
+      if (f == 0 && zeroed_by == kNotZeroed) zeroed_by = powerup_code(j);
     }
     lua_settop(L, top);
   }
