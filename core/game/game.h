@@ -111,6 +111,9 @@ inline BoundedFactor bounded_factor(double v) {
   return {1, v < 0 ? "a number below 0, not a factor in [0, 1e6] (skipped)" : "nan, not a factor in [0, 1e6] (skipped)"};
 }
 
+// What one award may add to a score (or take from it, below 0).
+inline constexpr double kMostAward = 1000;
+
 struct MatchConfig {
   uint32_t particles = 1000;
   uint64_t seed = 1;
@@ -186,7 +189,8 @@ class Match {
 
   // --- Actions for the rules.
   void say(std::string_view text, std::string_view recording = {});
-  void award(const std::string& team, int goals = 1);
+  // Points are a whole number in [-kMostAward, kMostAward]; a score saturates at the int's range.
+  void award(const std::string& team, double points = 1);
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   // A ball still in play is dead first (see dead_ball).
   void respawn(int spot, double delay);
