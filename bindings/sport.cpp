@@ -63,6 +63,9 @@ void raw_field(lua_State* L, int index, const char* key) {
   lua_rawget(L, index);
 }
 
+// How far beyond the field's bounds the listener may stand (a commentator's box, a gallery).
+constexpr float kListenerReach = 10;
+
 // "rules/x/sport.lua:12: ", where the Lua function at `index` is defined; `fallback` + ": " when
 // that is unknown.
 std::string defined_at(lua_State* L, int index, const std::string& fallback) {
@@ -375,6 +378,13 @@ void Sport::read_audio(const Reader& r, int t) {
   audio_.volume = int(r.number(a, "volume", "audio", audio_.volume, false));
   if (r.field(a, "listener")) audio_.listener = r.point("audio.listener");
   if (r.field(a, "facing")) audio_.facing = r.point("audio.facing");
+  // Sounds are placed around the listener: it stands on the field or beside it, facing some way.
+  const Vec2 lo = field_.bounds_min, hi = field_.bounds_max, at = audio_.listener;
+  if (!(at.x >= lo.x - kListenerReach && at.x <= hi.x + kListenerReach && at.y >= lo.y - kListenerReach &&
+        at.y <= hi.y + kListenerReach))
+    r.fail("audio.listener", "must be within 10 m of the field's bounds");
+  const float facing = std::hypot(audio_.facing.x, audio_.facing.y);
+  if (!(facing > 0 && std::isfinite(facing))) r.fail("audio.facing", "must be a direction: finite and not {0, 0}");
   auto within = [&](const char* key, double fallback, double most) {
     const double v = r.number(a, key, "audio", fallback, false);
     if (!(v >= 0 && v <= most)) {
