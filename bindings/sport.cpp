@@ -473,7 +473,8 @@ void Sport::set_factor(const std::string& kind, double value) {
   const std::vector<std::string> kinds = fate_kind_names();
   if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
     throw std::invalid_argument(unknown_key(kind, kinds, "fate kind"));
-  if (game::bounded_factor(value).problem) throw std::invalid_argument("factor for " + kind + " must be a number in [0, 1e6]");
+  if (game::bounded_factor(value).problem)
+    throw std::invalid_argument("factor for " + kind + " must be a number in [0, 1e6]");
   lua_State* L = sandbox_.L();
   sandbox_.protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
@@ -521,7 +522,8 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
   if (lua_istable(L, -1))  // checked when loaded, but a handler may have changed it since
     for (FateKind k : kFateKinds) {
       raw_field(L, -1, to_string(k));
-      by_kind_[int(k)] = lua_isnil(L, -1) ? 1.0 : checked_term(L, match, [&] { return file_ + ": factors." + to_string(k) + " is "; });
+      const auto culprit = [&] { return file_ + ": factors." + to_string(k) + " is "; };
+      by_kind_[int(k)] = lua_isnil(L, -1) ? 1.0 : checked_term(L, match, culprit);
       lua_pop(L, 1);
     }
   raw_field(L, sport, "modifiers");

@@ -108,7 +108,8 @@ struct BoundedFactor {
 inline BoundedFactor bounded_factor(double v) {
   if (v >= 0 && v <= kMostFactor) return {v, nullptr};
   if (v > kMostFactor) return {kMostFactor, "more than 1e6, the most a factor may be (taken as 1e6)"};
-  return {1, v < 0 ? "a number below 0, not a factor in [0, 1e6] (skipped)" : "nan, not a factor in [0, 1e6] (skipped)"};
+  if (v < 0) return {1, "a number below 0, not a factor in [0, 1e6] (skipped)"};
+  return {1, "nan, not a factor in [0, 1e6] (skipped)"};
 }
 
 // What one award may add to a score (or take from it, below 0).
