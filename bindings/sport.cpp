@@ -201,7 +201,8 @@ void Sport::read_sport(int t) {
     balance_per_goal_ = r.number(b, "per_goal", "balance", balance_per_goal_, false);
     if (!(balance_per_goal_ >= 0 && balance_per_goal_ <= 10)) r.fail("balance.per_goal", "must be in [0, 10]");
     balance_most_ = r.number(b, "most", "balance", balance_most_, false);
-    if (!(balance_most_ >= 1 && std::isfinite(balance_most_))) r.fail("balance.most", "must be >= 1");
+    // At most a handicap's own bound, so a handicap and its balance never overflow a fate's factor.
+    if (!(balance_most_ >= 1 && balance_most_ <= game::kMostHandicap)) r.fail("balance.most", "must be in [1, 1000]");
     lua_pop(L, 1);
   }
   if (r.field(t, "factors")) {

@@ -107,6 +107,27 @@ TEST(HostileValues, ModifierResultsOutOfBoundsAreClampedOrSkippedOnce) {
   }
 }
 
+// A power-up's factor is bounded as a modifier's result is; the error names the line where its
+// `factor` is defined.
+TEST(HostileValues, PowerUpFactorsOutOfBoundsAreClampedOrSkippedOnce) {
+  const struct {
+    const char* name;
+    const char* result;
+    const char* error;
+  } cases[] = {
+      {"powerup_1e308", "1e308", "more than 1e6, the most a factor may be"},
+      {"powerup_nan", "0/0", "nan, not a factor in \\[0, 1e6\\] \\(skipped\\)"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string sport =
+        hostile_sport(c.name, "game.grant(\"Red's mallet\", 'evil')", "",
+                      std::string("return { duration = 60,\n  factor = function() return ") + c.result + " end }\n");
+    expect_played_on(play(sport), "quantum_hostile_" + std::string(c.name) +
+                                      R"(/powerups/evil\.lua:2: power-up evil: factor returned )" + c.error);
+  }
+}
+
 TEST(HostileValues, FactorsSetWhilePlayingAreCheckedWithTheirKeyNamed) {
   const struct {
     const char* name;
@@ -126,17 +147,25 @@ TEST(HostileValues, FactorsSetWhilePlayingAreCheckedWithTheirKeyNamed) {
   }
 }
 
+// A balance that multiplies handicaps without end would overflow a factor as surely.
 TEST(HostileValues, FactorsOutOfBoundsAreRefusedWhenTheSportLoads) {
-  for (const char* value : {"math.huge", "1e7", "0/0", "-1"}) {
-    SCOPED_TRACE(value);
-    const std::string sport = hostile_sport("factor_load", "", std::string("sport.factors.goal = ") + value);
+  const struct {
+    const char* lua;
+    const char* error;
+  } cases[] = {
+      {"sport.factors.goal = math.huge", R"(factors\.goal: must be a number in \[0, 1e6\])"},
+      {"sport.factors.goal = 1e7", R"(factors\.goal: must be a number in \[0, 1e6\])"},
+      {"sport.factors.goal = 0/0", R"(factors\.goal: must be a number in \[0, 1e6\])"},
+      {"sport.factors.own_goal = -1", R"(factors\.own_goal: must be a number in \[0, 1e6\])"},
+      {"sport.balance = { per_goal = 1, most = 1e308 }", R"(balance\.most: must be in \[1, 1000\])"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.lua);
     try {
-      lua::Sport loaded(sport);
+      lua::Sport loaded(hostile_sport("factor_load", "", c.lua));
       ADD_FAILURE() << "loaded";
     } catch (const std::exception& e) {
-      EXPECT_TRUE(
-          std::regex_search(e.what(), std::regex(R"(/sport\.lua: factors\.goal: must be a number in \[0, 1e6\])")))
-          << e.what();
+      EXPECT_TRUE(std::regex_search(e.what(), std::regex(std::string(R"(/sport\.lua: )") + c.error))) << e.what();
     }
   }
 }
