@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "system/utf8.h"
+
 namespace quantum::lua {
 namespace {
 
@@ -36,6 +38,8 @@ bool valid_format(std::string_view f) {
 PhraseTemplate::PhraseTemplate(std::string_view text) {
   // Checked first, so a hostile template costs one comparison, not a parse.
   if (text.size() > kMaxPhraseBytes) throw std::invalid_argument("the text is " + longer_than_the_limit(text.size()));
+  if (const size_t bad = utf8::first_invalid(text); bad != std::string_view::npos)
+    throw std::invalid_argument("byte " + std::to_string(bad + 1) + " is not UTF-8 (phrases are UTF-8 text)");
   std::string literal;
   for (size_t i = 0; i < text.size(); ++i) {
     if (text[i] != '{') {

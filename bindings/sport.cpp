@@ -64,6 +64,38 @@ void raw_field(lua_State* L, int index, const char* key) {
   lua_rawget(L, index);
 }
 
+// How far beyond the field's bounds the listener may stand (a commentator's box, a gallery).
+constexpr float kListenerReach = 10;
+
+// "rules/x/sport.lua:12: ", where the Lua function at `index` is defined; `fallback` + ": " when
+// that is unknown.
+std::string defined_at(lua_State* L, int index, const std::string& fallback) {
+  lua_Debug ar;
+  lua_pushvalue(L, index);
+  lua_getinfo(L, ">S", &ar);
+  if (ar.source[0] != '@' || ar.linedefined <= 0) return fallback + ": ";
+  return std::string(ar.source + 1) + ":" + std::to_string(ar.linedefined) + ": ";
+}
+
+// A factor's term never takes the product past game::kMostFactor, so no number of them
+// overflows.
+double times(double factor, double term) { return std::min(factor * term, game::kMostFactor); }
+
+// A term of a factor at the top of the stack (a number, not nil), in bounds; what is out of them
+// is reported, the error starting with what `culprit()` names (made only then: this runs for
+// every fate every frame). The text names no value, so that a term out of bounds every frame is
+// one message, shown once.
+template <class Culprit>
+double checked_term(lua_State* L, game::Match& match, Culprit&& culprit) {
+  if (lua_type(L, -1) != LUA_TNUMBER) {
+    match.report_error(culprit() + "a " + luaL_typename(L, -1) + ", not a factor in [0, 1e6] (skipped)");
+    return 1;
+  }
+  const game::BoundedFactor f = game::bounded_factor(lua_tonumber(L, -1));
+  if (f.problem) match.report_error(culprit() + f.problem);
+  return f.value;
+}
+
 // Runs `read` (reading sport.lua's table): a ReadError becomes a ScriptError naming the file.
 template <class Read>
 void or_script_error(const std::string& file, Read&& read) {
@@ -170,7 +202,8 @@ void Sport::read_sport(int t) {
     balance_per_goal_ = r.number(b, "per_goal", "balance", balance_per_goal_, false);
     if (!(balance_per_goal_ >= 0 && balance_per_goal_ <= 10)) r.fail("balance.per_goal", "must be in [0, 10]");
     balance_most_ = r.number(b, "most", "balance", balance_most_, false);
-    if (!(balance_most_ >= 1 && std::isfinite(balance_most_))) r.fail("balance.most", "must be >= 1");
+    // At most a handicap's own bound, so a handicap and its balance never overflow a fate's factor.
+    if (!(balance_most_ >= 1 && balance_most_ <= game::kMostHandicap)) r.fail("balance.most", "must be in [1, 1000]");
     lua_pop(L, 1);
   }
   if (r.field(t, "factors")) {
@@ -180,7 +213,7 @@ void Sport::read_sport(int t) {
     r.only_keys(f, "factors", kinds);
     for (const std::string& kind : kinds) {
       const double v = r.number(f, kind.c_str(), "factors", 1, false);
-      if (!(v >= 0 && std::isfinite(v))) r.fail("factors." + kind, "must be a number >= 0");
+      if (game::bounded_factor(v).problem) r.fail("factors." + kind, "must be a number in [0, 1e6]");
     }
     lua_pop(L, 1);
   }
@@ -348,6 +381,13 @@ void Sport::read_audio(const Reader& r, int t) {
   audio_.volume = int(r.number(a, "volume", "audio", audio_.volume, false));
   if (r.field(a, "listener")) audio_.listener = r.point("audio.listener");
   if (r.field(a, "facing")) audio_.facing = r.point("audio.facing");
+  // Sounds are placed around the listener: it stands on the field or beside it, facing some way.
+  const Vec2 lo = field_.bounds_min, hi = field_.bounds_max, at = audio_.listener;
+  if (!(at.x >= lo.x - kListenerReach && at.x <= hi.x + kListenerReach && at.y >= lo.y - kListenerReach &&
+        at.y <= hi.y + kListenerReach))
+    r.fail("audio.listener", "must be within 10 m of the field's bounds");
+  const float facing = std::hypot(audio_.facing.x, audio_.facing.y);
+  if (!(facing > 0 && std::isfinite(facing))) r.fail("audio.facing", "must be a direction: finite and not {0, 0}");
   auto within = [&](const char* key, double fallback, double most) {
     const double v = r.number(a, key, "audio", fallback, false);
     if (!(v >= 0 && v <= most)) {
@@ -436,7 +476,8 @@ void Sport::set_factor(const std::string& kind, double value) {
   const std::vector<std::string> kinds = fate_kind_names();
   if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
     throw std::invalid_argument(unknown_key(kind, kinds, "fate kind"));
-  if (!(std::isfinite(value) && value >= 0)) throw std::invalid_argument("factor for " + kind + " must be a number >= 0");
+  if (game::bounded_factor(value).problem)
+    throw std::invalid_argument("factor for " + kind + " must be a number in [0, 1e6]");
   lua_State* L = sandbox_.L();
   sandbox_.protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
@@ -481,14 +522,13 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int sport = lua_gettop(L);
   raw_field(L, sport, "factors");
-  if (lua_istable(L, -1)) {
+  if (lua_istable(L, -1))  // checked when loaded, but a handler may have changed it since
     for (FateKind k : kFateKinds) {
       raw_field(L, -1, to_string(k));
-      const double v = lua_tonumber(L, -1);
-      by_kind_[int(k)] = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(v) && v >= 0 ? v : 1.0;
+      const auto culprit = [&] { return file_ + ": factors." + to_string(k) + " is "; };
+      by_kind_[int(k)] = lua_isnil(L, -1) ? 1.0 : checked_term(L, match, culprit);
       lua_pop(L, 1);
     }
-  }
   raw_field(L, sport, "modifiers");
   const int modifiers = lua_gettop(L);
   const size_t n_modifiers = lua_istable(L, modifiers) ? lua_objlen(L, modifiers) : 0;
@@ -521,17 +561,19 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
         match.report_error(error + " (modifiers[" + std::to_string(i) + "] skipped)");
         continue;
       }
-      const double m = lua_tonumber(L, -1);
-      if (lua_isnumber(L, -1) && std::isfinite(m) && m >= 0) {
-        factor *= m;
+      if (!lua_isnil(L, -1)) {
+        const double m = checked_term(L, match, [&] {
+          lua_rawgeti(L, modifiers, int(i));
+          const std::string at = defined_at(L, -1, file_);
+          lua_pop(L, 1);
+          return at + "modifiers[" + std::to_string(i) + "] returned ";
+        });
+        factor = times(factor, m);
         if (m == 0 && zeroed_by_[k] == kNotZeroed) zeroed_by_[k] = modifier_code(i);
-      } else if (!lua_isnil(L, -1)) {
-        match.report_error(file_ + ": modifiers[" + std::to_string(i) + "] returned " + luaL_typename(L, -1) +
-                           ", not a number >= 0 (skipped)");
       }
       lua_pop(L, 1);
     }
-    out[k] = factor * powerup_factors(k, match, zeroed_by_[k]);
+    out[k] = times(factor, powerup_factors(k, match, zeroed_by_[k]));
   }
 }
 
@@ -795,12 +837,15 @@ double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
     std::string error;
     if (!sandbox_.call(4, 1, error)) {
       match.report_error(error + " (power-up " + a.name + " skipped)");
-    } else if (lua_isnumber(L, -1) && std::isfinite(lua_tonumber(L, -1)) && lua_tonumber(L, -1) >= 0) {
-      factor *= lua_tonumber(L, -1);
-      if (lua_tonumber(L, -1) == 0 && zeroed_by == kNotZeroed) zeroed_by = powerup_code(j);
     } else if (!lua_isnil(L, -1)) {
-      match.report_error("power-up " + a.name + ": factor returned " + luaL_typename(L, -1) +
-                         ", not a number >= 0 (skipped)");
+      const double f = checked_term(L, match, [&] {
+        raw_field(L, top + 1, "factor");
+        const std::string at = defined_at(L, -1, powerup_files_[a.name]);
+        lua_pop(L, 1);
+        return at + "power-up " + a.name + ": factor returned ";
+      });
+      factor = times(factor, f);
+      if (f == 0 && zeroed_by == kNotZeroed) zeroed_by = powerup_code(j);
     }
     lua_settop(L, top);
   }

@@ -38,9 +38,9 @@ int say(lua_State* L) {
   return 0;
 }
 
-// game.award(team [, goals])
+// game.award(team [, points])
 int award(lua_State* L) {
-  acting(L).award(check_string(L, 1), int(opt_number(L, 2, 1)));
+  acting(L).award(check_string(L, 1), opt_number(L, 2, 1));
   return 0;
 }
 

@@ -5,6 +5,8 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "system/utf8.h"
+
 namespace quantum::runtime {
 
 namespace {
@@ -28,7 +30,14 @@ void JsonLine::key(const char* name) {
 
 void JsonLine::text(std::string_view s) {
   out_ << '"';
-  for (char c : s) {
+  for (size_t at = 0; at < s.size(); ++at) {
+    const char c = s[at];
+    // JSON is UTF-8: a byte that is not (a run-time value may hold any) is written as U+FFFD.
+    if (const size_t n = utf8::sequence_at(s, at); n != 1) {
+      out_ << (n == 0 ? std::string_view("\xEF\xBF\xBD") : s.substr(at, n));
+      at += n == 0 ? 0 : n - 1;
+      continue;
+    }
     switch (c) {
       case '"': out_ << "\\\""; break;
       case '\\': out_ << "\\\\"; break;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <utility>
 #include <stdexcept>
 
@@ -106,9 +108,14 @@ void Match::note(EventKind type) {
   cause_ = to_string(type);
 }
 
-void Match::award(const std::string& team, int goals) {
+void Match::award(const std::string& team, double points) {
   if (!score_.count(team)) throw std::invalid_argument("award: no team '" + team + "' in this field");
-  score_[team] += goals;
+  if (!(std::abs(points) <= kMostAward && points == std::trunc(points)))
+    throw std::invalid_argument("award: points must be a whole number from -1000 to 1000");
+  // Saturates, never wraps: a team awarded past the most an int holds stays there.
+  int& score = score_[team];
+  score = int(std::clamp<int64_t>(int64_t(score) + int64_t(points), std::numeric_limits<int>::min(),
+                                  std::numeric_limits<int>::max()));
 }
 
 void Match::respawn(int spot, double delay) {

@@ -93,6 +93,28 @@ class Rules {
 inline constexpr double kMostHandicap = 1000;
 inline bool handicap_ok(double h) { return h > 0 && h <= kMostHandicap; }  // false for NaN too
 
+// A fate factor, and each term of it (a factor by kind, a modifier's or a power-up's result), is
+// in [0, kMostFactor]: a million times likelier is certain already, and the product of a few
+// terms stays far from overflowing the particles' weights.
+inline constexpr double kMostFactor = 1e6;
+
+// A term of a factor as a script gives it: in bounds it is kept; above them (math.huge too) it
+// is taken as kMostFactor; NaN or below 0 is refused and taken as 1, as if it were not given.
+// `problem` says which, nullptr when in bounds.
+struct BoundedFactor {
+  double value;
+  const char* problem;
+};
+inline BoundedFactor bounded_factor(double v) {
+  if (v >= 0 && v <= kMostFactor) return {v, nullptr};
+  if (v > kMostFactor) return {kMostFactor, "more than 1e6, the most a factor may be (taken as 1e6)"};
+  if (v < 0) return {1, "a number below 0, not a factor in [0, 1e6] (skipped)"};
+  return {1, "nan, not a factor in [0, 1e6] (skipped)"};
+}
+
+// What one award may add to a score (or take from it, below 0).
+inline constexpr double kMostAward = 1000;
+
 struct MatchConfig {
   uint32_t particles = 1000;
   uint64_t seed = 1;
@@ -168,7 +190,8 @@ class Match {
 
   // --- Actions for the rules.
   void say(std::string_view text, std::string_view recording = {});
-  void award(const std::string& team, int goals = 1);
+  // Points are a whole number in [-kMostAward, kMostAward]; a score saturates at the int's range.
+  void award(const std::string& team, double points = 1);
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   // A ball still in play is dead first (see dead_ball).
   void respawn(int spot, double delay);

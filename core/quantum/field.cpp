@@ -237,7 +237,11 @@ void finish_field(Field& f) {
     for (const Segment& s : f.segments) grow(s.a), grow(s.b);
     for (const Goal& g : f.goals) grow(g.a), grow(g.b);
     for (const Board& b : f.boards) grow(b.a), grow(b.b);
-    for (const Spot& s : f.spots) grow(s.at);
+    // Spots lie on the field, never widen it: a spot beyond the walls is a mistake, refused
+    // below, not a ball dropped where nothing can reach it. With nothing else, they are the field.
+    const bool enclosed = !f.segments.empty() || !f.goals.empty() || !f.boards.empty();
+    if (!enclosed)
+      for (const Spot& s : f.spots) grow(s.at);
     const float m = 2 * f.ball_radius;
     f.bounds_min = {lo.x - m, lo.y - m};
     f.bounds_max = {hi.x + m, hi.y + m};
