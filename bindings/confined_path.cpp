@@ -34,13 +34,22 @@ fs::path real_place(const fs::path& file) {
 
 }  // namespace
 
+std::string not_a_regular_file(const fs::path& file) {
+  std::error_code error;
+  const fs::file_status status = fs::status(file, error);
+  switch (status.type()) {
+    case fs::file_type::regular:
+    case fs::file_type::not_found: return "";
+    case fs::file_type::none: return file.string() + ": " + error.message();
+    default: return file.string() + " is " + kind_of(status.type()) + ", not a regular file";
+  }
+}
+
 fs::path confined_path(const std::vector<fs::path>& folders, const std::string& name, const std::string& key,
                        std::string& looked) {
   const fs::path relative(name);
   const std::string quoted = "'" + name + "'";
-  // A NUL would end the name the system sees early, after the checks below saw all of it.
-  if (name.empty() || name.find('\0') != std::string::npos)
-    throw ReadError(key, quoted + " is not a file name");
+  if (name.empty()) throw ReadError(key, "'' is not a file name");
   if (relative.has_root_path())
     throw ReadError(key, quoted + ": an absolute path is refused: a sport names its files relative to its folder");
   if (std::find(relative.begin(), relative.end(), "..") != relative.end())
@@ -48,12 +57,9 @@ fs::path confined_path(const std::vector<fs::path>& folders, const std::string& 
   for (const fs::path& folder : folders) {
     const fs::path file = folder / relative;
     looked += (looked.empty() ? "" : ", ") + file.string();
+    if (const std::string why = not_a_regular_file(file); !why.empty()) throw ReadError(key, why);
     std::error_code error;
-    const fs::file_status status = fs::status(file, error);  // follows symlinks, opens nothing
-    if (status.type() == fs::file_type::not_found) continue;
-    if (status.type() == fs::file_type::none) throw ReadError(key, file.string() + ": " + error.message());
-    if (!fs::is_regular_file(status))
-      throw ReadError(key, file.string() + " is " + kind_of(status.type()) + ", not a regular file");
+    if (!fs::exists(file, error)) continue;
     const fs::path real = real_place(file);
     const bool confined = std::any_of(folders.begin(), folders.end(), [&](const fs::path& allowed) {
       const fs::path real_folder = real_place(allowed);

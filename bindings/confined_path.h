@@ -16,6 +16,11 @@ namespace quantum::lua {
 // absolute, has a ".." part, or leads, symlinks followed, out of `folders`, or when what it names
 // is not a regular file (a device, a FIFO, a directory, a socket). Nothing is opened: the file's
 // type is looked at first.
+// Why `file` may not be opened for reading: "" when it is a regular file or there is none, else
+// e.g. "rules/x/pipe.lua is a FIFO, not a regular file". Looks at its type (symlinks followed)
+// without opening it: opening a FIFO that nobody writes, or /dev/stdin, blocks.
+std::string not_a_regular_file(const std::filesystem::path& file);
+
 std::filesystem::path confined_path(const std::vector<std::filesystem::path>& folders, const std::string& name,
                                     const std::string& key, std::string& looked);
 

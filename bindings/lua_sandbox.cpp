@@ -423,6 +423,9 @@ void Sandbox::protect_raw(lua_CFunction trampoline, void* run) {
 }
 
 void Sandbox::run_file(const std::string& file) {
+  // sport.lua and a field given on the command line are named by no script, but a FIFO there
+  // would block the load (or a reload in the middle of a match) all the same.
+  if (const std::string why = not_a_regular_file(file); !why.empty()) throw ScriptError(why);
   if (!std::filesystem::exists(file)) throw ScriptError(file + ": no such file");
   files_.push_back(file);
   const int status = luaL_loadfilex(L_, file.c_str(), "t");

@@ -11,10 +11,12 @@
 #include <future>
 #include <memory>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <thread>
 
 #include "hostile_support.h"
+#include "reloader.h"
 #include "sport.h"
 
 namespace quantum {
@@ -93,6 +95,7 @@ constexpr const char* kStdinIsNoFileHere =
     "leads out of the folders a sport may read";
 
 const PathCase kRefusedFiles[] = {
+    {"empty", "", Put::Nothing, "'' is not a file name"},
     {"absolute_stdin", "/dev/stdin", Put::Nothing, "'/dev/stdin': an absolute path is refused"},
     {"absolute_passwd", "/etc/passwd", Put::Nothing, "'/etc/passwd': an absolute path is refused"},
     {"dotdot_passwd", "../../etc/passwd", Put::Nothing, "'../../etc/passwd': '..' is refused"},
@@ -214,6 +217,41 @@ TEST(HostilePaths, APowerUpOutsideItsFoldersOrNotAFileIsAnErrorAndTheMatchGoesOn
     EXPECT_TRUE(says_one_of(errors[0], c.error)) << c.name << ": " << errors[0];
     EXPECT_NEAR(outcome->time, 0.5, 1e-6) << c.name << ": the match went on";
   }
+}
+
+// sport.lua is named by no script, but a sport folder shared with a FIFO there must not block
+// its load (nor a reload while a match runs).
+TEST(HostilePaths, ASportFileThatIsNotARegularFileIsRefusedUnopened) {
+  const fs::path dir = fs::temp_directory_path() / "quantum_hostile_paths_sport_fifo";
+  fs::create_directories(dir);
+  put(dir / "sport.lua", Put::Fifo);
+  EXPECT_EQ(load_error(dir.string()), (dir / "sport.lua").string() + " is a FIFO, not a regular file");
+  put(dir / "sport.lua", Put::LinkToZero);
+  EXPECT_EQ(load_error(dir.string()), (dir / "sport.lua").string() + " is a character device, not a regular file");
+}
+
+// The reloader loads what was saved through the same checks: a sport.lua that became a FIFO
+// while the match ran fails to reload, unopened, and the old version plays on.
+TEST(HostilePaths, AReloadOfASportFileThatBecameAFifoFailsAndTheMatchGoesOn) {
+  fs::remove_all(fs::temp_directory_path() / "quantum_hostile_paths_reload");  // a FIFO left would block the rewrite
+  const fs::path folder = hostile_sport("paths_reload", "");
+  auto said = std::make_shared<std::string>();
+  const std::string thrown = error_within([folder, said] {
+    auto sport = std::make_unique<lua::Sport>(folder.string());
+    Played played(*sport);
+    lua::Reloader reloader(*sport, {}, false);
+    put(folder / "sport.lua", Put::Fifo);
+    reloader.changed(folder / "sport.lua");
+    std::ostringstream errors;
+    EXPECT_EQ(reloader.poll(sport, played.match, errors, nullptr), 0);
+    for (int frame = 0; frame < 30; ++frame) played.step();
+    EXPECT_NEAR(played.match.time(), 0.5, 1e-6);
+    *said = errors.str();
+  });
+  EXPECT_EQ(thrown, "");
+  EXPECT_EQ(*said, "quantum: reload failed: " + (folder / "sport.lua").string() +
+                       " is a FIFO, not a regular file (the previous version goes on)\n");
+  fs::remove(folder / "sport.lua");
 }
 
 // A phrase key ending in _start or _over is a power-up's only for a plain power-up name: a key
