@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "hostile_support.h"
+#include "match_audio.h"
 #include "reloader.h"
 #include "sport.h"
 
@@ -251,6 +252,25 @@ TEST(HostilePaths, AReloadOfASportFileThatBecameAFifoFailsAndTheMatchGoesOn) {
   EXPECT_EQ(*said, "quantum: reload failed: " + (folder / "sport.lua").string() +
                        " is a FIFO, not a regular file (the previous version goes on)\n");
   fs::remove(folder / "sport.lua");
+}
+
+// A sound loads when it first plays, long after the sport's load checked it: one that has become
+// a FIFO since is one warning and silence, unopened.
+TEST(HostilePaths, ASoundThatBecameAFifoAfterTheLoadStaysSilent) {
+  const fs::path dir = fs::temp_directory_path() / "quantum_hostile_paths_late_fifo";
+  fs::create_directories(dir);
+  put(dir / "shot.wav", Put::Fifo);
+  lua::SportAudio sounds;
+  sounds.sounds["shot"] = (dir / "shot.wav").string();
+  auto warned = std::make_shared<std::ostringstream>();
+  EXPECT_EQ(error_within([sounds, warned, dir] {
+              runtime::MatchAudio audio("wav:" + (dir / "match.wav").string(), sounds, *warned);
+              game::GameEvent shot;
+              shot.type = game::EventKind::Shot;
+              audio.event(shot);
+            }),
+            "");
+  EXPECT_EQ(warned->str(), "quantum: " + (dir / "shot.wav").string() + " is a FIFO, not a regular file; that sound stays silent\n");
 }
 
 // A phrase key ending in _start or _over is a power-up's only for a plain power-up name: a key
