@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "confined_path.h"
 #include "lua_bounded.h"
 #include "lua_wrap.h"
 
@@ -350,17 +351,6 @@ Sandbox::Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> m
   on_error_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 
-std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders, const std::filesystem::path& relative,
-                              std::string& looked) {
-  for (const std::filesystem::path& folder : folders) {
-    const std::filesystem::path file = folder / relative;
-    if (!looked.empty()) looked += ", ";
-    looked += file.string();
-    if (std::filesystem::is_regular_file(file)) return file;
-  }
-  return {};
-}
-
 void Sandbox::require_module(const std::string& name, int cache) {
   namespace fs = std::filesystem;
   bool valid = !name.empty() && name.front() != '.' && name.back() != '.' && name.find("..") == std::string::npos;
@@ -374,7 +364,7 @@ void Sandbox::require_module(const std::string& name, int cache) {
   std::replace(relative.begin(), relative.end(), '.', '/');
   relative += ".lua";
   std::string looked;
-  if (const fs::path file = find_in(module_folders_, relative, looked); !file.empty()) {
+  if (const fs::path file = confined_path(module_folders_, relative, "'" + name + "'", looked); !file.empty()) {
     run_file(file.string(), cache);
     if (lua_isnil(L_, -1)) {  // a module that returns nothing is loaded all the same
       lua_pop(L_, 1);
@@ -474,6 +464,9 @@ void Sandbox::protect_raw(lua_CFunction trampoline, void* run) {
 }
 
 void Sandbox::run_file(const std::string& file, int cache) {
+  // sport.lua and a field given on the command line are named by no script, but a FIFO there
+  // would block the load (or a reload in the middle of a match) all the same.
+  if (const std::string why = not_a_regular_file(file); !why.empty()) throw ScriptError(why);
   if (!std::filesystem::exists(file)) throw ScriptError(file + ": no such file");
   files_.push_back(file);
   const int status = luaL_loadfilex(L_, file.c_str(), "t");

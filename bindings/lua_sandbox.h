@@ -21,11 +21,6 @@ struct ScriptError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The first of `folders` holding `relative` (a file), or an empty path when none does. `looked`
-// gets every place tried, for an error message.
-std::filesystem::path find_in(const std::vector<std::filesystem::path>& folders, const std::filesystem::path& relative,
-                              std::string& looked);
-
 // What the scripts of one sandbox may spend together in one period (new_period: a match frame).
 // Instructions are counted by a count hook; CPU time (the calling thread's, so a busy machine does
 // not count against a script) is watched by a watchdog thread whose flag the hook looks at every
@@ -134,7 +129,8 @@ class Sandbox {
   // module folder that has it, loaded once for the calling script's cache (as text, in the
   // sandbox) and its result kept there. `cache` is the stack index of that cache.
   // Pushes the result. Throws ScriptError for a bad name, a module that is not there (saying
-  // that the sandbox looks only in its folders) or one that fails.
+  // that the sandbox looks only in its folders) or one that fails, and ReadError for a module
+  // file that is not a regular file or leads out of the folders (confined_path).
   void require_module(const std::string& name, int cache);
 
   // Every Lua allocation, freeing and resizing so far: the tests' measure of the garbage a frame

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "confined_path.h"
 #include "field_loader.h"
 #include "game/plain_rules.h"
 #include "lua_reader.h"
@@ -28,6 +29,11 @@ fs::path normal_folder(const std::string& folder) {
   fs::path p = fs::path(folder).lexically_normal();
   if (p.filename().empty()) p = p.parent_path();
   return p;
+}
+
+// A power-up's name is its script's file name, without the folder: no path reaches out of them.
+bool plain_powerup_name(const std::string& name) {
+  return !name.empty() && name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos;
 }
 
 std::vector<fs::path> powerup_folders_of(const fs::path& sport, const fs::path& engine) {
@@ -151,11 +157,16 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
     lua_pop(L, 1);
     sandbox_.run_file(file_);
     if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
-    or_script_error(file_, [&] { field_file = Reader(L).string(lua_gettop(L), "field", "", "field.lua", false); });
+    or_script_error(file_, [&] {
+      const std::string name = Reader(L).string(lua_gettop(L), "field", "", "field.lua", false);
+      std::string looked;
+      const fs::path found = confined_path({fs::path(folder_)}, name, "field", looked);
+      field_file = (found.empty() ? fs::path(folder_) / name : found).string();  // load_field says it is not there
+    });
     sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   });
   // Outside the sport's budget: the field file runs in a sandbox of its own, with its own.
-  field_ = load_field((fs::path(folder_) / field_file).string(), &params_);
+  field_ = load_field(field_file, &params_);
   sandbox_.protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
     or_script_error(file_, [&] { read_sport(lua_gettop(L)); });
@@ -348,8 +359,9 @@ void Sport::check_phrases() const {
     bool engine_said = key == "paused" || key == "resumed";
     for (const char* suffix : {"_start", "_over"}) {
       if (!key.ends_with(suffix)) continue;
+      const std::string powerup = key.substr(0, key.size() - std::string(suffix).size());
       std::string looked;
-      engine_said |= !find_in(powerup_folders_, key.substr(0, key.size() - std::string(suffix).size()) + ".lua", looked).empty();
+      engine_said |= plain_powerup_name(powerup) && !powerup_file(powerup, looked).empty();
       if (engine_said) allowed = kPowerupVars;
     }
     if (engine_said) check_engine_phrase("phrases." + key, *phrases_.find(key), allowed);
@@ -358,16 +370,18 @@ void Sport::check_phrases() const {
 
 void Sport::read_audio(const Reader& r, int t) {
   lua_State* L = sandbox_.L();
-  // A sound file: in the sport's folder, else among the engine's own (sounds/).
-  const fs::path shared = QUANTUM_SOUNDS_DIR;
-  auto resolve = [&](const std::string& name) {
-    const fs::path own = fs::path(folder_) / name;
-    return (fs::exists(own) ? own : shared / name).lexically_normal().string();
+  // A sound file: in the sport's folder, else among the engine's own (sounds/). One in neither is
+  // the engine's name for it: the match warns once that it stays silent.
+  const std::vector<fs::path> folders = {fs::path(folder_), QUANTUM_SOUNDS_DIR};
+  auto resolve = [&](const std::string& name, const std::string& key) {
+    std::string looked;
+    const fs::path found = confined_path(folders, name, key, looked);
+    return (found.empty() ? folders.back() / name : found).lexically_normal().string();
   };
-  for (const char* e : {"shot", "intercept", "retouch"}) audio_.sounds[e] = resolve("hit.wav");
-  for (const char* e : {"goal", "own_goal"}) audio_.sounds[e] = resolve("goal.wav");
-  audio_.sounds["drop"] = resolve("whistle.wav");
-  audio_.sounds["bounce"] = resolve("wall.wav");
+  for (const auto& [event, name] : {std::pair{"shot", "hit.wav"}, {"intercept", "hit.wav"}, {"retouch", "hit.wav"},
+                                    {"goal", "goal.wav"}, {"own_goal", "goal.wav"}, {"drop", "whistle.wav"},
+                                    {"bounce", "wall.wav"}})
+    audio_.sounds[event] = resolve(name, std::string("audio.sounds.") + event);
   audio_.priorities = {{"goal", 3}, {"own_goal", 3}, {"match_end", 3}, {"time_up", 3}, {"drop", 2}, {"out", 2},
                        {"dead", 2}, {"shot", 1},     {"intercept", 1}, {"timer", 1},   {"retouch", 0}, {"bounce", 0}};
   for (const char* e : {"shot", "intercept", "retouch", "bounce", "catch", "pass", "throw", "give"}) audio_.supersede[e] = true;
@@ -407,7 +421,7 @@ void Sport::read_audio(const Reader& r, int t) {
     r.only_keys(-1, "audio.sounds", events);
     r.map(-1, "audio.sounds", [&](const std::string& event, const std::string& place) {
       r.expect(LUA_TSTRING, place, "a sound file's name");
-      audio_.sounds[event] = resolve(lua_tostring(L, -1));
+      audio_.sounds[event] = resolve(lua_tostring(L, -1), place);
     });
     lua_pop(L, 1);
   }
@@ -416,7 +430,7 @@ void Sport::read_audio(const Reader& r, int t) {
     r.only_keys(-1, "audio.recorded", phrases_.keys());
     r.map(-1, "audio.recorded", [&](const std::string& key, const std::string& place) {
       r.expect(LUA_TSTRING, place, "a sound file's name");
-      audio_.recorded[key] = resolve(lua_tostring(L, -1));
+      audio_.recorded[key] = resolve(lua_tostring(L, -1), place);
     });
     lua_pop(L, 1);
   }
@@ -715,10 +729,10 @@ void Sport::run_timers(game::Match& match) {
 
 int Sport::powerup(const std::string& name) {
   if (const auto it = powerups_.find(name); it != powerups_.end()) return it->second;
-  if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
+  if (!plain_powerup_name(name))
     throw std::invalid_argument("power-up '" + name + "': names are lower-case letters, digits and _");
   std::string looked;
-  const fs::path file = find_in(powerup_folders_, name + ".lua", looked);
+  const fs::path file = powerup_file(name, looked);
   if (file.empty()) throw ScriptError("no power-up '" + name + "' (looked for " + looked + ")");
   lua_State* L = sandbox_.L();
   const int base = lua_gettop(L);
@@ -762,6 +776,10 @@ int Sport::powerup(const std::string& name) {
   }
   powerup_files_[name] = file.string();
   return powerups_[name] = luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+fs::path Sport::powerup_file(const std::string& name, std::string& looked) const {
+  return confined_path(powerup_folders_, name + ".lua", "power-up '" + name + "'", looked);
 }
 
 void Sport::grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts) {

@@ -171,6 +171,10 @@ class Sport final : public game::Rules {
   void check_said_keys() const;
   [[noreturn]] void unknown_phrase(std::string_view key) const;
   int powerup(const std::string& name);  // loads it on first use; its table's registry reference
+  // The script of the power-up of that (plain) name in powerup_folders(), or an empty path
+  // (`looked`: where it was looked for). Throws ReadError for one that is not a regular file or
+  // leads out of the folders.
+  std::filesystem::path powerup_file(const std::string& name, std::string& looked) const;
   // Which factor made a fate 0: none, the sport's factors by kind, modifiers[i], or the j-th
   // active power-up.
   static constexpr int kNotZeroed = -1, kKindFactor = 0;

@@ -6,6 +6,8 @@
 #include <thread>
 #include <ostream>
 
+#include "confined_path.h"
+
 namespace quantum::runtime {
 namespace {
 
@@ -71,6 +73,9 @@ const audio::Clip* MatchAudio::clip(const std::string& path) {
   if (auto it = clips_.find(path); it != clips_.end()) return it->second.samples.empty() ? nullptr : &it->second;
   audio::Clip& c = clips_[path];
   try {
+    // The sport's load checked it, but a sound loads when it first plays: a file that has become
+    // a FIFO since would block the match on opening it.
+    if (const std::string why = lua::not_a_regular_file(path); !why.empty()) throw audio::AudioError(why);
     c = audio::load_clip(path);
   } catch (const audio::AudioError& e) {
     warn(std::string(e.what()) + "; that sound stays silent");
