@@ -223,7 +223,7 @@ TEST(HostileValues, InvalidBytesSaidWhilePlayingKeepTheEventLogJson) {
   const std::string sport = hostile_sport("said_bytes",
                                           "game.say('drop', { team = 'Blue' .. string.char(255, 192, 128) .. 'x' })\n"
                                           "  game.say('Puck ' .. string.char(237, 160, 128, 226, 130))");
-  for (const std::string audio : {std::string("none"), "wav:" + (fs::path(sport) / "match.wav").string()}) {
+  for (const std::string& audio : {std::string("none"), "wav:" + (fs::path(sport) / "match.wav").string()}) {
     SCOPED_TRACE(audio);
     const MatchRun run = play(sport, audio);
     expect_played_on(run, at_line("said_bytes") + "game.say: byte 6 is not UTF-8");
