@@ -85,9 +85,14 @@ TEST(Isolation, APowerUpCannotPoisonTheTablesTheSportIsHanded) {
       {"poison_holder", kGrantEvil, check, poison_holder.c_str(), "evil ran"},
   };
   for (const Attack& a : attacks) {
-    expect_survived(a);
+    SCOPED_TRACE(a.name);
     lua::Sport sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
-    for (const std::string& e : play_out(sport).errors) EXPECT_EQ(e.find("poisoned"), std::string::npos) << e;
+    const Finished f = play_out(sport);
+    EXPECT_TRUE(f.finished);
+    EXPECT_EQ(f.scored, f.goals) << "a goal went uncounted";
+    ASSERT_FALSE(f.errors.empty());
+    EXPECT_TRUE(says_one_of(f.errors[0], a.error)) << f.errors[0];
+    for (const std::string& e : f.errors) EXPECT_EQ(e.find("poisoned"), std::string::npos) << e;
   }
 }
 
