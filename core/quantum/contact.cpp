@@ -336,6 +336,20 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
   return best;
 }
 
+namespace {
+
+// Particle i's contact becomes (dt, c, nx, ny) if that comes sooner. Every load comes before any
+// store: clang's vectorizer gives up on a loop that loads one array after storing to another.
+[[gnu::always_inline]] inline void keep_sooner(size_t i, float dt, int32_t c, float nx, float ny, float* __restrict when,
+                                               int32_t* __restrict code, float* __restrict hnx, float* __restrict hny) {
+  const float w = when[i], ax = hnx[i], ay = hny[i];
+  const int32_t k = code[i];
+  const bool sooner = dt < w;
+  when[i] = sooner ? dt : w, code[i] = sooner ? c : k, hnx[i] = sooner ? nx : ax, hny[i] = sooner ? ny : ay;
+}
+
+}  // namespace
+
 void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, MoverBatch& b, size_t n, float t1) {
   // Hand-written for the compiler's vectorizer: each loop runs one primitive over all particles,
   // and the primitive tests are the branch-free functions next_hit uses too.
@@ -354,14 +368,11 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
   for (size_t k = 0; k < g.ax.size(); ++k) {
     const int32_t c = hit_code(HitKind::Wall, g.wall[k]);
     const SegmentParams s = segment(g, k);
-    // Each iteration reads and writes only particle i.
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       float nx, ny;
       const float dt = wall_time(s, r, x[i], y[i], ux[i], uy[i], t1 - t[i], nx, ny);
-      const bool better = dt < when[i];
-      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
-      hnx[i] = better ? nx : hnx[i], hny[i] = better ? ny : hny[i];
+      keep_sooner(i, dt, c, nx, ny, when, code, hnx, hny);
     }
   }
   // End points: a path passes near a given one rarely (a corner or a post a few centimetres
@@ -373,8 +384,7 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
   for (size_t k = 0; k < g.cap_x.size(); ++k) {
     const int32_t c = hit_code(HitKind::Wall, g.cap_wall[k]);
     const float px = g.cap_x[k], py = g.cap_y[k];
-    // Each iteration reads and writes only particle i.
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i)
       maybe[i] = uint8_t(circle_may_meet(x[i] - px, y[i] - py, ux[i], uy[i], r));
     const int m = collect_flagged(maybe, int(n), marked);
@@ -389,37 +399,28 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
   for (size_t k = 0; k < g.gax.size(); ++k) {
     const int32_t c = hit_code(HitKind::Goal, g.goal_id[k]);
     const SegmentParams s = goal_line(g, k);
-    // Each iteration reads and writes only particle i.
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       const float dt = goal_time(s, x[i], y[i], ux[i], uy[i], t1 - t[i]);
-      const bool better = dt < when[i];
-      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
-      hnx[i] = better ? s.nx : hnx[i], hny[i] = better ? s.ny : hny[i];
+      keep_sooner(i, dt, c, s.nx, s.ny, when, code, hnx, hny);
     }
   }
   {
     const int32_t c = hit_code(HitKind::Out, 0);
     const Box bounds = g.bounds;
-    // Each iteration reads and writes only particle i.
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       const float dt = bounds_time(bounds, x[i], y[i], ux[i], uy[i], t1 - t[i]);
-      const bool better = dt < when[i];
-      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
-      hnx[i] = better ? 0.0f : hnx[i], hny[i] = better ? 0.0f : hny[i];
+      keep_sooner(i, dt, c, 0, 0, when, code, hnx, hny);
     }
   }
   for (size_t k = 0; k < g.mx.size(); ++k) {
     const int32_t c = hit_code(HitKind::Wormhole, int(k));
     const float px = g.mx[k], py = g.my[k], pr = g.mr[k];
-    // Each iteration reads and writes only particle i.
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       const float dt = mouth_time(x[i] - px, y[i] - py, ux[i], uy[i], pr, t1 - t[i]);
-      const bool better = dt < when[i];
-      when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
-      hnx[i] = better ? 0.0f : hnx[i], hny[i] = better ? 0.0f : hny[i];
+      keep_sooner(i, dt, c, 0, 0, when, code, hnx, hny);
     }
   }
   for (int k = 0; k < n_bodies; ++k) {
@@ -427,7 +428,7 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     const int32_t c = hit_code(HitKind::Body, k);
     // As for end points: the pre-pass marks the paths that can come within reach of the body
     // while it moves or once it rests, and only those take body_time's two exact tests.
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) maybe[i] = uint8_t(body_may_meet(body, r, x[i], y[i], ux[i], uy[i], t[i]));
     const int m = collect_flagged(maybe, int(n), marked);
     for (int j = 0; j < m; ++j) {

@@ -69,7 +69,7 @@ class FastBackend final : public Backend {
       }
       for (int k = 0; k < nb; ++k) {
         const detail::BodySweep c = near_[k].sweep;
-#pragma GCC ivdep
+        QUANTUM_INDEPENDENT_ITERATIONS
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
           flag[j] |= uint8_t(detail::sweeps_touch(c, ox[j], oy[j], x[i], y[i]));

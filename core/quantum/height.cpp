@@ -12,7 +12,7 @@ constexpr float kSkin = 2e-6f;
 // bounce leaves, so a ball that just bounced off the rod is not touching it. The step and the
 // prediction reach the rod from different starts: the tighter this, the closer their contacts.
 constexpr float kRingTolerance = 1e-6f;
-constexpr int32_t kMaxRingSteps = 400;
+constexpr uint32_t kMaxRingSteps = 400;
 
 [[gnu::always_inline]] inline float hypot2(float x, float y) { return std::sqrt(x * x + y * y); }
 
@@ -91,8 +91,8 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
   float* __restrict bend1 = w.bend1.data();
   float* __restrict at = w.at.data();
   float* __restrict found = w.found.data();
-  int32_t* __restrict stage = w.stage.data();
-  int32_t* __restrict steps = w.steps.data();
+  uint32_t* __restrict stage = w.stage.data();
+  uint32_t* __restrict steps = w.steps.data();
   auto distance = [&](size_t i, float t) __attribute__((always_inline)) {
     return hypot2(x[i] - h.x + ux[i] * t, y[i] - h.y + uy[i] * t);
   };
@@ -112,7 +112,7 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
     return (lo <= hi) & !(nearest > h.radius + h.reach) &
            !(std::max(distance(i, lo), distance(i, hi)) < h.radius - h.reach) & (fast > 0);
   };
-#pragma GCC ivdep
+  QUANTUM_INDEPENDENT_ITERATIONS
   for (size_t i = 0; i < n; ++i) {
     const float g = gl[i], v = vz[i];
     // Level with the rod: the arc above its bottom, less the time above its top.
@@ -154,19 +154,22 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
   }
   while (m > 0) {
     // One probe for every particle still searching...
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t j = 0; j < m; ++j) {
-      const bool in_first = stage[j] == 0;
+      // Every load before any store, for clang's vectorizer (keep_sooner in contact.cpp).
+      const uint32_t was_stage = stage[j], was_steps = steps[j];
+      const float was_at = at[j];
+      const bool in_first = was_stage == 0;
       const float fast = in_first ? fast0[j] : fast1[j], bend = in_first ? bend0[j] : bend1[j];
       const float hi = in_first ? hi0[j] : hi1[j];
       bool touching;
-      const float next = ring_probe(h, qx[j], qy[j], qz[j], wx[j], wy[j], wz[j], wg[j], at[j], fast, bend, touching);
-      const bool done = (!touching) & ((next > hi) | (steps[j] + 1 >= kMaxRingSteps));
+      const float next = ring_probe(h, qx[j], qy[j], qz[j], wx[j], wy[j], wz[j], wg[j], was_at, fast, bend, touching);
+      const bool done = (!touching) & ((next > hi) | (was_steps + 1 >= kMaxRingSteps));
       const bool move_on = done & in_first & (lo1[j] <= hi1[j]);
-      hit[j] = touching ? at[j] : kInf;
+      hit[j] = touching ? was_at : kInf;
       at[j] = move_on ? lo1[j] : next;
-      steps[j] = move_on ? 0 : steps[j] + 1;
-      stage[j] = (touching | (done & !move_on)) ? 2 : stage[j] + int32_t(move_on);
+      steps[j] = move_on ? 0 : was_steps + 1;
+      stage[j] = (touching | (done & !move_on)) ? 2 : was_stage + uint32_t(move_on);
     }
     // ...then the finished ones answer and leave.
     size_t kept = 0;
@@ -272,7 +275,7 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
   };
   // The floor and the ceiling first, in closed form: nothing after the ball meets them counts, so
   // every other search looks only that far (a long prediction's flight ends at the next bounce).
-#pragma GCC ivdep
+  QUANTUM_INDEPENDENT_ITERATIONS
   for (size_t i = 0; i < n; ++i) {
     // A ball resting on the floor rolls: the floor holds gravity.
     const float g = (vz[i] == 0) & (z[i] <= ground) ? 0.0f : gravity;
@@ -298,7 +301,7 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
   const bool mouths = !geo.mx.empty();
   if (geo.ax.empty() && geo.cap_x.empty() && geo.gax.empty() && !mouths) {
     const int32_t out = hit_code(HitKind::Out, 0);
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       const float dt = bounds_time(bounds, x[i], y[i], ux[i], uy[i], span[i]);
       set(i, dt < when[i], dt, out, Surface::Segment, -1, 0, 0, 0);
@@ -316,7 +319,7 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
   if (s.ox0 <= s.ox1) {
     const float ox0 = s.ox0, oy0 = s.oy0, oz0 = s.oz0, ox1 = s.ox1, oy1 = s.oy1, oz1 = s.oz1;
     int32_t any_near = 0;
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       const float g = gl[i], d = span[i], ex = x[i] + ux[i] * d, ey = y[i] + uy[i] * d;
       const float end = z[i] + vz[i] * d - 0.5f * g * d * d;
@@ -330,7 +333,7 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
       const SegmentParams p = s.board[k];
       const float bottom = s.bbottom[k], top = s.btop[k];
       const int32_t c = hit_code(HitKind::Wall, s.bwall[k]);
-#pragma GCC ivdep
+      QUANTUM_INDEPENDENT_ITERATIONS
       for (size_t i = 0; i < n; ++i) {
         // Beside a board's edge (within a ball's radius of its plane, over, under or past it) the
         // ball flies on: edges are not modelled, and a ball there must not hit the face from inside.
@@ -348,7 +351,7 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
       for (size_t i = 0; i < n; ++i) limit[i] = std::min(span[i], when[i]);
       ring_times({cx, cy, cz, ring, s.htube[k] + r}, b, n, limit);
       const float* __restrict found = b.ring.found.data();
-#pragma GCC ivdep
+      QUANTUM_INDEPENDENT_ITERATIONS
       for (size_t i = 0; i < n; ++i) {
         const float dt = found[i];
         const float px = x[i] + ux[i] * dt - cx, py = y[i] + uy[i] * dt - cy;
@@ -359,7 +362,7 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
         set(i, dt < when[i], dt, rim, Surface::Rim, int(k), flat ? 0.0f : nx / l, flat ? 0.0f : ny / l, flat ? 1.0f : pz / l);
       }
       // Through the ring from above: a basket.
-#pragma GCC ivdep
+      QUANTUM_INDEPENDENT_ITERATIONS
       for (size_t i = 0; i < n; ++i) {
         const float down = descent_time(z[i], vz[i], gl[i], cz);
         const float hx = x[i] + ux[i] * down - cx, hy = y[i] + uy[i] * down - cy;
@@ -379,7 +382,7 @@ bodies:
     // of every path is not searched at all.
     float* __restrict clear = b.clear.data();
     int32_t any_close = 0;
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       const float t0 = t[i], d = span[i], ex = x[i] + ux[i] * d, ey = y[i] + uy[i] * d;
       const float cx0 = body_x(body, t0), cx1 = body_x(body, t0 + d), cy0 = body_y(body, t0), cy1 = body_y(body, t0 + d);
@@ -390,7 +393,7 @@ bodies:
       any_close |= int32_t(clear[i] == 0);
     }
     if (!any_close) continue;
-#pragma GCC ivdep
+    QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
       const float t0 = t[i], d = span[i], g = gl[i];
       // The side, below the body's reach...

@@ -68,7 +68,8 @@ struct Hit3 {
 // The rim search's state per particle (height.cpp): two stretches of the arc level with the rod.
 struct RingScratch {
   std::vector<float> hi0, lo1, hi1, fast0, fast1, bend0, bend1, at, found, limit;
-  std::vector<int32_t> stage, steps;
+  // Unsigned: the sanitizers' overflow check on a signed counter kept the probe loop scalar.
+  std::vector<uint32_t> stage, steps;
   // The particles still searching, gathered: where they are from the hoop, how they move.
   std::vector<float> qx, qy, qz, ux, uy, vz, g, hit;
   std::vector<int32_t> lane;

@@ -100,9 +100,7 @@ class HeightBackend final : public Backend {
     int16_t slow[kBlock];
     for (int base = 0; base < n; base += kBlock) {
       const int m = std::min(kBlock, n - base);
-      // Each iteration reads and writes only particle i (too many arrays for the compiler to
-      // prove it by run-time checks).
-#pragma GCC ivdep
+      QUANTUM_INDEPENDENT_ITERATIONS
       for (int j = 0; j < m; ++j) {
         const int i = base + j;
         float dx, dy;
@@ -139,7 +137,7 @@ class HeightBackend final : public Backend {
       // its travel of where it started.
       for (const Rim& c : rims_) {
         if (!block.overlaps(c.box)) continue;
-#pragma GCC ivdep
+        QUANTUM_INDEPENDENT_ITERATIONS
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
           const float travel = std::fabs(x[i] - ox[j]) + std::fabs(y[i] - oy[j]);
@@ -153,7 +151,7 @@ class HeightBackend final : public Backend {
       // crosses it) beside the board, level with it.
       for (const Pane& c : boards_) {
         if (!block.overlaps(c.box)) continue;
-#pragma GCC ivdep
+        QUANTUM_INDEPENDENT_ITERATIONS
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
           const float px0 = ox[j] - c.ax, py0 = oy[j] - c.ay, px1 = x[i] - c.ax, py1 = y[i] - c.ay;
@@ -168,7 +166,7 @@ class HeightBackend final : public Backend {
       for (int k = 0; k < nb; ++k) {
         const Near c = near_[k];
         if (!block.overlaps(c.box)) continue;
-#pragma GCC ivdep
+        QUANTUM_INDEPENDENT_ITERATIONS
         for (int j = 0; j < m; ++j) {
           const int i = base + j;
           flag[j] |= uint8_t(detail::sweeps_touch(c.sweep, ox[j], oy[j], x[i], y[i]) & (lo[j] < c.box.z1));
