@@ -23,6 +23,44 @@ namespace {
 using V3 = cv::Vec3d;
 constexpr double kMiss = 1e30;
 
+// Uniform and normal draws exactly as libstdc++ makes them from a std::mt19937_64 (its
+// generate_canonical, and the polar method of its normal_distribution), written out. Clang does
+// not fold the two long double logarithms generate_canonical takes on every draw: they were
+// half of a recording's time in the sanitizer build. The same draws, so every recording, and the
+// figures in docs/tracking.md, stay the seed's, now whatever the standard library.
+double canonical(std::mt19937_64& engine) {
+  const double u = double(engine() - std::mt19937_64::min()) / 0x1p64;
+  return u < 1 ? u : std::nextafter(1.0, 0.0);
+}
+
+struct Uniform01 {
+  double operator()(std::mt19937_64& engine) const { return canonical(engine); }
+};
+
+// Draws come in pairs; the second is kept for the next call.
+class StandardNormal {
+ public:
+  double operator()(std::mt19937_64& engine) {
+    if (has_saved_) {
+      has_saved_ = false;
+      return saved_;
+    }
+    double x, y, r2;
+    do {
+      x = 2.0 * canonical(engine) - 1.0;
+      y = 2.0 * canonical(engine) - 1.0;
+      r2 = x * x + y * y;
+    } while (r2 > 1.0 || r2 == 0.0);
+    const double mult = std::sqrt(-2 * std::log(r2) / r2);
+    saved_ = x * mult, has_saved_ = true;
+    return y * mult;
+  }
+
+ private:
+  double saved_ = 0;
+  bool has_saved_ = false;
+};
+
 // Field to camera for a camera looking straight down, image right toward the red end (+x),
 // tilted by ta about its x axis and tb about its y axis.
 cv::Matx33d looking_down(double ta, double tb) {
@@ -222,7 +260,7 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
     throw std::invalid_argument("depth scene: sizes, height (> 0.5 m), speed and fps must be positive, tilt under 30 "
                                 "degrees, holes a share under 1, hovering hands above the table's 9.5 cm");
   std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> uni(0, 1);
+  const Uniform01 uni;
   const tracking::DepthCamera cam;
 
   // The camera: above the table's centre give or take a few centimetres, looking down, image
@@ -337,8 +375,8 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
         // Distributions of the row's own: a normal distribution keeps a spare draw, which would
         // carry into the next row of whatever chunk of rows this thread was given.
         std::mt19937_64 r = row_rng(o.seed, f, v, 1);
-        std::normal_distribution<double> noise(0, 1);
-        std::uniform_real_distribution<double> chance(0, 1);
+        StandardNormal noise;
+        const Uniform01 chance;
         const double* z = depth.ptr<double>(v);
         uint16_t* out = raw.ptr<uint16_t>(v);
         for (int u = 0; u < cam.width; ++u) {
@@ -439,8 +477,8 @@ struct Scene {
 HatTruth film(const std::string& dir, const HatSceneOptions& o, Scene& scene) {
   std::filesystem::create_directories(dir);
   std::mt19937_64 rng(o.seed);
-  std::normal_distribution<double> gauss(0, 1);
-  std::uniform_real_distribution<double> uni(0, 1);
+  StandardNormal gauss;
+  const Uniform01 uni;
   const double L = o.length, W = o.width, T = o.seconds;
   std::vector<Walker>& walkers = scene.walkers;
   for (const HatSceneOptions::Away& a : o.away) {
