@@ -33,10 +33,6 @@ double canonical(std::mt19937_64& engine) {
   return u < 1 ? u : std::nextafter(1.0, 0.0);
 }
 
-struct Uniform01 {
-  double operator()(std::mt19937_64& engine) const { return canonical(engine); }
-};
-
 // Draws come in pairs; the second is kept for the next call.
 class StandardNormal {
  public:
@@ -260,7 +256,6 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
     throw std::invalid_argument("depth scene: sizes, height (> 0.5 m), speed and fps must be positive, tilt under 30 "
                                 "degrees, holes a share under 1, hovering hands above the table's 9.5 cm");
   std::mt19937_64 rng(o.seed);
-  const Uniform01 uni;
   const tracking::DepthCamera cam;
 
   // The camera: above the table's centre give or take a few centimetres, looking down, image
@@ -268,10 +263,10 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
   // One draw a statement: a function's arguments are evaluated in an order each compiler picks,
   // and the recording must be the seed's on any of them (this is the order GCC took: the
   // recordings, and the figures in docs/tracking.md, stay what they were).
-  const double off_y = o.offset * (2 * uni(rng) - 1);
-  const double off_x = o.offset * (2 * uni(rng) - 1);
+  const double off_y = o.offset * (2 * canonical(rng) - 1);
+  const double off_x = o.offset * (2 * canonical(rng) - 1);
   const V3 centre(off_x, off_y, o.height);
-  const double drawn = 2 * M_PI * uni(rng), tilt = o.tilt * M_PI / 180;
+  const double drawn = 2 * M_PI * canonical(rng), tilt = o.tilt * M_PI / 180;
   const double way = o.tilt_toward >= 0 ? o.tilt_toward * M_PI / 180 : drawn;
   const cv::Matx33d to_field = looking_down(tilt * std::sin(way), tilt * std::cos(way)).t();  // camera to field directions
   // The Kinect's infrared projector sits 7.5 cm beside its camera: what the camera sees of the
@@ -284,12 +279,12 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
     Player p;
     p.end = end;
     p.id = end < 0 ? o.blue : o.red;
-    for (int k = 0; k < 4; ++k) p.phase[k] = 6.2832 * uni(rng), p.rate[k] = 1.0 + 2.5 * uni(rng);
-    for (double t = 0.5 + 2 * uni(rng); t < play;) {
-      const double on = 0.3 + 0.8 * uni(rng);
+    for (int k = 0; k < 4; ++k) p.phase[k] = 6.2832 * canonical(rng), p.rate[k] = 1.0 + 2.5 * canonical(rng);
+    for (double t = 0.5 + 2 * canonical(rng); t < play;) {
+      const double on = 0.3 + 0.8 * canonical(rng);
       p.lifts.push_back({t, t + on});
-      p.lift_height.push_back(o.hover_low + (o.hover_high - o.hover_low) * uni(rng));
-      t += on + on * (1 - o.hover_share) / o.hover_share * (0.5 + uni(rng));
+      p.lift_height.push_back(o.hover_low + (o.hover_high - o.hover_low) * canonical(rng));
+      t += on + on * (1 - o.hover_share) / o.hover_share * (0.5 + canonical(rng));
     }
     p.pace = o.speed / top_speed(p, std::max(play, 10.0), o.length, o.width);
     players.push_back(std::move(p));
@@ -372,17 +367,16 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
     // speckle pattern breaks up there) and in the blind columns on the left.
     cv::parallel_for_(cv::Range(0, cam.height), [&](const cv::Range& rows) {
       for (int v = rows.start; v < rows.end; ++v) {
-        // Distributions of the row's own: a normal distribution keeps a spare draw, which would
-        // carry into the next row of whatever chunk of rows this thread was given.
+        // The row's own normal draws: they keep a spare draw, which would carry into the next row
+        // of whatever chunk of rows this thread was given.
         std::mt19937_64 r = row_rng(o.seed, f, v, 1);
         StandardNormal noise;
-        const Uniform01 chance;
         const double* z = depth.ptr<double>(v);
         uint16_t* out = raw.ptr<uint16_t>(v);
         for (int u = 0; u < cam.width; ++u) {
           const uint16_t q = z[u] > 0 ? tracking::metres_to_raw(float(z[u])) : tracking::kNoDepth;
           const int noisy = q == tracking::kNoDepth ? q : int(std::lround(q + o.noise * noise(r)));
-          bool lost = u < o.blind_columns || chance(r) < o.holes;
+          bool lost = u < o.blind_columns || canonical(r) < o.holes;
           if (!lost && o.edge_dropout > 0) {
             double step = 0;
             for (auto [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
@@ -390,7 +384,7 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
               if (nu >= 0 && nv >= 0 && nu < cam.width && nv < cam.height)
                 step = std::max(step, std::fabs(depth.at<double>(nv, nu) - z[u]));
             }
-            lost = step > 0.03 && chance(r) < o.edge_dropout;
+            lost = step > 0.03 && canonical(r) < o.edge_dropout;
           }
           out[u] = lost ? tracking::kNoDepth : uint16_t(std::clamp(noisy, 0, 2047));
         }
@@ -398,8 +392,8 @@ std::vector<TruthFrame> write_depth_recording(const std::string& dir, const Dept
     });
     // The Kinect also loses whole patches (shiny spots).
     for (int k = 0; k < 4; ++k) {
-      const int radius = 2 + int(5 * uni(rng));
-      const cv::Point at{int(uni(rng) * cam.width), int(uni(rng) * cam.height)};  // braces: in order
+      const int radius = 2 + int(5 * canonical(rng));
+      const cv::Point at{int(canonical(rng) * cam.width), int(canonical(rng) * cam.height)};  // braces: in order
       cv::circle(raw, at, radius, cv::Scalar(tracking::kNoDepth), cv::FILLED);
     }
     if (colour) writer.rgb(t, bgr);
@@ -478,7 +472,6 @@ HatTruth film(const std::string& dir, const HatSceneOptions& o, Scene& scene) {
   std::filesystem::create_directories(dir);
   std::mt19937_64 rng(o.seed);
   StandardNormal gauss;
-  const Uniform01 uni;
   const double L = o.length, W = o.width, T = o.seconds;
   std::vector<Walker>& walkers = scene.walkers;
   for (const HatSceneOptions::Away& a : o.away) {
@@ -490,10 +483,10 @@ HatTruth film(const std::string& dir, const HatSceneOptions& o, Scene& scene) {
   // The camera, looking down from above the hall's centre, a little off and tilted.
   const double fx = (o.image_width / 2.0) / std::tan(o.horizontal_fov * M_PI / 360);
   const double cx = (o.image_width - 1) / 2.0, cy = (o.image_height - 1) / 2.0;
-  const double ta = 0.02 * (2 * uni(rng) - 1), tb = 0.02 * (2 * uni(rng) - 1);
+  const double ta = 0.02 * (2 * canonical(rng) - 1), tb = 0.02 * (2 * canonical(rng) - 1);
   const cv::Matx33d r = looking_down(ta, tb);  // field to camera
-  const double off_y = 0.2 * (2 * uni(rng) - 1);  // one draw a statement, as above
-  const double off_x = 0.2 * (2 * uni(rng) - 1);
+  const double off_y = 0.2 * (2 * canonical(rng) - 1);  // one draw a statement, as above
+  const double off_x = 0.2 * (2 * canonical(rng) - 1);
   const cv::Vec3d centre(off_x, off_y, o.height);
   const cv::Vec3d t = -(r * centre);
   auto project = [&](double x, double y, double z) {

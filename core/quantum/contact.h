@@ -244,13 +244,14 @@ struct Outcome {
 [[gnu::always_inline]] inline void flag_near_mouths(const Geometry& g, const float* __restrict ox, const float* __restrict oy,
                                                    const float* __restrict x, const float* __restrict y, int base, int m,
                                                    uint8_t* __restrict flag) {
-  // Unsigned indices: a signed one's overflow check is a second exit the vectorizer refuses.
+  // The block's ends by pointer: under UBSan, the overflow check on `base + j` was a second exit
+  // from the loop, and clang's vectorizer refused it.
   const float* __restrict end_x = x + base;
   const float* __restrict end_y = y + base;
   for (size_t k = 0; k < g.mx.size(); ++k) {
     const float cx = g.mx[k], cy = g.my[k], reach = g.mr[k] + 1e-3f;
     QUANTUM_INDEPENDENT_ITERATIONS
-    for (size_t j = 0; j < size_t(m); ++j) {
+    for (int j = 0; j < m; ++j) {
       const float travel = std::fabs(end_x[j] - ox[j]) + std::fabs(end_y[j] - oy[j]);
       const float qx = ox[j] - cx, qy = oy[j] - cy, around = reach + travel;
       flag[j] |= uint8_t(qx * qx + qy * qy < around * around);
