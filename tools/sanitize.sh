@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The reliability run (docs/reliability.md): builds build-sanitize with clang, the address and
 # undefined behaviour sanitizers on every target and the libFuzzer targets, then runs the CTest
-# suite there, fuzzers included (each for QUANTUM_FUZZ_SECONDS, 60 by default). The label `long`
-# runs in the optimized build only, unless `--all` is given (about 25 more minutes on two cores).
+# suite there, every label and the fuzzers included (each for QUANTUM_FUZZ_SECONDS, 60 by default).
+# Arguments go to ctest: `tools/sanitize.sh -LE long` leaves out the long tests while working.
 # Installs nothing itself: tools/setup.sh (run first by tools/test.sh) installs clang.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,6 +27,4 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_stack_use_after_retu
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan.supp"
 export ALSOFT_DRIVERS="${ALSOFT_DRIVERS:-null}"
-skip=(-LE long)
-if [ "${1:-}" = "--all" ]; then skip=(); fi
-ctest --test-dir "$dir" --output-on-failure -j"$(nproc)" "${skip[@]}"
+ctest --test-dir "$dir" --output-on-failure --timeout 600 -j"$(nproc)" "$@"
