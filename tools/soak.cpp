@@ -47,6 +47,21 @@ struct Figures {
   std::vector<std::string> problems;
 };
 
+// Under the address sanitizer resident memory is mostly its quarantine of freed blocks (up to
+// 256 MiB, filling over the run), so growth would measure that; LeakSanitizer checks for leaks
+// there instead, at exit.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kMemoryMeasured = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kMemoryMeasured = false;
+#else
+constexpr bool kMemoryMeasured = true;
+#endif
+#else
+constexpr bool kMemoryMeasured = true;
+#endif
+
 double resident_mib() {
   std::ifstream statm("/proc/self/statm");
   size_t pages = 0, resident = 0;
@@ -207,13 +222,14 @@ int main(int argc, char** argv) {
             << "soak: " << f.grants << " power-ups granted (" << f.refused << " refused), " << f.reloads
             << " reloads, " << f.rule_errors << " rule errors\n"
             << "soak: resident memory " << f.warm_mib << " MiB at " << so.warm << " s, at most " << f.most_mib
-            << " MiB after (growth " << growth << " MiB, bound " << so.most_growth << ")\n"
+            << " MiB after (growth " << growth << " MiB, bound " << so.most_growth
+            << (kMemoryMeasured ? ")\n" : "; not checked: the address sanitizer's quarantine)\n")
             << "soak: most particles " << f.most_particles << " (bound " << f.particle_bound << "), values not a number "
             << f.not_numbers << '\n'
             << "soak: longest time without a ball event " << f.longest_gap << " s (ending at " << f.gap_at
             << " s; bound " << so.longest_gap << ")\n";
   for (const std::string& p : f.problems) std::cout << "soak: problem: " << p << '\n';
-  const bool ok = growth <= so.most_growth && f.not_numbers == 0 && f.longest_gap <= so.longest_gap &&
+  const bool ok = (growth <= so.most_growth || !kMemoryMeasured) && f.not_numbers == 0 && f.longest_gap <= so.longest_gap &&
                   f.most_particles <= f.particle_bound &&
                   f.problems.empty() && f.rule_errors == 0;
   std::cout << (ok ? "soak: passed\n" : "soak: FAILED\n");
