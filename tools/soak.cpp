@@ -50,14 +50,8 @@ struct Figures {
 // Under the address sanitizer resident memory is mostly its quarantine of freed blocks (up to
 // 256 MiB, filling over the run), so growth would measure that; LeakSanitizer checks for leaks
 // there instead, at exit.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || (defined(__has_feature) && __has_feature(address_sanitizer))
 constexpr bool kMemoryMeasured = false;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kMemoryMeasured = false;
-#else
-constexpr bool kMemoryMeasured = true;
-#endif
 #else
 constexpr bool kMemoryMeasured = true;
 #endif
