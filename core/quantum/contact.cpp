@@ -338,14 +338,21 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
 
 namespace {
 
+// A particle's nearest contact so far (w, k, ax, ay) becomes (dt, c, nx, ny) if that comes sooner.
+[[gnu::always_inline]] inline void take_sooner(float dt, int32_t c, float nx, float ny, float& w, int32_t& k, float& ax,
+                                               float& ay) {
+  const bool sooner = dt < w;
+  w = sooner ? dt : w, k = sooner ? c : k, ax = sooner ? nx : ax, ay = sooner ? ny : ay;
+}
+
 // Particle i's contact becomes (dt, c, nx, ny) if that comes sooner. Every load comes before any
 // store: clang's vectorizer gives up on a loop that loads one array after storing to another.
 [[gnu::always_inline]] inline void keep_sooner(size_t i, float dt, int32_t c, float nx, float ny, float* __restrict when,
                                                int32_t* __restrict code, float* __restrict hnx, float* __restrict hny) {
-  const float w = when[i], ax = hnx[i], ay = hny[i];
-  const int32_t k = code[i];
-  const bool sooner = dt < w;
-  when[i] = sooner ? dt : w, code[i] = sooner ? c : k, hnx[i] = sooner ? nx : ax, hny[i] = sooner ? ny : ay;
+  float w = when[i], ax = hnx[i], ay = hny[i];
+  int32_t k = code[i];
+  take_sooner(dt, c, nx, ny, w, k, ax, ay);
+  when[i] = w, code[i] = k, hnx[i] = ax, hny[i] = ay;
 }
 
 // The walls k0 .. k0 + B - 1 against every particle, in one pass: each particle's nearest
@@ -372,8 +379,7 @@ void walls_block(const Geometry& g, size_t k0, const MoverBatch& b, size_t n, fl
     for (size_t j = 0; j < B; ++j) {
       float nx, ny;
       const float dt = wall_time(s[j], r, x[i], y[i], ux[i], uy[i], t1 - t[i], nx, ny);
-      const bool sooner = dt < w;
-      w = sooner ? dt : w, k = sooner ? c[j] : k, ax = sooner ? nx : ax, ay = sooner ? ny : ay;
+      take_sooner(dt, c[j], nx, ny, w, k, ax, ay);
     }
     when[i] = w, code[i] = k, hnx[i] = ax, hny[i] = ay;
   }
