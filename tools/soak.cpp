@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "session.h"
+#include "system/sanitizers.h"
 
 namespace fs = std::filesystem;
 using namespace quantum;
@@ -50,11 +51,7 @@ struct Figures {
 // Under the address sanitizer resident memory is mostly its quarantine of freed blocks (up to
 // 256 MiB, filling over the run), so growth would measure that; LeakSanitizer checks for leaks
 // there instead, at exit.
-#if defined(__SANITIZE_ADDRESS__) || (defined(__has_feature) && __has_feature(address_sanitizer))
-constexpr bool kMemoryMeasured = false;
-#else
-constexpr bool kMemoryMeasured = true;
-#endif
+constexpr bool kMemoryMeasured = !quantum::system::kAddressSanitized;
 
 double resident_mib() {
   std::ifstream statm("/proc/self/statm");

@@ -117,13 +117,10 @@ inline Finished play_out(lua::Sport& sport, double seconds = 40) {
 }
 
 // The bound on a frame's Lua CPU: the 20 ms budget, then at most one instruction or library call
-// that cannot be interrupted. Under the sanitizers that C work (copying, hashing a 30 MB string)
-// runs about twice as slow (54 ms seen once): the product's bound is checked in the optimized build.
-#ifdef QUANTUM_SANITIZED
-inline constexpr double kFrameBound = 0.1;
-#else
-inline constexpr double kFrameBound = 0.05;
-#endif
+// that cannot be interrupted. Under the address sanitizer both run about 2.5 times slower and the
+// budget is four times a frame's (lua::kCpuScale), and so is the bound; the product's is checked
+// in the optimized build.
+inline constexpr double kFrameBound = 0.05 * lua::kCpuScale;
 
 struct Attack {
   const char* name;

@@ -79,16 +79,17 @@ TEST(Sandbox, PrintGoesToStderrWithItsLineAndAFloodIsHeldBack) {
   EXPECT_EQ(lines[20], "print: more than 20 lines in one frame: the rest of this frame's are not shown");
 }
 
-// Loading is not a frame: a sport.lua that spends 40 ms of CPU loading (a frame has 20) loads,
-// and a grant before the first frame whose power-up's start spends 12 ms has a frame's budget
-// of its own (as a rule spec does: it grants, then runs).
+// Loading is not a frame: a sport.lua that spends twice a frame's CPU loading loads, and a grant
+// before the first frame whose power-up's start spends 60 % of a frame has a frame's budget of its
+// own (as a rule spec does: it grants, then runs).
 TEST(Sandbox, LoadingHasItsOwnBudgetAndLeavesTheFirstFramesWhole) {
-  const auto spend = [](int ms) {
-    return "local t = os.clock() while os.clock() - t < " + std::to_string(ms / 1000.0) + " do end";
+  const auto spend = [](double frames) {
+    return "local t = os.clock() while os.clock() - t < " + std::to_string(frames * lua::Limits{}.cpu_seconds) +
+           " do end";
   };
-  lua::Sport sport(hostile_sport("load_budget", "", spend(40),
+  lua::Sport sport(hostile_sport("load_budget", "", spend(2),
                                  "return { duration = 5, factor = function() return 1 end,\n"
-                                 "  start = function() " + spend(12) + " end }\n"));
+                                 "  start = function() " + spend(0.6) + " end }\n"));
   Played played(sport);
   EXPECT_NO_THROW(sport.grant(played.match, 0, "evil", {}));
   for (int frame = 0; frame < 30; ++frame) played.step();

@@ -177,7 +177,9 @@ TEST(Reload, AVersionThatLoadsLongerThanAFrameIsRefused) {
   const Rules r("slow_load");
   Running m(r);
   lua::Reloader reloader(*m.sport);
-  r.write(r.sport / "sport.lua", r.sport_ending_with("local t = os.clock() while os.clock() - t < 0.04 do end\n"));
+  const std::string twice_a_frame = std::to_string(2 * lua::Limits{}.cpu_seconds);
+  r.write(r.sport / "sport.lua",
+          r.sport_ending_with("local t = os.clock() while os.clock() - t < " + twice_a_frame + " do end\n"));
   std::ostringstream errors;
   EXPECT_EQ(poll_until_reloaded(reloader, m, errors), 0);
   EXPECT_NE(errors.str().find("reload failed"), std::string::npos) << errors.str();

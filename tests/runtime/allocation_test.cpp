@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "session.h"
+#include "system/sanitizers.h"
 
 namespace {
 
@@ -41,7 +42,7 @@ void count() {
 
 }  // namespace
 
-#if defined(__SANITIZE_ADDRESS__) || (defined(__has_feature) && __has_feature(address_sanitizer))
+#if QUANTUM_ADDRESS_SANITIZED
 // The address sanitizer owns malloc; it calls these hooks for every allocation instead.
 #include <sanitizer/allocator_interface.h>
 
