@@ -191,8 +191,9 @@ inline SegmentParams goal_line(const Geometry& g, size_t k) {
 [[gnu::always_inline]] inline bool body_may_meet(const BodyPath& b, float r, float x, float y, float ux, float uy,
                                                  float t0) {
   const float rr = b.radius + r, ts = std::max(t0, b.stop);
-  return circle_may_meet(x - body_x(b, t0), y - body_y(b, t0), ux - b.ux, uy - b.uy, rr) |
-         circle_may_meet(x + ux * (ts - t0) - body_x(b, ts), y + uy * (ts - t0) - body_y(b, ts), ux, uy, rr);
+  const bool moving = circle_may_meet(x - body_x(b, t0), y - body_y(b, t0), ux - b.ux, uy - b.uy, rr);
+  const bool held = circle_may_meet(x + ux * (ts - t0) - body_x(b, ts), y + uy * (ts - t0) - body_y(b, ts), ux, uy, rr);
+  return moving | held;  // both evaluated: no branch in the vectorized loops that call this
 }
 
 // --- Searches.

@@ -20,10 +20,10 @@ constexpr uint32_t kMaxRingSteps = 400;
 // through it), if it is still to come; kInf otherwise. Without gravity, the linear crossing.
 // Branch-free, for the batched search.
 [[gnu::always_inline]] inline float descent_time(float z0, float vz, float g, float level) {
-  const float linear = (vz < 0) & (z0 >= level) ? (z0 - level) / -vz : kInf;
+  const float linear = ((vz < 0) & (z0 >= level)) ? (z0 - level) / -vz : kInf;
   const float disc = vz * vz + 2 * g * (z0 - level);
   const float t = (vz + std::sqrt(std::max(disc, 0.0f))) / g;
-  const float falling = (disc >= 0) & (t >= 0) ? t : kInf;
+  const float falling = ((disc >= 0) & (t >= 0)) ? t : kInf;
   return g > 0 ? falling : linear;
 }
 
@@ -278,12 +278,12 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
   QUANTUM_INDEPENDENT_ITERATIONS
   for (size_t i = 0; i < n; ++i) {
     // A ball resting on the floor rolls: the floor holds gravity.
-    const float g = (vz[i] == 0) & (z[i] <= ground) ? 0.0f : gravity;
+    const float g = ((vz[i] == 0) & (z[i] <= ground)) ? 0.0f : gravity;
     gl[i] = g;
     when[i] = kInf, code[i] = -1, surface[i] = int32_t(Surface::Segment), item[i] = -1;
     hnx[i] = 0, hny[i] = 0, hnz[i] = 0;
     const float left = t1 - t[i];
-    const float down = (z[i] <= r) & (vz[i] < 0) ? 0.0f : descent_time(z[i], vz[i], g, r);
+    const float down = ((z[i] <= r) & (vz[i] < 0)) ? 0.0f : descent_time(z[i], vz[i], g, r);
     set(i, (g > 0) & (down <= left), down, floor_code, Surface::Floor, -1, 0, 0, 1);
     span[i] = std::min(left, when[i]);
   }
@@ -323,7 +323,7 @@ void batch_next_hits3(const Geometry& geo, const Sky& s, const BodyPath* bodies,
     for (size_t i = 0; i < n; ++i) {
       const float g = gl[i], d = span[i], ex = x[i] + ux[i] * d, ey = y[i] + uy[i] * d;
       const float end = z[i] + vz[i] * d - 0.5f * g * d * d;
-      const float peak = (g > 0) & (vz[i] > 0) & (vz[i] < g * d) ? z[i] + vz[i] * vz[i] / (2 * g) : std::max(z[i], end);
+      const float peak = ((g > 0) & (vz[i] > 0) & (vz[i] < g * d)) ? z[i] + vz[i] * vz[i] / (2 * g) : std::max(z[i], end);
       near[i] = int32_t((std::max(x[i], ex) >= ox0) & (std::min(x[i], ex) <= ox1) & (std::max(y[i], ey) >= oy0) &
                         (std::min(y[i], ey) <= oy1) & (peak >= oz0) & (std::min(z[i], end) <= oz1));
       any_near |= near[i];
