@@ -4,7 +4,9 @@
 #include <lua.hpp>
 #include <luajit.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -262,6 +264,55 @@ void BM_MatchFrame(benchmark::State& state) {
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
+// What reusing the last frame's traces could save at best (docs/PERFORMANCE.md, "Reusing traces
+// has a floor"). A particle is followed from one frame to the next at its index when its velocity
+// is the same (within friction) and it moved by a frame's flight, give or take 1 cm of Brownian
+// motion. A frame in which fewer than a tenth of the cloud is followed had its cloud rebuilt (a
+// shot, a heard bounce, a drop): every trace in it is new. `changed` is the share of the followed
+// particles of the other frames whose fate changed all the same; `must_trace`, the share of all
+// particles any reuse must trace again, counting every particle not followed in those frames
+// (met something, or took a removed particle's place) as reusable, which is generous.
+void BM_FateTurnover(benchmark::State& state) {
+  runtime::SessionOptions o = endless_match();
+  o.particles = uint32_t(state.range(0));
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors);
+  for (int frame = 0; frame < 120; ++frame) session.frame();
+  const float dt = float(1.0 / session.match().fps());
+  Cloud before;
+  std::vector<uint64_t> fate_before;
+  double particles = 0, rebuilt = 0, kept_particles = 0, followed = 0, changed = 0;
+  for (auto _ : state) {
+    session.frame();
+    const Cloud& now = session.match().world().cloud();
+    const FateReport& report = session.match().report();
+    double frame_followed = 0, frame_changed = 0;
+    for (size_t i = 0; i < std::min(now.size(), before.size()); ++i) {
+      const float speed = std::hypot(before.vx[i], before.vy[i]), slack = 0.02f * speed + 1e-3f;
+      const bool same = std::fabs(now.vx[i] - before.vx[i]) < slack && std::fabs(now.vy[i] - before.vy[i]) < slack &&
+                        std::hypot(now.x[i] - before.x[i] - before.vx[i] * dt, now.y[i] - before.y[i] - before.vy[i] * dt) < 0.01f;
+      if (!same) continue;
+      ++frame_followed;
+      frame_changed += report.groups[report.group_of[i]].fate.key() != fate_before[i];
+    }
+    particles += double(now.size());
+    if (frame_followed < 0.1 * double(now.size())) {
+      rebuilt += double(now.size());
+    } else {
+      kept_particles += double(now.size());
+      followed += frame_followed, changed += frame_changed;
+    }
+    before = now;
+    fate_before.resize(now.size());
+    for (size_t i = 0; i < now.size(); ++i) fate_before[i] = report.groups[report.group_of[i]].fate.key();
+  }
+  state.counters["rebuilt"] = rebuilt / particles;
+  state.counters["followed"] = followed / kept_particles;
+  state.counters["changed"] = changed / followed;
+  state.counters["must_trace"] = (rebuilt + kept_particles * changed / followed) / particles;
+  if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
+}
+
 // One frame of a match at the sport's 1000 particles during which the sport reloads, as in
 // `quantum play`: between two frames the reloader loads sport.lua again into a fresh sandbox
 // (with its field), hands the match to it, carries the state over, and loads the power-up in use
@@ -418,6 +469,7 @@ BENCHMARK(BM_FateReport3D)->Args({1'000, 1})->Args({100'000, 1})->Args({100'000,
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchFrame)->Args({100'000, 1})->Args({100'000, 2})->Iterations(300)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchFrame)->Args({1'000'000, 1})->Args({1'000'000, 2})->Iterations(120)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FateTurnover)->Arg(100'000)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RealTimePacing)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrameWithReload)->Iterations(200)->Unit(benchmark::kMillisecond);
