@@ -1,6 +1,6 @@
 // Whether this build runs under the address sanitizer: GCC defines __SANITIZE_ADDRESS__, clang
 // answers __has_feature. The sanitizer owns malloc, keeps freed blocks in a quarantine and runs
-// CPU work about 2.5 times slower, so what measures memory or CPU time asks here.
+// CPU work two to three times slower, so what measures memory or CPU time asks here.
 #pragma once
 
 #if defined(__SANITIZE_ADDRESS__)

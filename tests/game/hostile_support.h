@@ -117,7 +117,7 @@ inline Finished play_out(lua::Sport& sport, double seconds = 40) {
 }
 
 // The bound on a frame's Lua CPU: the 20 ms budget, then at most one instruction or library call
-// that cannot be interrupted. Under the address sanitizer both run about 2.5 times slower and the
+// that cannot be interrupted. Under the address sanitizer both run two to three times slower and the
 // budget is four times a frame's (lua::kCpuScale), and so is the bound; the product's is checked
 // in the optimized build.
 inline constexpr double kFrameBound = 0.05 * lua::kCpuScale;
@@ -133,7 +133,7 @@ struct Attack {
 // Every class of attack on the sandbox (docs/lua-api.md, "The sandbox"): the match is played to
 // its end, every goal counts, the first error names the script's file and line, and no frame's
 // Lua took more CPU than the bound (kFrameBound: 50 ms, the 20 ms budget then at most one library call or
-// instruction that cannot be interrupted).
+// instruction that cannot be interrupted; four times both under the address sanitizer).
 inline void expect_survived(const Attack& a) {
   SCOPED_TRACE(a.name);
   lua::Sport sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));

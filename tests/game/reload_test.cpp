@@ -172,7 +172,7 @@ TEST(Reload, AStateTooDeepOrTooLargeToCarryIsReportedAndTheMatchGoesOn) {
 }
 
 // A reload loads between two frames of a running match, so within a frame's budget: a version
-// that spends 40 ms loading is refused, named, and the old one goes on.
+// that spends twice a frame's CPU loading is refused, named, and the old one goes on.
 TEST(Reload, AVersionThatLoadsLongerThanAFrameIsRefused) {
   const Rules r("slow_load");
   Running m(r);
