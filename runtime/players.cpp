@@ -100,7 +100,7 @@ void TrackedPlayers::tell_dropped(double t) {
   if (dropped == told_ || t - told_at_ < kWarnEvery) return;
   if (warnings_)
     *warnings_ << "quantum: " << spec_ << ": " << dropped - told_ << " tracking value" << (dropped - told_ > 1 ? "s" : "")
-               << " dropped (not a number, not a sample, or a frame whose time is not; " << dropped
+               << " dropped (not a number, not a sample, not a whole OSC packet, or a frame whose time is not; " << dropped
                << " in all), the match goes on\n";
   told_ = dropped, told_at_ = t;
 }

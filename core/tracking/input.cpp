@@ -168,7 +168,8 @@ const Calibration* TrackingInput::calibration() const {
 }
 
 size_t TrackingInput::dropped() const {
-  return (impl_->recording ? impl_->recording->dropped() : 0) + (impl_->accel ? impl_->accel->dropped() : 0);
+  return (impl_->recording ? impl_->recording->dropped() : 0) + (impl_->accel ? impl_->accel->dropped() : 0) +
+         (impl_->tuio ? impl_->tuio->dropped() : 0);
 }
 
 std::string TrackingInput::sightings() { return impl_->depth ? impl_->depth->sightings() : ""; }

@@ -40,7 +40,8 @@ class TrackingInput {
   // arms), to tell an operator whose players are not found; "" when it has nothing to add.
   std::string sightings();
   // Frames of a recording dropped so far because they could not be placed in time (fakenect.h),
-  // and accelerometer samples that were not numbers or not samples.
+  // accelerometer samples that were not numbers or not samples, and TUIO packets that were not
+  // whole OSC packets.
   size_t dropped() const;
 
  private:

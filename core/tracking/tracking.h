@@ -338,6 +338,8 @@ class TuioSource {
   // nothing when none came.
   std::optional<TrackedFrame> next(double timeout);
   double silent() const;  // seconds since the last message (since opening, before the first)
+  // Packets dropped so far: not OSC, cut short, or refused by liblo. The match goes on.
+  size_t dropped() const;
 
   struct State;
 

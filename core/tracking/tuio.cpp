@@ -1,6 +1,10 @@
+#include <arpa/inet.h>
 #include <lo/lo.h>
+#include <poll.h>
+#include <sys/socket.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <map>
@@ -27,6 +31,30 @@ float float_arg(const lo_arg* a) {
 }
 const char* string_arg(const lo_arg* a) { return reinterpret_cast<const char*>(a); }
 
+// Bundles inside bundles deeper than this are not a tracker's: refused before liblo recurses.
+constexpr int kDeepestBundle = 8;
+
+// Whether liblo can take this packet apart without reading past its end. liblo 0.31 walks a
+// bundle's elements without checking their sizes against what is left, and compares 8 bytes of
+// each with "#bundle" before it looks at its size: a bundle ending in an element of 0 to 7 bytes,
+// or one claiming more than is left, is read past the packet (the TUIO fuzzer's crash). A message
+// (an OSC address, then its types and arguments) liblo checks itself.
+bool whole_packet(const uint8_t* p, size_t n, int depth = 0) {
+  if (n < 8 || n % 4 != 0) return false;  // the shortest message, "/\0\0\0,\0\0\0", is 8 bytes
+  if (std::memcmp(p, "#bundle", 8) != 0) return p[0] == '/';
+  if (n < 16 || depth >= kDeepestBundle) return false;  // "#bundle", then its 8-byte time tag
+  for (size_t at = 16; at < n;) {
+    if (n - at < 4) return false;
+    uint32_t size;
+    std::memcpy(&size, p + at, sizeof size);
+    size = ntohl(size);
+    at += 4;
+    if (size > n - at || !whole_packet(p + at, size, depth + 1)) return false;
+    at += size;
+  }
+  return true;
+}
+
 }  // namespace
 
 struct TuioSource::State {
@@ -42,6 +70,20 @@ struct TuioSource::State {
   std::map<int32_t, Touch> objects, cursors;  // by session id
   int frames = 0;
   bool complete = false;  // an fseq closed a frame since the last next()
+  size_t dropped = 0;     // packets that were not OSC, or that liblo refused
+  std::array<uint8_t, 65536> packet{};  // one UDP datagram at most
+
+  // Reads one datagram, waiting up to `timeout_ms`, and hands it to liblo if it is whole. False
+  // when none came.
+  bool receive(int timeout_ms) {
+    pollfd ready{lo_server_get_socket_fd(server), POLLIN, 0};
+    if (poll(&ready, 1, timeout_ms) <= 0) return false;
+    const ssize_t n = recv(ready.fd, packet.data(), packet.size(), MSG_DONTWAIT);
+    if (n < 0) return false;
+    if (!whole_packet(packet.data(), size_t(n)) || lo_server_dispatch_data(server, packet.data(), size_t(n)) < 0)
+      ++dropped;
+    return true;
+  }
 
   double seconds(Clock::time_point t) const { return std::chrono::duration<double>(t - *first).count(); }
 
@@ -121,6 +163,9 @@ TuioSource::TuioSource(int port, TrackedField field) : state_(std::make_unique<S
   if (port <= 0 || port > 65535) throw TrackingError("tuio: port " + std::to_string(port) + " is not a UDP port");
   state_->server = lo_server_new(std::to_string(port).c_str(), on_error);
   if (!state_->server) throw TrackingError("tuio: cannot listen on UDP port " + std::to_string(port));
+  // A bundle is played when it comes, whatever its time tag says: a far future one would
+  // otherwise wait in liblo's queue, and a sender could fill it.
+  lo_server_enable_queue(state_->server, 0, 1);
   lo_server_add_method(state_->server, "/tuio/2Dcur", nullptr, on_message, state_.get());
   lo_server_add_method(state_->server, "/tuio/2Dobj", nullptr, on_message, state_.get());
 }
@@ -128,6 +173,8 @@ TuioSource::TuioSource(int port, TrackedField field) : state_(std::make_unique<S
 TuioSource::~TuioSource() {
   if (state_->server) lo_server_free(state_->server);
 }
+
+size_t TuioSource::dropped() const { return state_->dropped; }
 
 double TuioSource::silent() const { return std::chrono::duration<double>(Clock::now() - state_->last).count(); }
 
@@ -137,7 +184,7 @@ std::optional<TrackedFrame> TuioSource::next(double timeout) {
   // Whatever is waiting is read even with no time to wait; then up to the timeout for more.
   while (!s.complete) {
     const int left = std::max(0, int(std::chrono::duration<double, std::milli>(until - Clock::now()).count()));
-    if (lo_server_recv_noblock(s.server, left) == 0 && left == 0) return std::nullopt;
+    if (!s.receive(left) && left == 0) return std::nullopt;
   }
   s.complete = false;
   s.assign_cursors();
