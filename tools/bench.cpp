@@ -16,6 +16,7 @@
 #include "session.h"
 #include "sport.h"
 #include "lua_sandbox.h"
+#include "quantum/noise.h"
 #include "quantum/world.h"
 #include "scenes.h"
 #include "synthetic.h"
@@ -265,51 +266,62 @@ void BM_MatchFrame(benchmark::State& state) {
 }
 
 // What reusing the last frame's traces could save at best (docs/PERFORMANCE.md, "Reusing traces
-// has a floor"). A particle is followed from one frame to the next at its index when its velocity
-// is the same (within friction) and it moved by a frame's flight, give or take 1 cm of Brownian
-// motion. A frame in which fewer than a tenth of the cloud is followed had its cloud rebuilt (a
-// shot, a heard bounce, a drop): every trace in it is new. `changed` is the share of the followed
-// particles of the other frames whose fate changed all the same; `must_trace`, the share of all
-// particles any reuse must trace again, counting every particle not followed in those frames
-// (met something, or took a removed particle's place) as reusable, which is generous.
+// has a floor"), on one thread. A particle is followed from one frame to the next at its index when
+// nothing happened to it: its velocity is the same (within friction) and it moved by a frame's
+// flight, give or take the step's Brownian offset (uniform, at most `amplitude` per axis). A frame
+// in which fewer than a tenth of the cloud is followed had its cloud rebuilt (a shot, a heard
+// bounce, a drop): every trace in it is new. Counters, as shares of all particles over the timed
+// frames: `rebuilt`; `followed`; `changed`, followed but with another fate than the last frame's;
+// and `must_trace`, rebuilt or changed: the floor of what any reuse must trace again, generous in
+// that it counts every particle not followed in the other frames (one that met something, or took
+// a removed particle's place) as reusable. The time is not a match frame's: it includes the
+// following.
 void BM_FateTurnover(benchmark::State& state) {
   runtime::SessionOptions o = endless_match();
   o.particles = uint32_t(state.range(0));
+  o.threads = 1;
   std::ostringstream errors;
   runtime::Session session(o, nullptr, errors);
   for (int frame = 0; frame < 120; ++frame) session.frame();
   const float dt = float(1.0 / session.match().fps());
-  Cloud before;
-  std::vector<uint64_t> fate_before;
-  double particles = 0, rebuilt = 0, kept_particles = 0, followed = 0, changed = 0;
+  const float amplitude = noise_amplitude(session.match().world().field().brownian, dt);
+  const auto fates_of = [&](std::vector<uint64_t>& keys) {
+    const FateReport& report = session.match().report();
+    keys.resize(report.group_of.size());
+    for (size_t i = 0; i < keys.size(); ++i) keys[i] = report.groups[report.group_of[i]].fate.key();
+  };
+  Cloud before = session.match().world().cloud();
+  std::vector<uint64_t> fate_before, fate_now;
+  fates_of(fate_before);
+  double particles = 0, rebuilt = 0, followed = 0, changed = 0;
   for (auto _ : state) {
     session.frame();
     const Cloud& now = session.match().world().cloud();
-    const FateReport& report = session.match().report();
+    fates_of(fate_now);
+    const auto moved_by_a_flight = [&](float p1, float p0, float v0) {
+      return std::fabs(p1 - p0 - v0 * dt) <= amplitude + 0.02f * std::fabs(v0) * dt + 1e-3f;
+    };
     double frame_followed = 0, frame_changed = 0;
     for (size_t i = 0; i < std::min(now.size(), before.size()); ++i) {
-      const float speed = std::hypot(before.vx[i], before.vy[i]), slack = 0.02f * speed + 1e-3f;
-      const bool same = std::fabs(now.vx[i] - before.vx[i]) < slack && std::fabs(now.vy[i] - before.vy[i]) < slack &&
-                        std::hypot(now.x[i] - before.x[i] - before.vx[i] * dt, now.y[i] - before.y[i] - before.vy[i] * dt) < 0.01f;
-      if (!same) continue;
-      ++frame_followed;
-      frame_changed += report.groups[report.group_of[i]].fate.key() != fate_before[i];
+      const float slack = 0.02f * std::hypot(before.vx[i], before.vy[i]) + 1e-3f;
+      if (std::fabs(now.vx[i] - before.vx[i]) < slack && std::fabs(now.vy[i] - before.vy[i]) < slack &&
+          moved_by_a_flight(now.x[i], before.x[i], before.vx[i]) && moved_by_a_flight(now.y[i], before.y[i], before.vy[i])) {
+        ++frame_followed;
+        frame_changed += fate_now[i] != fate_before[i];
+      }
     }
     particles += double(now.size());
-    if (frame_followed < 0.1 * double(now.size())) {
-      rebuilt += double(now.size());
-    } else {
-      kept_particles += double(now.size());
-      followed += frame_followed, changed += frame_changed;
-    }
+    if (frame_followed < 0.1 * double(now.size())) rebuilt += double(now.size());
+    else followed += frame_followed, changed += frame_changed;
     before = now;
-    fate_before.resize(now.size());
-    for (size_t i = 0; i < now.size(); ++i) fate_before[i] = report.groups[report.group_of[i]].fate.key();
+    std::swap(fate_before, fate_now);
   }
-  state.counters["rebuilt"] = rebuilt / particles;
-  state.counters["followed"] = followed / kept_particles;
-  state.counters["changed"] = changed / followed;
-  state.counters["must_trace"] = (rebuilt + kept_particles * changed / followed) / particles;
+  if (particles > 0) {
+    state.counters["rebuilt"] = rebuilt / particles;
+    state.counters["followed"] = followed / particles;
+    state.counters["changed"] = changed / particles;
+    state.counters["must_trace"] = (rebuilt + changed) / particles;
+  }
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
