@@ -1,5 +1,7 @@
 #include "lua_wrap.h"
 
+#include <string_view>
+
 namespace quantum::lua {
 
 // Upvalues of every wrapped function: 1 its display name ("game.say", "scenario:run"); 2 the
@@ -9,6 +11,12 @@ namespace quantum::lua {
 namespace wrap_detail {
 
 void push_error(lua_State* L, const char* message) {
+  // The match names its own calls for C++ callers ("award: ..."): after "game.award: " that
+  // would say the name twice.
+  const std::string_view name = lua_tostring(L, lua_upvalueindex(1)), text = message;
+  const std::string_view own = name.substr(name.find_last_of(".:") + 1);
+  if (text.size() > own.size() + 2 && text.starts_with(own) && text.substr(own.size(), 2) == ": ")
+    message += own.size() + 2;
   luaL_where(L, 1);
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_pushstring(L, ": ");
