@@ -293,14 +293,14 @@ void BM_FateTurnover(benchmark::State& state) {
   Cloud before = session.match().world().cloud();
   std::vector<uint64_t> fate_before, fate_now;
   fates_of(fate_before);
+  const auto moved_by_a_flight = [&](float p1, float p0, float v0) {
+    return std::fabs(p1 - p0 - v0 * dt) <= amplitude + 0.02f * std::fabs(v0) * dt + 1e-3f;
+  };
   double particles = 0, rebuilt = 0, followed = 0, changed = 0;
   for (auto _ : state) {
     session.frame();
     const Cloud& now = session.match().world().cloud();
     fates_of(fate_now);
-    const auto moved_by_a_flight = [&](float p1, float p0, float v0) {
-      return std::fabs(p1 - p0 - v0 * dt) <= amplitude + 0.02f * std::fabs(v0) * dt + 1e-3f;
-    };
     double frame_followed = 0, frame_changed = 0;
     for (size_t i = 0; i < std::min(now.size(), before.size()); ++i) {
       const float slack = 0.02f * std::hypot(before.vx[i], before.vy[i]) + 1e-3f;

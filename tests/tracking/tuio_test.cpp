@@ -13,7 +13,6 @@
 #include <limits>
 #include <sstream>
 #include <string>
-#include <string_view>
 #include <thread>
 
 #include "play.h"
@@ -132,40 +131,39 @@ TEST(Tuio, AnObjectIsThePlayerOfItsClass) {
   EXPECT_NEAR(f->players[0].y, 0.4, 1e-6);
 }
 
-// Packets liblo 0.31 would read past their end are dropped, counted, and the frame after them
-// still plays. The first is what the TUIO fuzzer found: a bundle ending in an empty element.
-TEST(Tuio, PacketsLibloWouldReadPastAreDroppedAndCounted) {
-  const int port = test_port() + 6;
-  tracking::TuioSource source(port, table());
-  const auto bytes = [](std::initializer_list<std::string_view> parts) {
-    std::string out;
-    for (std::string_view p : parts) out += p;
-    return out;
-  };
-  const std::string_view immediately("\0\0\0\0\0\0\0\1", 8), empty_message("/x\0\0,\0\0\0", 8);
-  const auto bundle_of = [&](const std::string& element) {
-    const uint32_t size = htonl(uint32_t(element.size()));
-    return bytes({std::string_view("#bundle\0", 8), immediately,
-                  std::string_view(reinterpret_cast<const char*>(&size), 4), element});
-  };
-  std::ifstream found(QUANTUM_SOURCE_DIR "/tests/fuzz/corpus/tuio/bundle_ending_in_an_empty_element.osc", std::ios::binary);
-  const std::string fuzzed((std::istreambuf_iterator<char>(found)), std::istreambuf_iterator<char>());
-  ASSERT_EQ(fuzzed.size(), 96u);
-  std::string too_deep(empty_message);
-  for (int level = 0; level < 9; ++level) too_deep = bundle_of(too_deep);
-  std::string claims_more = bundle_of(std::string(empty_message));
-  claims_more[19] = 64;  // its element's size: 64 bytes, of the 8 there are
-  const std::string packets[] = {fuzzed, claims_more, "/tuio/", too_deep};
-
+// One datagram, byte for byte, to a TUIO port: packets liblo's own senders never make.
+void send_raw(int port, const std::string& bytes) {
   const int out = socket(AF_INET, SOCK_DGRAM, 0);
   ASSERT_GE(out, 0);
   sockaddr_in to{};
   to.sin_family = AF_INET;
   to.sin_port = htons(uint16_t(port));
   to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  for (const std::string& p : packets)
-    ASSERT_EQ(sendto(out, p.data(), p.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to), ssize_t(p.size()));
+  EXPECT_EQ(sendto(out, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to),
+            ssize_t(bytes.size()));
   close(out);
+}
+
+// An OSC bundle to be played at once, holding `element`.
+std::string bundle_of(const std::string& element) {
+  const uint32_t size = htonl(uint32_t(element.size()));
+  return std::string("#bundle\0\0\0\0\0\0\0\0\1", 16) + std::string(reinterpret_cast<const char*>(&size), 4) + element;
+}
+
+// Packets liblo 0.31 would read past their end are dropped, counted, and the frame after them
+// still plays. The first is what the TUIO fuzzer found: a bundle ending in an empty element.
+TEST(Tuio, PacketsLibloWouldReadPastAreDroppedAndCounted) {
+  const int port = test_port() + 6;
+  tracking::TuioSource source(port, table());
+  const std::string empty_message("/x\0\0,\0\0\0", 8);
+  std::ifstream found(QUANTUM_SOURCE_DIR "/tests/fuzz/corpus/tuio/bundle_ending_in_an_empty_element.osc", std::ios::binary);
+  const std::string fuzzed((std::istreambuf_iterator<char>(found)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(fuzzed.size(), 96u);
+  std::string too_deep = empty_message;
+  for (int level = 0; level < 9; ++level) too_deep = bundle_of(too_deep);
+  std::string claims_more = bundle_of(empty_message);
+  claims_more[19] = 64;  // its element's size: 64 bytes, of the 8 there are
+  for (const std::string& p : {fuzzed, claims_more, std::string("/tuio/"), too_deep}) send_raw(port, p);
   Sender send;
   lo_address_free(send.to);
   send.to = lo_address_new("127.0.0.1", std::to_string(port).c_str());
@@ -177,12 +175,9 @@ TEST(Tuio, PacketsLibloWouldReadPastAreDroppedAndCounted) {
   EXPECT_EQ(source.dropped(), 4u);
 
   // Eight bundles deep, the same message is whole: read, and not counted.
-  std::string nested(empty_message);
+  std::string nested = empty_message;
   for (int level = 0; level < 8; ++level) nested = bundle_of(nested);
-  const int again = socket(AF_INET, SOCK_DGRAM, 0);
-  ASSERT_EQ(sendto(again, nested.data(), nested.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to),
-            ssize_t(nested.size()));
-  close(again);
+  send_raw(port, nested);
   send.cursors({{{7, 0.5f, 0.5f}}});
   ASSERT_TRUE(source.next(1.0));
   EXPECT_EQ(source.dropped(), 4u);
