@@ -269,7 +269,6 @@ void Geometry::set_wormholes(const std::vector<Wormhole>& wormholes) {
 void MoverBatch::resize(size_t n) {
   for (auto* v : {&x, &y, &ux, &uy, &vx, &vy, &t, &when, &hnx, &hny}) v->resize(n);
   code.resize(n);
-  cap.resize(n);
   maybe.resize(n + 8);  // collect_flagged reads whole words of eight
   marked.resize(n);
 }
@@ -394,13 +393,12 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
   float* __restrict hnx = b.hnx.data();
   float* __restrict hny = b.hny.data();
   int32_t* __restrict code = b.code.data();
-  int16_t* __restrict cap = b.cap.data();
   const float* __restrict x = b.x.data();
   const float* __restrict y = b.y.data();
   const float* __restrict ux = b.ux.data();
   const float* __restrict uy = b.uy.data();
   const float* __restrict t = b.t.data();
-  for (size_t i = 0; i < n; ++i) when[i] = kInf, code[i] = -1, cap[i] = -1, hnx[i] = 0, hny[i] = 0;
+  for (size_t i = 0; i < n; ++i) when[i] = kInf, code[i] = -1, hnx[i] = 0, hny[i] = 0;
   const float r = g.r;
   size_t k = 0;
   for (; k + 4 <= g.ax.size(); k += 4) walls_block<4>(g, k, b, n, t1, when, code, hnx, hny);
@@ -423,8 +421,13 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
       const size_t i = size_t(marked[j]);
       const float qx = x[i] - px, qy = y[i] - py;
       const float dt = circle_time(qx, qy, ux[i], uy[i], r, t1 - t[i]);
-      const float hx = qx + ux[i] * dt, hy = qy + uy[i] * dt;
-      if (dt < when[i] && hx * hx + hy * hy > 0) when[i] = dt, code[i] = c, cap[i] = int16_t(k);
+      const float hx = qx + ux[i] * dt, hy = qy + uy[i] * dt, ll = hx * hx + hy * hy;
+      if (!(dt < when[i] && ll > 0)) continue;
+      // The normal (a square root and two divisions) only for a nearer contact among the few
+      // marked paths, never in the vectorized loops for every candidate: in a match's frame that
+      // was a third of its time (docs/PERFORMANCE.md).
+      const float l = std::sqrt(ll);
+      when[i] = dt, code[i] = c, hnx[i] = hx / l, hny[i] = hy / l;
     }
   }
   for (size_t k = 0; k < g.gax.size(); ++k) {
@@ -465,26 +468,11 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     for (int j = 0; j < m; ++j) {
       const size_t i = size_t(marked[j]);
       const float dt = body_time(body, r, x[i], y[i], ux[i], uy[i], t[i], t1);
-      if (dt < when[i]) when[i] = dt, code[i] = c;
-    }
-  }
-  // The normals at end points and bodies take a square root and two divisions each: computed
-  // here for the one contact a particle meets first, not in the loops for every candidate (in a
-  // match's frame that was a third of its time: docs/PERFORMANCE.md).
-  for (size_t i = 0; i < n; ++i) {
-    const HitKind kind = code_kind(code[i]);
-    if (kind == HitKind::Body) {
-      const BodyPath& body = bodies[code_index(code[i])];
-      const float dt = when[i];
+      if (!(dt < when[i])) continue;
       const float hx = x[i] + ux[i] * dt - body_x(body, t[i] + dt), hy = y[i] + uy[i] * dt - body_y(body, t[i] + dt);
       const float l = norm(hx, hy);
       const bool centre = !(l > 0);  // dead centre: any direction is as good
-      hnx[i] = centre ? 1.0f : hx / l, hny[i] = centre ? 0.0f : hy / l;
-    } else if (kind == HitKind::Wall && cap[i] >= 0) {
-      const size_t k = size_t(cap[i]);
-      const float dt = when[i];
-      const float hx = x[i] - g.cap_x[k] + ux[i] * dt, hy = y[i] - g.cap_y[k] + uy[i] * dt, l = norm(hx, hy);
-      hnx[i] = hx / l, hny[i] = hy / l;
+      when[i] = dt, code[i] = c, hnx[i] = centre ? 1.0f : hx / l, hny[i] = centre ? 0.0f : hy / l;
     }
   }
 }

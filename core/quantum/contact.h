@@ -216,7 +216,6 @@ struct MoverBatch {
   std::vector<float> x, y, ux, uy, vx, vy, t;
   std::vector<float> when, hnx, hny;  // the search's answer: time from t, normal
   std::vector<int32_t> code;          // kind << 16 | index, or -1 for none
-  std::vector<int16_t> cap;           // a wall contact at an end point: which one (else -1)
   std::vector<uint8_t> maybe;         // scratch: particles an end point may meet...
   std::vector<int16_t> marked;        // ...and their indices
   void resize(size_t n);
