@@ -193,6 +193,7 @@ void BM_FateReport(benchmark::State& state) {
     benchmark::DoNotOptimize(report.groups.data());
   }
   state.counters["particles"] = double(world.cloud().size());
+  state.counters["groups"] = double(report.groups.size());
 }
 
 // The memory-bandwidth limit of a step: a plain streaming pass over the arrays the step's fast

@@ -157,10 +157,11 @@ bool meets_nothing(const detail::Geometry& g, const detail::BodyPath* bodies, in
   return true;
 }
 
-// The fates of a whole cloud, traced chunk by chunk. Chunks are independent (each writes the
-// fates of its own particles), so two threads share them out: each takes the next chunk from
-// `next` until none is left, with its own pair of scratch flights. Which thread traces a chunk
-// changes nothing in it, so the report is the same on one thread or two.
+// The fates of a whole cloud, traced and grouped chunk by chunk. Chunks are independent (each
+// writes only its own particles' places in `group_of` and its own ChunkGroups), so two threads
+// share them out: each takes the next chunk from `next` until none is left, with its own pair of
+// scratch flights and its own ChunkGrouping. Which thread takes a chunk changes nothing in it,
+// so the report is the same on one thread or two.
 template <class FlightT>
 struct FateJob {
   const detail::Geometry& g;
@@ -171,20 +172,46 @@ struct FateJob {
   const Cloud& c;
   const NextStep& next_step;
   float horizon;
-  std::vector<Fate>& fates;
   FlightT* scratch;                // two pairs: flying and later for each thread
+  ChunkGrouping* grouping;         // one for each thread
+  ChunkGroups* chunks;             // one for each chunk
+  uint32_t* group_of;              // the particle's group within its chunk, until the merge
   std::atomic<size_t> next{0};     // the first particle of the next chunk to trace
-  std::atomic<int> threads{0};     // which pair of scratch a thread takes
+  std::atomic<int> threads{0};     // which scratch a thread takes
 };
+
+// The fates of chunk [begin, end) into its groups, in order of first appearance: each particle's
+// place among them goes to group_of, the groups to the end of this thread's `found`.
+template <class FlightT>
+void group_chunk(FateJob<FlightT>& job, int thread, size_t begin, size_t end) {
+  ChunkGrouping& mine = job.grouping[thread];
+  ChunkGroups& chunk = job.chunks[begin / FlightT::kChunk];
+  chunk = {uint32_t(thread), uint32_t(mine.found.size()), 0};
+  mine.index.clear();
+  const Cloud& c = job.c;
+  for (size_t i = begin; i < end; ++i) {
+    const Fate& f = mine.fates[i - begin];
+    const uint64_t key = f.key();
+    const uint32_t k = mine.index.find_or_add(key, chunk.count);
+    if (k == chunk.count) mine.found.push_back({f, key, 0, 0, c.w[i], 0, uint32_t(i)}), ++chunk.count;
+    ChunkGrouping::Found& group = mine.found[chunk.first + k];
+    group.mass += c.w[i];
+    group.tweaked_mass += c.tw[i];
+    ++group.count;
+    if (c.w[i] > group.heaviest) group.heaviest = c.w[i], group.representative = uint32_t(i);
+    job.group_of[i] = k;
+  }
+}
 
 // Fates on a flat field: each round searches all still-flying particles of a chunk at once
 // (vectorized), then moves each to its contact. The first `drift_end` seconds run with the next
 // step's drift (see NextStep), the rest without.
 void trace_fates(FateJob<Flight>& job) {
   constexpr size_t kChunk = Flight::kChunk;
-  const int pair = job.threads.fetch_add(1);
-  Flight& flying = job.scratch[2 * pair];
-  Flight& later = job.scratch[2 * pair + 1];
+  const int thread = job.threads.fetch_add(1);
+  Flight& flying = job.scratch[2 * thread];
+  Flight& later = job.scratch[2 * thread + 1];
+  Fate* fates = job.grouping[thread].fates.data();
   const detail::Geometry& g = job.g;
   const detail::BodyPath* bodies = job.bodies;
   const int nb = job.nb;
@@ -192,13 +219,16 @@ void trace_fates(FateJob<Flight>& job) {
   const NextStep& next = job.next_step;
   const float horizon = job.horizon, drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
   for (size_t begin; (begin = job.next.fetch_add(kChunk)) < c.size();) {
+    const size_t end_of_chunk = std::min(begin + kChunk, c.size());
     flying.n = later.n = 0;
-    for (size_t i = begin; i < std::min(begin + kChunk, c.size()); ++i) {
+    std::fill(fates, fates + (end_of_chunk - begin), Fate{});
+    for (size_t i = begin; i < end_of_chunk; ++i) {
       const detail::Mover m = start_of(c, i, next);
+      const uint32_t place = uint32_t(i - begin);
       if (drift_end < horizon && meets_nothing(g, bodies, nb, m, drift_end))
-        later.push({m.x + m.ux * drift_end, m.y + m.uy * drift_end, m.vx, m.vy, m.vx, m.vy}, drift_end, uint32_t(i), 0);
+        later.push({m.x + m.ux * drift_end, m.y + m.uy * drift_end, m.vx, m.vy, m.vx, m.vy}, drift_end, place, 0);
       else
-        flying.push(m, 0, uint32_t(i), 0);
+        flying.push(m, 0, place, 0);
     }
     for (float end = drift_end;; end = horizon) {
       while (flying.n > 0) {
@@ -215,7 +245,7 @@ void trace_fates(FateJob<Flight>& job) {
                        flying.id[j], flying.contacts[j]);
             continue;
           }
-          Fate& f = job.fates[flying.id[j]];
+          Fate& f = fates[flying.id[j]];
           const int index = detail::code_index(b.code[j]);
           if (ends_at(f, kind, index, job.ends)) continue;
           if (kind == detail::HitKind::Wall) add_to_path(f, index);  // a wormhole is no wall
@@ -230,23 +260,27 @@ void trace_fates(FateJob<Flight>& job) {
       if (end == horizon) break;
       std::swap(flying, later);
     }
+    group_chunk(job, thread, begin, end_of_chunk);
   }
 }
 
 // trace_fates on a field with height: the same rounds over a chunk, with the batched 3D search.
 void trace_fates3(FateJob<Flight3>& job) {
   constexpr size_t kChunk = Flight3::kChunk;
-  const int pair = job.threads.fetch_add(1);
-  Flight3& flying = job.scratch[2 * pair];
-  Flight3& later = job.scratch[2 * pair + 1];
+  const int thread = job.threads.fetch_add(1);
+  Flight3& flying = job.scratch[2 * thread];
+  Flight3& later = job.scratch[2 * thread + 1];
+  Fate* fates = job.grouping[thread].fates.data();
   const detail::Sky& sky = job.sky;
   const float horizon = job.horizon, dt = job.next_step.dt, drift_end = dt > 0 && dt < horizon ? dt : horizon;
   for (size_t begin; (begin = job.next.fetch_add(kChunk)) < job.c.size();) {
+    const size_t end_of_chunk = std::min(begin + kChunk, job.c.size());
     Flight3* fly = &flying;
     Flight3* land = &later;  // the drift's end, where the flight goes on without noise
     fly->n = land->n = 0;
-    for (size_t i = begin; i < std::min(begin + kChunk, job.c.size()); ++i)
-      fly->push(start_of3(job.c, i, job.next_step), 0, uint32_t(i), 0);
+    std::fill(fates, fates + (end_of_chunk - begin), Fate{});
+    for (size_t i = begin; i < end_of_chunk; ++i)
+      fly->push(start_of3(job.c, i, job.next_step), 0, uint32_t(i - begin), 0);
     for (float end = drift_end;; end = horizon) {
       while (fly->n > 0) {
         detail::Mover3Batch& b = fly->b;
@@ -262,7 +296,7 @@ void trace_fates3(FateJob<Flight3>& job) {
             land->push(m, end, fly->id[j], fly->contacts[j]);
             continue;
           }
-          Fate& f = job.fates[fly->id[j]];
+          Fate& f = fates[fly->id[j]];
           if (ends_at(f, hit.kind, hit.index, job.ends)) continue;
           if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);
           const uint8_t touched = uint8_t(fly->contacts[j] + 1);
@@ -276,6 +310,7 @@ void trace_fates3(FateJob<Flight3>& job) {
       if (end == horizon) break;
       std::swap(fly, land);
     }
+    group_chunk(job, thread, begin, end_of_chunk);
   }
 }
 
@@ -426,31 +461,53 @@ void World::predict(FateReport& report, float horizon) const {
   report.cloud_version = version_;
   report.groups.clear();
   report.group_of.resize(cloud_.size());
-  s.fates.assign(cloud_.size(), Fate{});
+  const size_t chunk = Flight::kChunk;
+  static_assert(Flight::kChunk == Flight3::kChunk, "both reports merge chunks of one size");
+  s.chunks.resize((cloud_.size() + chunk - 1) / chunk);
+  for (ChunkGrouping& grouping : s.grouping) grouping.found.clear();
   const Endings ends{s.body_kind.data(), s.own_goal.data()};
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
   // A few chunks are not worth waking a second thread for.
-  const bool shared = config_.threads > 1 && cloud_.size() > 4 * Flight::kChunk;
+  const bool shared = config_.threads > 1 && cloud_.size() > 4 * chunk;
   const auto run = [&](auto& job, void (*trace)(void*)) { shared ? s.helper.together(trace, &job) : trace(&job); };
   const int nb = int(s.predicted_bodies.size());
+  uint32_t* group_of = report.group_of.data();
   if (cloud_.tall()) {
-    FateJob<Flight3> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, horizon, s.fates, s.flights3.data()};
+    FateJob<Flight3> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, horizon,
+                         s.flights3.data(), s.grouping, s.chunks.data(), group_of};
     run(job, [](void* j) { trace_fates3(*static_cast<FateJob<Flight3>*>(j)); });
   } else {
-    FateJob<Flight> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, flight(horizon), s.fates, s.flights.data()};
+    FateJob<Flight> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, flight(horizon),
+                        s.flights.data(), s.grouping, s.chunks.data(), group_of};
     run(job, [](void* j) { trace_fates(*static_cast<FateJob<Flight>*>(j)); });
   }
+  // The chunks' groups, merged in the cloud's order: the report's groups come in order of first
+  // appearance and each keeps its first heaviest particle, as one pass over the cloud would give.
+  // A group's mass is summed chunk by chunk, so it is the same whichever thread traced what.
   s.index.clear();
-  for (size_t i = 0; i < cloud_.size(); ++i) {
-    const Fate& f = s.fates[i];
-    const uint32_t k = s.index.find_or_add(f.key(), uint32_t(report.groups.size()));
-    if (k == report.groups.size()) report.groups.push_back({f, 0, 0, 0, uint32_t(i)});
-    FateGroup& group = report.groups[k];
-    group.mass += cloud_.w[i];
-    group.tweaked_mass += cloud_.tw[i];
-    ++group.count;
-    if (cloud_.w[i] > cloud_.w[group.representative]) group.representative = uint32_t(i);
-    report.group_of[i] = k;
+  s.heaviest.clear();
+  for (ChunkGrouping& grouping : s.grouping) grouping.merged.resize(grouping.found.size());
+  for (const ChunkGroups& part : s.chunks) {
+    ChunkGrouping& from = s.grouping[part.thread];
+    for (uint32_t j = part.first; j < part.first + part.count; ++j) {
+      const ChunkGrouping::Found& found = from.found[j];
+      const uint32_t k = s.index.find_or_add(found.key, uint32_t(report.groups.size()));
+      if (k == report.groups.size()) {
+        report.groups.push_back({found.fate, 0, 0, 0, found.representative});
+        s.heaviest.push_back(found.heaviest);
+      }
+      FateGroup& group = report.groups[k];
+      group.mass += found.mass;
+      group.tweaked_mass += found.tweaked_mass;
+      group.count += found.count;
+      if (found.heaviest > s.heaviest[k]) s.heaviest[k] = found.heaviest, group.representative = found.representative;
+      from.merged[j] = k;
+    }
+  }
+  for (size_t c = 0; c < s.chunks.size(); ++c) {
+    const ChunkGroups& part = s.chunks[c];
+    const uint32_t* merged = s.grouping[part.thread].merged.data() + part.first;
+    for (size_t i = c * chunk; i < std::min((c + 1) * chunk, cloud_.size()); ++i) group_of[i] = merged[group_of[i]];
   }
   for (FateGroup& group : report.groups) {
     group.mass /= cloud_.mass;

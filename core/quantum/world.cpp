@@ -62,10 +62,10 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
   for (PurgatorySlot& slot : purgatory_)
     slot.touched.reserve(config_.particles, tall), slot.body.reserve(config_.particles);
   cloud_.reserve(config_.particles, tall);
-  // A prediction's fates, one a particle: the cloud starts as one particle at a drop and grows
-  // past N for a while after a realized contact (the gathered shot before the split), so room made
-  // as it came would be made in the first frame it is fuller than ever.
-  internals_->fates.reserve(2 * size_t(config_.particles));
+  // A prediction's chunks: the cloud starts as one particle at a drop and grows past N for a
+  // while after a realized contact (the gathered shot before the split), so room made as it came
+  // would be made in the first frame it is fuller than ever.
+  internals_->chunks.reserve(2 * size_t(config_.particles) / Flight::kChunk + 1);
   // Twice the cloud: a realized contact gathers the body's touched particles from every purgatory
   // slot, which after a hard hit can be more than one cloud's worth.
   scratch_.reserve(2 * size_t(config_.particles), tall);

@@ -88,9 +88,35 @@ struct GroupIndex {
   uint32_t find_or_add(uint64_t key, uint32_t fresh);
 };
 
+// One prediction thread's fates and groups. A chunk's fates live here while it is traced (20 KiB:
+// they stay in L1/L2, where a cloud-long array was a cache miss per contact); then the chunk is
+// grouped here, so the report's serial part only merges each chunk's few groups.
+struct ChunkGrouping {
+  // Room for a busy frame's groups, so the first frames of a match do not allocate here.
+  ChunkGrouping() : fates(Flight::kChunk) { found.reserve(4096), merged.reserve(4096); }
+  std::vector<Fate> fates;          // the chunk being traced, by place in the chunk
+  GroupIndex index;                 // the chunk's groups by key
+  // A chunk's group: what the merge needs without reaching back into the cloud.
+  struct Found {
+    Fate fate;
+    uint64_t key;
+    double mass, tweaked_mass, heaviest;  // heaviest: the representative's weight
+    uint32_t count, representative;
+  };
+  std::vector<Found> found;         // every chunk's groups this thread grouped, chunk after chunk
+  std::vector<uint32_t> merged;     // each of those groups' place in the report, set by the merge
+};
+
+// Where a chunk's groups are: which thread's ChunkGrouping, from where, how many.
+struct ChunkGroups {
+  uint32_t thread = 0, first = 0, count = 0;
+};
+
 struct WorldInternals {
   explicit WorldInternals(const Field& field)
-      : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky), flights(field.has_height() ? 0 : 4), flights3(field.has_height() ? 4 : 0) {}
+      : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky), flights(field.has_height() ? 0 : 4), flights3(field.has_height() ? 4 : 0) {
+    heaviest.reserve(512);
+  }
   detail::Geometry geometry;
   detail::Sky sky;
   detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
@@ -101,12 +127,14 @@ struct WorldInternals {
   // Prediction's scratch.
   std::vector<detail::BodyPath> predicted_bodies;
   std::vector<uint8_t> body_kind, own_goal;
-  std::vector<Fate> fates;
   // Flying and later, for each of two threads: flat fields use flights, fields with height flights3.
   std::vector<Flight> flights;
   std::vector<Flight3> flights3;
-  detail::HelperThread helper;    // shares the prediction's chunks
-  GroupIndex index;
+  ChunkGrouping grouping[2];          // one per thread
+  std::vector<ChunkGroups> chunks;    // per chunk of the cloud
+  detail::HelperThread helper;        // shares the prediction's chunks
+  GroupIndex index;                   // the report's groups by key, for the merge
+  std::vector<double> heaviest;       // the weight of each report group's representative
 };
 
 }  // namespace quantum
