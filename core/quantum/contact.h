@@ -230,9 +230,37 @@ inline int code_index(int32_t code) { return code & 0xFFFF; }
 // next_hit for particles [0, n) of the batch, each from its own b.t up to t1.
 void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, MoverBatch& b, size_t n, float t1);
 
-// Applies a contact found by a search to m, already moved to the contact time t.
-void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index, float nx, float ny, float t,
-             Mover& m);
+// A resolved contact leaves the ball this far outside the surface, so rounding never puts it
+// back inside.
+constexpr float kSkin = 2e-6f;
+
+// Applies a contact found by a search to m, already moved to the contact time t. Inline: the
+// prediction resolves every particle's every contact, most of them walls.
+inline void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index, float nx, float ny, float t,
+             Mover& m) {
+  if (kind == HitKind::Wall) {
+    const float un = m.ux * nx + m.uy * ny, vn = m.vx * nx + m.vy * ny;
+    if (un < 0) m.ux -= (1 + g.e_wall) * un * nx, m.uy -= (1 + g.e_wall) * un * ny;
+    if (vn < 0) m.vx -= (1 + g.e_wall) * vn * nx, m.vy -= (1 + g.e_wall) * vn * ny;
+    m.x += kSkin * nx, m.y += kSkin * ny;
+  } else if (kind == HitKind::Wormhole) {
+    // Out of the other mouth at the same offset, a hair inside it so it is not entering it.
+    const int to = index ^ 1;
+    const float s = 1 - 1e-4f;
+    m.x = g.mx[size_t(to)] + (m.x - g.mx[size_t(index)]) * s;
+    m.y = g.my[size_t(to)] + (m.y - g.my[size_t(index)]) * s;
+  } else if (kind == HitKind::Body) {
+    // A mallet is far heavier than a puck: the ball takes the body's velocity along the normal.
+    const BodyPath& b = bodies[index];
+    const bool moving = t < b.stop;
+    const float bvx = moving ? b.vx : 0, bvy = moving ? b.vy : 0;
+    const float rn = (m.vx - bvx) * nx + (m.vy - bvy) * ny;
+    if (rn < 0) m.vx -= (1 + g.e_body) * rn * nx, m.vy -= (1 + g.e_body) * rn * ny;
+    m.ux = m.vx, m.uy = m.vy;  // the rest of this step's Brownian drift is spent in the contact
+    const float reach = b.radius + g.r + kSkin;
+    m.x = body_x(b, t) + nx * reach, m.y = body_y(b, t) + ny * reach;
+  }
+}
 
 struct Outcome {
   HitKind kind;  // None, Body, Goal, Out or Crushed

@@ -6,8 +6,6 @@
 namespace quantum::detail {
 namespace {
 
-// A resolved contact leaves the ball this far off the surface, so rounding never puts it back.
-constexpr float kSkin = 2e-6f;
 // The ring search stops this close to the rod: a thousandth of a millimetre, below the skin a
 // bounce leaves, so a ball that just bounced off the rod is not touching it. The step and the
 // prediction reach the rod from different starts: the tighter this, the closer their contacts.
