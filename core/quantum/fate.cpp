@@ -467,8 +467,8 @@ void World::predict(FateReport& report, float horizon) const {
   for (ChunkGrouping& grouping : s.grouping) grouping.found.clear();
   const Endings ends{s.body_kind.data(), s.own_goal.data()};
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
-  // A few chunks are not worth waking a second thread for.
-  const bool shared = config_.threads > 1 && cloud_.size() > 4 * chunk;
+  // One chunk is not worth waking a second thread for.
+  const bool shared = config_.threads > 1 && cloud_.size() > chunk;
   const auto run = [&](auto& job, void (*trace)(void*)) { shared ? s.helper.together(trace, &job) : trace(&job); };
   const int nb = int(s.predicted_bodies.size());
   uint32_t* group_of = report.group_of.data();

@@ -155,7 +155,9 @@ TEST(Fate, ALargeCloudIsPredictedTheSameOnOneThreadOrTwo) {
     for (size_t g = 0; g < one.groups.size(); ++g) {
       EXPECT_EQ(r.groups[g].fate.key(), one.groups[g].fate.key());
       EXPECT_EQ(r.groups[g].mass, one.groups[g].mass);
+      EXPECT_EQ(r.groups[g].tweaked_mass, one.groups[g].tweaked_mass);
       EXPECT_EQ(r.groups[g].count, one.groups[g].count);
+      EXPECT_EQ(r.groups[g].representative, one.groups[g].representative);
     }
   }
 }
