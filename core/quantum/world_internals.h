@@ -91,9 +91,9 @@ struct GroupIndex {
   uint32_t find_or_add(uint64_t key, uint32_t fresh);
 };
 
-// One prediction thread's fates and groups. A chunk's fates live here while it is traced (20 KiB:
-// they stay in L1/L2, where a cloud-long array was a cache miss per contact); then the chunk is
-// grouped here, so the report's serial part only merges each chunk's few groups.
+// One prediction thread's fates and groups. A chunk's fates live here while it is traced (80 KiB:
+// they stay in L2, where a cloud-long array was a cache miss per contact); then the chunk is
+// grouped here, so the report's serial part only merges each chunk's groups.
 struct ChunkGrouping {
   // Room for a busy frame's groups, so the first frames of a match do not allocate here.
   ChunkGrouping() : fates(Flight::kChunk) { found.reserve(4096), merged.reserve(4096); }
