@@ -486,7 +486,14 @@ void World::predict(FateReport& report, float horizon) const {
   // A group's mass is summed chunk by chunk, so it is the same whichever thread traced what.
   s.index.clear();
   s.heaviest.clear();
-  for (ChunkGrouping& grouping : s.grouping) grouping.merged.resize(grouping.found.size());
+  // How the chunks fell to the threads changes from frame to frame, so each thread's `found` is
+  // given room for all of this frame's chunk groups: it then grows only in a frame with more of
+  // them than any before, not whenever one thread happens to take more chunks.
+  const size_t chunk_groups = s.grouping[0].found.size() + s.grouping[1].found.size();
+  for (ChunkGrouping& grouping : s.grouping) {
+    grouping.found.reserve(chunk_groups), grouping.merged.reserve(chunk_groups);
+    grouping.merged.resize(grouping.found.size());
+  }
   for (const ChunkGroups& part : s.chunks) {
     ChunkGrouping& from = s.grouping[part.thread];
     for (uint32_t j = part.first; j < part.first + part.count; ++j) {
