@@ -180,27 +180,38 @@ struct FateJob {
   std::atomic<int> threads{0};     // which scratch a thread takes
 };
 
+// Adds `part` (one particle, or one chunk's tally of a fate) to the tally of its key among
+// tallies[first, ...), which the first part of a key starts; returns that tally's place from
+// `first`. Masses and counts add up, and the representative stays the first heaviest particle,
+// whether the parts are particles or chunks taken in the cloud's order.
+uint32_t add_to_tally(GroupIndex& index, std::vector<GroupTally>& tallies, size_t first, const GroupTally& part) {
+  const uint32_t k = index.find_or_add(part.key, uint32_t(tallies.size() - first));
+  if (first + k == tallies.size()) {
+    tallies.push_back(part);
+    return k;
+  }
+  GroupTally& tally = tallies[first + k];
+  tally.mass += part.mass;
+  tally.tweaked_mass += part.tweaked_mass;
+  tally.count += part.count;
+  if (part.heaviest > tally.heaviest) tally.heaviest = part.heaviest, tally.representative = part.representative;
+  return k;
+}
+
 // The fates of chunk [begin, end) into its groups, in order of first appearance: each particle's
 // place among them goes to group_of, the groups to the end of this thread's `found`.
 template <class FlightT>
 void group_chunk(FateJob<FlightT>& job, int thread, size_t begin, size_t end) {
   ChunkGrouping& mine = job.grouping[thread];
   ChunkGroups& chunk = job.chunks[begin / FlightT::kChunk];
-  chunk = {uint32_t(thread), uint32_t(mine.found.size()), 0};
+  const size_t first = mine.found.size();
   mine.index.clear();
   const Cloud& c = job.c;
   for (size_t i = begin; i < end; ++i) {
     const Fate& f = mine.fates[i - begin];
-    const uint64_t key = f.key();
-    const uint32_t k = mine.index.find_or_add(key, chunk.count);
-    if (k == chunk.count) mine.found.push_back({f, key, 0, 0, c.w[i], 0, uint32_t(i)}), ++chunk.count;
-    ChunkGrouping::Found& group = mine.found[chunk.first + k];
-    group.mass += c.w[i];
-    group.tweaked_mass += c.tw[i];
-    ++group.count;
-    if (c.w[i] > group.heaviest) group.heaviest = c.w[i], group.representative = uint32_t(i);
-    job.group_of[i] = k;
+    job.group_of[i] = add_to_tally(mine.index, mine.found, first, {f, f.key(), c.w[i], c.tw[i], c.w[i], 1, uint32_t(i)});
   }
+  chunk = {uint32_t(thread), uint32_t(first), uint32_t(mine.found.size() - first)};
 }
 
 // Fates on a flat field: each round searches all still-flying particles of a chunk at once
@@ -485,7 +496,7 @@ void World::predict(FateReport& report, float horizon) const {
   // appearance and each keeps its first heaviest particle, as one pass over the cloud would give.
   // A group's mass is summed chunk by chunk, so it is the same whichever thread traced what.
   s.index.clear();
-  s.heaviest.clear();
+  s.tallies.clear();
   // How the chunks fell to the threads changes from frame to frame, so each thread's `found` is
   // given room for all of this frame's chunk groups: it then grows only in a frame with more of
   // them than any before, not whenever one thread happens to take more chunks.
@@ -496,30 +507,16 @@ void World::predict(FateReport& report, float horizon) const {
   }
   for (const ChunkGroups& part : s.chunks) {
     ChunkGrouping& from = s.grouping[part.thread];
-    for (uint32_t j = part.first; j < part.first + part.count; ++j) {
-      const ChunkGrouping::Found& found = from.found[j];
-      const uint32_t k = s.index.find_or_add(found.key, uint32_t(report.groups.size()));
-      if (k == report.groups.size()) {
-        report.groups.push_back({found.fate, 0, 0, 0, found.representative});
-        s.heaviest.push_back(found.heaviest);
-      }
-      FateGroup& group = report.groups[k];
-      group.mass += found.mass;
-      group.tweaked_mass += found.tweaked_mass;
-      group.count += found.count;
-      if (found.heaviest > s.heaviest[k]) s.heaviest[k] = found.heaviest, group.representative = found.representative;
-      from.merged[j] = k;
-    }
+    for (uint32_t j = part.first; j < part.first + part.count; ++j)
+      from.merged[j] = add_to_tally(s.index, s.tallies, 0, from.found[j]);
   }
   for (size_t c = 0; c < s.chunks.size(); ++c) {
     const ChunkGroups& part = s.chunks[c];
     const uint32_t* merged = s.grouping[part.thread].merged.data() + part.first;
     for (size_t i = c * chunk; i < std::min((c + 1) * chunk, cloud_.size()); ++i) group_of[i] = merged[group_of[i]];
   }
-  for (FateGroup& group : report.groups) {
-    group.mass /= cloud_.mass;
-    group.tweaked_mass /= cloud_.tmass;
-  }
+  for (const GroupTally& t : s.tallies)
+    report.groups.push_back({t.fate, t.mass / cloud_.mass, t.tweaked_mass / cloud_.tmass, t.count, t.representative});
 }
 
 void GroupIndex::clear() {

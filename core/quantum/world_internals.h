@@ -91,6 +91,15 @@ struct GroupIndex {
   uint32_t find_or_add(uint64_t key, uint32_t fresh);
 };
 
+// A fate group while it is summed: over a chunk's particles, then over the chunks. It keeps what
+// the merge needs without reaching back into the cloud.
+struct GroupTally {
+  Fate fate;
+  uint64_t key;
+  double mass, tweaked_mass, heaviest;  // heaviest: the representative's weight
+  uint32_t count, representative;
+};
+
 // One prediction thread's fates and groups. A chunk's fates live here while it is traced (80 KiB:
 // they stay in L2, where a cloud-long array was a cache miss per contact); then the chunk is
 // grouped here, so the report's serial part only merges each chunk's groups.
@@ -99,14 +108,7 @@ struct ChunkGrouping {
   ChunkGrouping() : fates(Flight::kChunk) { found.reserve(4096), merged.reserve(4096); }
   std::vector<Fate> fates;          // the chunk being traced, by place in the chunk
   GroupIndex index;                 // the chunk's groups by key
-  // A chunk's group: what the merge needs without reaching back into the cloud.
-  struct Found {
-    Fate fate;
-    uint64_t key;
-    double mass, tweaked_mass, heaviest;  // heaviest: the representative's weight
-    uint32_t count, representative;
-  };
-  std::vector<Found> found;         // every chunk's groups this thread grouped, chunk after chunk
+  std::vector<GroupTally> found;    // every chunk's groups this thread grouped, chunk after chunk
   std::vector<uint32_t> merged;     // each of those groups' place in the report, set by the merge
 };
 
@@ -118,7 +120,7 @@ struct ChunkGroups {
 struct WorldInternals {
   explicit WorldInternals(const Field& field)
       : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky), flights(field.has_height() ? 0 : 4), flights3(field.has_height() ? 4 : 0) {
-    heaviest.reserve(512);
+    tallies.reserve(512);
   }
   detail::Geometry geometry;
   detail::Sky sky;
@@ -137,7 +139,7 @@ struct WorldInternals {
   std::vector<ChunkGroups> chunks;    // per chunk of the cloud
   detail::HelperThread helper;        // shares the prediction's chunks
   GroupIndex index;                   // the report's groups by key, for the merge
-  std::vector<double> heaviest;       // the weight of each report group's representative
+  std::vector<GroupTally> tallies;    // the report's groups as the merge sums them
 };
 
 }  // namespace quantum
