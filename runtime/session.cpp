@@ -1,6 +1,7 @@
 #include "session.h"
 
 #include <chrono>
+#include <iomanip>
 #include <optional>
 #include <ostream>
 #include <sstream>
@@ -19,6 +20,12 @@ namespace {
 double clock_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
+
+// In its own stream: the shared error stream's format stays as it was.
+std::string one_decimal(double v) { return (std::ostringstream() << std::fixed << std::setprecision(1) << v).str(); }
+
+// "1.2 s", "16.7 ms": a duration as a person reads it.
+std::string seconds(double s) { return s < 1 ? one_decimal(1000 * s) + " ms" : one_decimal(s) + " s"; }
 
 // n values, one per player of `sport`: the given ones, or `fallback` for each.
 std::vector<double> per_player(const std::vector<double>& given, const std::vector<double>& fallback,
@@ -169,8 +176,25 @@ bool Session::frame() {
   over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9);
   // A camera is asked again while paused, not spun on.
   if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  else if (real_time_) std::this_thread::sleep_for(std::chrono::duration<double>(wall_start_ + m.time() / speed_ - clock_seconds()));
+  else if (real_time_) keep_time();
   return !over_;
+}
+
+void Session::keep_time() {
+  const double late = clock_seconds() - (wall_start_ + match_->time() / speed_);
+  if (late < 0) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(-late));
+    return;
+  }
+  // Players hear the ball and see the view late: whoever runs the match is told, once (a slow
+  // match is late every frame). A second's grace rides out a reload or a slow disk; a pause
+  // (a recording's) holds the match time, so it is no lateness.
+  if (late_said_ || paused_ || late < kLateToSay) return;
+  late_said_ = true;
+  const game::Match& m = *match_;
+  errors_ << "quantum: the match runs " << seconds(late) << " behind real time after " << seconds(m.time())
+          << " of play: its frames take longer than the " << seconds(1 / (m.fps() * speed_))
+          << " they may, with a cloud of " << m.config().particles << " particles; fewer (--particles) keep it in time\n";
 }
 
 std::span<const audio::PhraseFate> Session::fates() const { return audio_->fates(); }
@@ -213,6 +237,11 @@ void Session::finish() {
   log_->close();
   decisions_->close();
   if (recorder_) recorder_->close();
+  if (late_said_) {
+    const double wall = clock_seconds() - wall_start_, played = match_->time() / speed_;
+    errors_ << "quantum: " << seconds(match_->time()) << " of play took " << seconds(wall) << " ("
+            << one_decimal(wall / played) << " times real time)\n";
+  }
 }
 
 }  // namespace quantum::runtime

@@ -122,6 +122,7 @@ class Session {
   void pause_or_resume(bool lost);
   void report_repeated_errors();
   void write_settled(bool all = false);
+  void keep_time();  // real-time pacing: waits for the clock, or says once that the match runs late
 
   std::ostream* transcript_;
   std::ostream& errors_;
@@ -137,8 +138,9 @@ class Session {
   std::function<void(const News&)> watcher_;
   double wall_start_ = 0;  // the steady clock's seconds at match time 0 (at this speed)
   double speed_ = 1;
+  static constexpr double kLateToSay = 1.0;  // s behind the clock before the session says so
   double until_;
-  bool real_time_ = false, paused_ = false, over_ = false, finished_ = false, recording_over_ = false;
+  bool real_time_ = false, paused_ = false, over_ = false, finished_ = false, recording_over_ = false, late_said_ = false;
   int rule_errors_ = 0;
 };
 
