@@ -96,7 +96,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
                (o.pacing == SessionOptions::Pacing::Automatic && (audio_->on_device() || players_->live() || o.watched));
   // Last: a recording is made only once everything else has opened.
   if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_);
-  wall_start_ = clock_seconds();
+  kept_from_ = wall_start_ = clock_seconds();
   if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << config.seed << '\n';
 }
 
@@ -182,10 +182,11 @@ bool Session::frame() {
 
 void Session::keep_time() {
   const double late = clock_seconds() - (wall_start_ + match_->time() / speed_);
-  if (late < 0) {
-    std::this_thread::sleep_for(std::chrono::duration<double>(-late));
-    return;
-  }
+  if (late < 0) std::this_thread::sleep_for(std::chrono::duration<double>(-late));
+  const double now = clock_seconds();
+  if (!paused_) wall_played_ += now - kept_from_;
+  kept_from_ = now;
+  if (late < 0) return;
   // Players hear the ball and see the view late: whoever runs the match is told, once (a slow
   // match is late every frame). A second's grace rides out a reload or a slow disk; a pause
   // (a recording's) holds the match time, so it is no lateness.
@@ -215,7 +216,10 @@ void Session::set_speed(double speed) {
   resync();
 }
 
-void Session::resync() { wall_start_ = clock_seconds() - match_->time() / speed_; }
+void Session::resync() {
+  kept_from_ = clock_seconds();
+  wall_start_ = kept_from_ - match_->time() / speed_;
+}
 
 void Session::run() {
   while (frame()) {
@@ -226,6 +230,8 @@ void Session::run() {
 void Session::finish() {
   if (finished_) return;
   finished_ = true;
+  // Taken before the last phrase rings out (on a sound card, up to seconds of waiting).
+  const double played = match_->time(), took = wall_played_;
   tell();
   report_repeated_errors();
   audio_->finish(match_->time());
@@ -237,11 +243,9 @@ void Session::finish() {
   log_->close();
   decisions_->close();
   if (recorder_) recorder_->close();
-  if (late_said_) {
-    const double wall = clock_seconds() - wall_start_, played = match_->time() / speed_;
-    errors_ << "quantum: " << seconds(match_->time()) << " of play took " << seconds(wall) << " ("
-            << one_decimal(wall / played) << " times real time)\n";
-  }
+  if (late_said_)
+    errors_ << "quantum: " << seconds(played) << " of play took " << seconds(took) << " of the clock ("
+            << one_decimal(took / played) << " times real time)\n";
 }
 
 }  // namespace quantum::runtime

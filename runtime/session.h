@@ -137,6 +137,8 @@ class Session {
   std::map<std::string, int> errors_seen_;  // each rule error once, with how often it came
   std::function<void(const News&)> watcher_;
   double wall_start_ = 0;  // the steady clock's seconds at match time 0 (at this speed)
+  // Real-time pacing: the clock the frames have taken, pauses left out, counted up to kept_from_.
+  double wall_played_ = 0, kept_from_ = 0;
   double speed_ = 1;
   static constexpr double kLateToSay = 1.0;  // s behind the clock before the session says so
   double until_;

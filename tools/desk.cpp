@@ -79,13 +79,13 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         if (hand.over) hand.at = picture.to_field(m.x, m.y);
       }
       if (!paused || step) {
+        if (paused) session.resync();  // a single step is due a frame from now, however long the pause
         playing = playing && session.frame();
         ticker.mark(session.fates());
         // The last draw that realized something: "why did that happen?" at a glance.
         if (const Decision* d = session.match().decision(); d && d->realized >= 0)
           overlay.last_draw = runtime::describe_draw(*d, session.match().field());
         step = false;
-        if (paused) session.resync();
       }
       overlay.status = restart_refused ? "no restart while recording: the recording is of one match"
                        : paused            ? "paused"

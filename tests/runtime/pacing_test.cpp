@@ -42,7 +42,13 @@ TEST(Pacing, AMatchLateOnTheClockSaysSoOnceAndHowSlowItRan) {
   EXPECT_EQ(count_of(said, " behind real time after "), 1) << said;
   EXPECT_EQ(count_of(said, "longer than the 0.2 ms they may, with a cloud of 300 particles; fewer (--particles)"), 1) << said;
   EXPECT_EQ(count_of(said, "quantum: 1.0 s of play took "), 1) << said;
+  EXPECT_EQ(count_of(said, " of the clock ("), 1) << said;
   EXPECT_EQ(count_of(said, " times real time)\n"), 1) << said;
+  // The frames were held 2.4 s at least, and the ratio is that over the second of play.
+  std::smatch took;
+  ASSERT_TRUE(std::regex_search(said, took, std::regex(R"(took ([0-9.]+) s of the clock \(([0-9.]+) times)"))) << said;
+  EXPECT_GE(std::stod(took[1]), 2.4);
+  EXPECT_EQ(took[1], took[2]);
 }
 
 // docs/desk.md quotes the two lines a late match prints: they must be what the session says,
