@@ -1,10 +1,13 @@
 #include "json_lines.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <stdexcept>
 
+#include "output_files.h"
 #include "system/utf8.h"
 
 namespace quantum::runtime {
@@ -110,14 +113,15 @@ void JsonLine::end() {
   out_ << '\n';
 }
 
-LineFile::LineFile(const std::string& path) : path_(path) {
+LineFile::LineFile(const std::string& option, const std::string& path) : path_(path) {
   if (path.empty()) return;
   if (path == "-") {
     stream_ = &std::cout;
     return;
   }
+  check_output_file(option, path);
   file_.open(path);
-  if (!file_) throw std::runtime_error("cannot write events to " + path);
+  if (!file_) throw std::runtime_error(option + " " + path + ": cannot be written (" + std::strerror(errno) + ")");
   stream_ = &file_;
 }
 
@@ -129,10 +133,10 @@ void LineFile::close() {
 
 std::string LineFile::shown() const { return path_ == "-" ? "stdout" : path_; }
 
-std::string LineFile::failure() {
-  if (!stream_ || *stream_ || told_) return {};
+void LineFile::say_failure(std::ostream& errors) {
+  if (!stream_ || *stream_ || told_) return;
   told_ = true;
-  return "cannot write to " + shown() + " (a full disk?): what follows is lost; the match goes on, and quantum will exit with 1";
+  errors << "quantum: " << lost_from_now(shown()) << '\n';
 }
 
 }  // namespace quantum::runtime

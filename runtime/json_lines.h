@@ -36,16 +36,16 @@ class JsonLine {
   int depth_ = 0;
 };
 
-// Where JSON lines go for an --events option: nowhere (""), stdout ("-"), or `path` created now.
-// Throws std::runtime_error naming the path when it cannot be written.
+// Where JSON lines go for an option such as --events: nowhere (""), stdout ("-"), or `path`
+// created now. Throws std::runtime_error naming the option and the path when it cannot be written.
 class LineFile {
  public:
-  explicit LineFile(const std::string& path);
+  LineFile(const std::string& option, const std::string& path);
   std::ostream* stream() { return stream_; }
   // Flushes; throws std::runtime_error naming the file when anything could not be written.
   void close();
-  // Once, as soon as a write has failed (a full disk): the line that says so; "" otherwise.
-  std::string failure();
+  // Once, as soon as a write has failed (a full disk): a line to `errors` that says so.
+  void say_failure(std::ostream& errors);
 
  private:
   std::string shown() const;  // the path, or "stdout" for "-"

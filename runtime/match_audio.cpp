@@ -7,6 +7,7 @@
 #include <ostream>
 
 #include "confined_path.h"
+#include "output_files.h"
 
 namespace quantum::runtime {
 namespace {
@@ -43,7 +44,8 @@ MatchAudio::MatchAudio(const std::string& spec, const lua::SportAudio& sport, st
   if (spec.rfind("wav:", 0) == 0) {
     if (spec.size() == 4) throw std::invalid_argument("--audio wav:FILE needs a file name");
     mixer_ = audio::Mixer::open_loopback(44100);
-    wav_ = std::make_unique<audio::WavWriter>(spec.substr(4), mixer_->rate());
+    wav_path_ = spec.substr(4);
+    wav_ = std::make_unique<audio::WavWriter>(wav_path_, mixer_->rate());
   } else if (spec.empty()) {
     mixer_ = audio::Mixer::open_device();
     if (!mixer_) {
@@ -156,9 +158,14 @@ void MatchAudio::render(double now) {
   // Whole samples up to `now`; rounding both ends keeps the total exact over a match.
   const int frames = int(std::lround(now * mixer_->rate()) - std::lround(rendered_until_ * mixer_->rate()));
   rendered_until_ = std::max(rendered_until_, now);
-  if (frames <= 0) return;
+  if (frames <= 0 || wav_lost_) return;
   mixer_->render(frames, chunk_);
-  wav_->write(chunk_);
+  try {
+    wav_->write(chunk_);
+  } catch (const audio::AudioError&) {
+    wav_lost_ = true;
+    warnings_ << "quantum: " << lost_from_now(wav_path_) << '\n';
+  }
 }
 
 void MatchAudio::finish(double now) {
@@ -179,6 +186,7 @@ void MatchAudio::finish(double now) {
   mixer_->duck(1);
   render(t + 0.5);
   wav_->close();
+  if (wav_lost_) throw audio::AudioError("--audio wav:" + wav_path_ + ": could not write every sample");
 }
 
 }  // namespace quantum::runtime

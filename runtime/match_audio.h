@@ -35,7 +35,8 @@ class MatchAudio {
   // Once per frame: starts due phrases and, for a WAV file, renders up to match time `now`.
   void frame(double now);
   // Lets the last phrases finish (at most 10 s), settles every phrase and completes the WAV file,
-  // if any.
+  // if any. A WAV file that could not be written whole (a full disk: told once, when it
+  // happened, while the match went on) throws audio::AudioError here.
   void finish(double now);
 
   bool on_device() const { return mixer_ && !mixer_->loopback(); }  // the match runs in real time
@@ -58,6 +59,8 @@ class MatchAudio {
   std::unique_ptr<audio::Mixer> mixer_;
   std::unique_ptr<audio::Announcer> announcer_;
   std::unique_ptr<audio::WavWriter> wav_;
+  std::string wav_path_;
+  bool wav_lost_ = false;  // a write failed: the rest of the match is not written
   std::map<std::string, audio::Clip> clips_;
   std::set<std::string> warned_;
   std::vector<int16_t> chunk_;

@@ -1,5 +1,6 @@
 #include "picture.h"
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "output_files.h"
 #include "session.h"
 
 namespace quantum::runtime {
@@ -408,6 +410,21 @@ void Picture::draw(const World& world, const FateReport& report, const Overlay& 
   if (!overlay.last_draw.empty()) text(image, overlay.last_draw, {margin_, bottom - kLine}, kDim, 0.45);
   if (!overlay.status.empty()) text(image, overlay.status, {margin_, bottom}, kWarning, 0.5);
   if (!overlay.help.empty()) text(image, overlay.help, {image.cols / 2 + 40, bottom}, kDim, 0.4);
+}
+
+void check_snapshot_file(const std::string& path) {
+  check_output_file("--snapshot", path);
+  if (!cv::haveImageWriter(path))
+    throw std::runtime_error("--snapshot " + path + ": not a picture file OpenCV writes (name it .png or .jpg)");
+}
+
+void write_snapshot(const std::string& path, const cv::Mat& image) {
+  bool written = false;
+  try {
+    written = cv::imwrite(path, image);
+  } catch (const cv::Exception&) {
+  }
+  if (!written) throw std::runtime_error("--snapshot " + path + ": cannot be written");
 }
 
 }  // namespace quantum::runtime

@@ -109,4 +109,10 @@ class Picture {
   cv::Mat density_, tint_;      // the cloud's weight and colour per pixel
 };
 
+// --snapshot FILE: checked before the match plays (its folder, and an image type OpenCV writes,
+// told by the name's ending: .png, .jpg, ...); written once the moment comes. Both throw
+// std::runtime_error naming the option and the file.
+void check_snapshot_file(const std::string& path);
+void write_snapshot(const std::string& path, const cv::Mat& image);
+
 }  // namespace quantum::runtime

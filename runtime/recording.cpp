@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "output_files.h"
 #include "session.h"
 #include "sport.h"
 
@@ -53,7 +54,7 @@ std::vector<std::pair<fs::path, fs::path>> copy_tree(const fs::path& from, const
 void write_json(const fs::path& file, const nlohmann::json& j) {
   std::ofstream out(file);
   out << j.dump(2) << '\n';
-  if (!out) throw std::runtime_error("cannot write " + file.string());
+  if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
 }
 
 }  // namespace
@@ -61,7 +62,7 @@ void write_json(const fs::path& file, const nlohmann::json& j) {
 Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Sport& sport) : dir_(dir) {
   if (fs::exists(dir) && !(fs::is_directory(dir) && fs::is_empty(dir)))
     throw std::runtime_error("--record " + dir.string() + ": exists already (a recording goes into a new folder)");
-  fs::create_directories(dir);
+  make_output_folder("--record", dir);
   const fs::path folder = fs::absolute(sport.folder()).lexically_normal();
   const fs::path engine = fs::absolute(sport.engine()).lexically_normal();
   places_[folder] = dir / "sport" / folder.filename();
@@ -118,6 +119,7 @@ void Recorder::frame(PlayerSource::Status status, std::span<const BodyInput> bod
     frames_.write(reinterpret_cast<const char*>(v), sizeof v);
   }
   ++count_;
+  if (!frames_ && lost_.empty()) lost_ = (dir_ / "frames.bin").string();
 }
 
 void Recorder::reloaded(const std::vector<fs::path>& files) {
@@ -129,22 +131,31 @@ void Recorder::reloaded(const std::vector<fs::path>& files) {
       const fs::path inside = original.lexically_relative(folder);
       if (inside.empty() || *inside.begin() == "..") continue;
       const fs::path saved = to / fs::relative(copy / inside, dir_);
-      fs::create_directories(saved.parent_path());
-      if (fs::exists(original)) fs::copy_file(original, saved, fs::copy_options::overwrite_existing);
+      std::error_code ec;
+      fs::create_directories(saved.parent_path(), ec);
+      if (!ec && fs::exists(original)) fs::copy_file(original, saved, fs::copy_options::overwrite_existing, ec);
+      if (ec && lost_.empty()) lost_ = saved.string();
       break;
     }
   }
+}
+
+void Recorder::say_failure(std::ostream& errors) {
+  if (lost_.empty() || told_) return;
+  told_ = true;
+  errors << "quantum: " << lost_from_now(lost_) << '\n';
 }
 
 void Recorder::close() {
   if (closed_) return;
   closed_ = true;
   frames_.close();
+  if (!frames_ && lost_.empty()) lost_ = (dir_ / "frames.bin").string();
   std::ifstream in(dir_ / "recording.json");
   nlohmann::json j = nlohmann::json::parse(in);
   j["frames"] = count_;
   write_json(dir_ / "recording.json", j);
-  if (!frames_) throw std::runtime_error("could not write every frame to " + (dir_ / "frames.bin").string());
+  if (!lost_.empty()) throw std::runtime_error("--record " + dir_.string() + ": could not write every file of the recording (" + lost_ + ")");
 }
 
 Replay open_replay(const fs::path& dir) {

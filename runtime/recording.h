@@ -47,6 +47,8 @@ class Recorder {
   void frame(PlayerSource::Status status, std::span<const BodyInput> bodies, std::span<const game::Throw> throws);
   // The files a reload loaded before the frame to come.
   void reloaded(const std::vector<std::filesystem::path>& files);
+  // Once, as soon as a write has failed (a full disk): a line to `errors` that says so.
+  void say_failure(std::ostream& errors);
   // Completes recording.json (the frame count). Throws when anything could not be written.
   void close();
 
@@ -56,6 +58,8 @@ class Recorder {
   std::ofstream frames_;
   uint64_t count_ = 0;
   bool closed_ = false;
+  std::string lost_;  // the first file that could not be written whole
+  bool told_ = false;
 };
 
 // A recording opened for replay.

@@ -1,6 +1,7 @@
 #include "session.h"
 
 #include <chrono>
+#include <exception>
 #include <iomanip>
 #include <optional>
 #include <ostream>
@@ -88,8 +89,8 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   }
   // A replay reloads what its recording reloaded, when it did, and nothing else.
   if (o.watch || replay) reloader_ = std::make_unique<lua::Reloader>(*sport_, settings.factors, !replay);
-  log_ = std::make_unique<LineFile>(o.events);
-  decisions_ = std::make_unique<LineFile>(o.decisions);
+  log_ = std::make_unique<LineFile>("--events", o.events);
+  decisions_ = std::make_unique<LineFile>("--decisions", o.decisions);
   audio_ = std::make_unique<MatchAudio>(o.audio, sport_->audio(), errors_);
   // People are listening, playing or watching: then the match runs in real time.
   real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
@@ -171,8 +172,9 @@ bool Session::frame() {
   tell();
   audio_->frame(m.time());
   write_settled();
-  for (LineFile* file : {log_.get(), decisions_.get()})
-    if (const std::string failure = file->failure(); !failure.empty()) errors_ << "quantum: " << failure << '\n';
+  log_->say_failure(errors_);
+  decisions_->say_failure(errors_);
+  if (recorder_) recorder_->say_failure(errors_);
   over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9);
   // A camera is asked again while paused, not spun on.
   if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -234,18 +236,29 @@ void Session::finish() {
   const double played = match_->time(), took = wall_played_;
   tell();
   report_repeated_errors();
-  audio_->finish(match_->time());
+  // Every file is completed, also when another could not be written whole; the first that
+  // could not is what finish() throws.
+  std::exception_ptr lost;
+  auto complete = [&lost](auto&& close) {
+    try {
+      close();
+    } catch (const std::exception&) {
+      if (!lost) lost = std::current_exception();
+    }
+  };
+  complete([&] { audio_->finish(match_->time()); });
   write_settled(true);
   if (recording_over_ && transcript_) {
     const game::Said end{match_->time(), "(the recording is over)", -1, "", ""};
     write_transcript(*transcript_, {&end, 1});
   }
-  log_->close();
-  decisions_->close();
-  if (recorder_) recorder_->close();
+  complete([&] { log_->close(); });
+  complete([&] { decisions_->close(); });
+  if (recorder_) complete([&] { recorder_->close(); });
   if (late_said_)
     errors_ << "quantum: " << seconds(played) << " of play took " << seconds(took) << " of the clock ("
             << one_decimal(took / played) << " times real time)\n";
+  if (lost) std::rethrow_exception(lost);
 }
 
 }  // namespace quantum::runtime

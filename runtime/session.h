@@ -91,8 +91,8 @@ class Session {
   bool frame();
   // Frames until the session is over, then finish().
   void run();
-  // Lets the last phrase ring out and closes the sound and the event log (once). Throws when the
-  // event log could not be written completely.
+  // Lets the last phrase ring out and completes every file the match writes (once). Throws when
+  // one of them (event or decision log, WAV, recording) could not be written whole.
   void finish();
 
   // Real-time pacing: `speed` match seconds per wall second (0.25 is slow motion). resync()

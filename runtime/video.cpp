@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "output_files.h"
+
 namespace quantum::runtime {
 namespace {
 
@@ -24,8 +26,7 @@ VideoFile::VideoFile(const std::string& path, int width, int height, double fps)
     : path_(path), silent_(path + ".video.mp4"), width_(width + width % 2), height_(height + height % 2), fps_(fps) {
   if (!(fps >= 1 && fps <= 240)) throw std::runtime_error("--video: the frame rate must be in [1, 240]");
   if (!have_ffmpeg()) throw std::runtime_error("--video needs ffmpeg (Debian's package ffmpeg; tools/setup.sh installs it)");
-  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  if (!dir.empty() && !std::filesystem::is_directory(dir)) throw std::runtime_error("--video " + path + ": no folder " + dir.string());
+  check_output_file("--video", path);
   // A player that is gone must not kill the match with SIGPIPE: the write fails and says so.
   std::signal(SIGPIPE, SIG_IGN);
   char size[32];

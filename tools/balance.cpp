@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "output_files.h"
 #include "quantum/fate.h"
 #include "sport.h"
 
@@ -157,7 +158,7 @@ void Progress::finish() {
 
 void plot_study(const runtime::SessionOptions& options, const BalanceResult& study, int sweep_matches,
                 const std::string& dir, bool terminal, std::ostream& log) {
-  fs::create_directories(dir);
+  runtime::make_output_folder("--plot", dir);
   auto open = [&](const std::string& name) {
     std::ofstream f(fs::path(dir) / name);
     if (!f) throw std::runtime_error("--plot " + dir + ": cannot write " + name);

@@ -1,7 +1,5 @@
 #include "desk.h"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -33,6 +31,7 @@ int hand_body(const Field& field, const std::string& name) {
 PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std::ostream& out, std::ostream& errors,
                         bool transcript) {
   if (desk.hand && !desk.view) throw std::invalid_argument("--input mouse needs --view: the mouse moves over the view");
+  if (!desk.snapshot.empty()) runtime::check_snapshot_file(desk.snapshot);
   // Someone watches: the match runs in real time unless asked otherwise.
   o.watched = desk.view;
   std::optional<runtime::Window> window;
@@ -99,13 +98,12 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         next_video_frame = video->frames() / video->fps();
       }
       if (!desk.snapshot.empty() && !snapped && desk.snapshot_at >= 0 && session.match().time() + 1e-9 >= desk.snapshot_at) {
-        if (!cv::imwrite(desk.snapshot, image)) throw std::runtime_error("cannot write snapshot " + desk.snapshot);
+        runtime::write_snapshot(desk.snapshot, image);
         snapped = true;
       }
     }
     session.finish();
-    if (!desk.snapshot.empty() && !snapped && !cv::imwrite(desk.snapshot, image))
-      throw std::runtime_error("cannot write snapshot " + desk.snapshot);
+    if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
     if (video) video->finish(wav);
     const game::Match& match = session.match();
     result = {match.score(), match.winner(), match.stats(), session.rule_errors()};

@@ -34,6 +34,13 @@ std::vector<double> parse_list(const std::string& text, const std::string& optio
   return out;
 }
 
+std::vector<double> parse_skills(const std::string& text) {
+  std::vector<double> skills = parse_list(text, "--skill");
+  for (double s : skills)
+    if (!(s >= 0 && s <= 1)) throw std::invalid_argument("--skill: each skill must be in [0, 1], got " + text);
+  return skills;
+}
+
 std::optional<Vec2> parse_field_size(const std::string& text) {
   if (text.empty()) return std::nullopt;
   const std::vector<double> lw = parse_list(text, "--field-size");

@@ -34,6 +34,8 @@ runtime::SessionOptions::Pacing pacing(const std::string& pace);
 
 // "0.3,0.9" -> {0.3, 0.9}; throws naming the option for anything else.
 std::vector<double> parse_list(const std::string& text, const std::string& option);
+// --skill: parse_list's, each in [0, 1]; throws std::invalid_argument naming the option.
+std::vector<double> parse_skills(const std::string& text);
 
 // --field-size "L,W" in metres (nothing for ""); throws for anything but two sizes > 0.
 std::optional<Vec2> parse_field_size(const std::string& text);

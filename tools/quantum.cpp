@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include <sstream>
 
 #include "lua_reader.h"
+#include "output_files.h"
 #include "recording.h"
 
 #include "balance.h"
@@ -61,6 +63,9 @@ constexpr double kLongest = 24 * 3600;  // seconds: the longest match
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file past the shell's size limit (ulimit -f) is a failed write, told and counted as a full
+  // disk is, not the end of the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
   app.require_subcommand(1);
   app.set_version_flag("--version", quantum::runtime::engine_version());
@@ -259,10 +264,18 @@ int main(int argc, char** argv) {
     if (track->parsed()) quantum::tools::track(tracking, std::cout);
     if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
     if (balance->parsed()) {
-      if (!study_skills.empty()) study.skills = quantum::tools::parse_list(study_skills, "--skill");
+      if (!study_skills.empty()) study.skills = quantum::tools::parse_skills(study_skills);
       if (!study_handicaps.empty()) study.handicaps = quantum::tools::parse_list(study_handicaps, "--handicap");
       if (study_factors == "flat")
         for (const std::string& kind : quantum::fate_kind_names()) study.factors[kind] = 1;
+      // Where the results go is known before the study plays.
+      std::ofstream csv;
+      if (!balance_csv.empty() && balance_csv != "-") {
+        quantum::runtime::check_output_file("--csv", balance_csv);
+        csv.open(balance_csv);
+        if (!csv) throw std::runtime_error("--csv " + balance_csv + ": cannot be written");
+      }
+      if (!balance_plot.empty()) quantum::runtime::make_output_folder("--plot", balance_plot);
       const bool terminal = isatty(STDERR_FILENO);
       quantum::tools::Progress progress(matches, terminal);
       const quantum::tools::BalanceResult r =
@@ -289,7 +302,6 @@ int main(int argc, char** argv) {
       std::cout << '\n';
       if (balance_csv == "-") quantum::tools::write_csv(std::cout, r);
       else if (!balance_csv.empty()) {
-        std::ofstream csv(balance_csv);
         quantum::tools::write_csv(csv, r);
         if (!csv.flush()) throw std::runtime_error("--csv " + balance_csv + ": cannot be written");
       }
@@ -298,7 +310,7 @@ int main(int argc, char** argv) {
                                    terminal, std::cout);
     }
     if (play->parsed()) {
-      if (!skills.empty()) game.skills = quantum::tools::parse_list(skills, "--skill");
+      if (!skills.empty()) game.skills = quantum::tools::parse_skills(skills);
       if (!handicaps.empty()) game.handicaps = quantum::tools::parse_list(handicaps, "--handicap");
       game.watch = true;  // a designer's saved script takes effect between two frames
       if (!pace.empty()) game.pacing = quantum::tools::pacing(pace);

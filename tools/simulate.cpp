@@ -1,6 +1,5 @@
 #include "simulate.h"
 
-#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <iostream>
@@ -92,6 +91,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   if (!(o.fps >= 10 && o.fps <= 1000)) throw std::invalid_argument("--fps must be in [10, 1000]");
   if (o.backend != "fast" && o.backend != "box2d")
     throw std::invalid_argument("--backend must be fast or box2d, not '" + o.backend + "'");
+  if (!o.snapshot.empty()) runtime::check_snapshot_file(o.snapshot);
   Field field = lua::load_field(o.field);
   finish_field(field);
   WorldConfig config;
@@ -105,7 +105,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   std::vector<BodyInput> standing;
   for (const BodySpec& b : world.field().bodies) standing.push_back({b.start, {0, 0}});
 
-  runtime::LineFile log(o.events), decisions(o.decisions);
+  runtime::LineFile log("--events", o.events), decisions("--decisions", o.decisions);
   FateReport report;  // the fates the draws are tweaked by
   runtime::Picture picture(world.field());
   cv::Mat image;
@@ -143,7 +143,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
     // The picture of a shot is taken as it leaves the hand.
     if (shot && !o.snapshot.empty() && !have_snapshot_moment) {
       picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
-      if (!cv::imwrite(o.snapshot, image)) throw std::runtime_error("cannot write snapshot " + o.snapshot);
+      runtime::write_snapshot(o.snapshot, image);
       have_snapshot_moment = true;
     }
     world.step(dt, shooter >= 0 ? std::span<const BodyInput>(standing) : scripted_mallets(world.field(), world.time() + dt),
@@ -151,6 +151,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
     if (decisions.stream() && world.decision()) runtime::write_decision(*decisions.stream(), *world.decision(), report.groups, world.field());
     const bool decided = !events.empty();
     flush();
+    log.say_failure(std::cerr);
+    decisions.say_failure(std::cerr);
     if (!world.live() && respawn_at < 0) {  // every particle crushed: the ball is lost, restart it
       respawn_at = world.time() + kRespawnDelay;
       respawn_to = 0;
@@ -165,7 +167,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       for (const Event& e : events) hit |= e.type == EventType::Hit;
       if (hit || (!have_snapshot_moment && s + 1 == steps)) {
         picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
-        if (!cv::imwrite(o.snapshot, image)) throw std::runtime_error("cannot write snapshot " + o.snapshot);
+        runtime::write_snapshot(o.snapshot, image);
         have_snapshot_moment = true;
       }
     }

@@ -23,11 +23,12 @@ struct Outcome {
   std::string err;  // stderr
 };
 
-Outcome quantum(const std::string& args) {
+// `shell` goes before the command, in the same shell: "ulimit -f 48;" caps the files it writes.
+Outcome quantum(const std::string& args, const std::string& shell = "") {
   // One file per test process: CTest runs several at once.
   const std::string err_file =
       std::filesystem::temp_directory_path() / ("quantum_cli_stderr_" + std::to_string(getpid()) + ".txt");
-  const std::string cmd = std::string(QUANTUM_BINARY) + " " + args + " 2>" + err_file;
+  const std::string cmd = shell + std::string(QUANTUM_BINARY) + " " + args + " 2>" + err_file;
   FILE* pipe = popen(cmd.c_str(), "r");
   Outcome run{-1, "", ""};
   if (!pipe) return run;
@@ -150,6 +151,8 @@ TEST(Cli, ValuesItCannotHonourAreRefusedByName) {
       {"--handicap 1e308,1", "--handicap"},
       {"--handicap 0,1", "--handicap"},
       {"--fov nan", "--fov"},
+      {"--skill 2,0.5", "--skill"},
+      {"--skill nan,0.5", "--skill"},
   };
   for (const auto& [option, name] : refused) {
     const Outcome r = quantum(std::string("play rules/airhockey --audio none --quiet --seconds 1 ") + option);
@@ -190,12 +193,62 @@ TEST(Cli, TheLastOfARepeatedOptionCounts) {
   EXPECT_NE(r.out.find(", 2 s played"), std::string::npos) << r.out;
 }
 
-// A WAV file that cannot be written is known before the match plays.
-TEST(Cli, ABadWavPathStopsPlayBeforeItStarts) {
-  const Outcome r = quantum("play rules/airhockey --seconds 600 --audio wav:/nonexistent/dir/x.wav");
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("/nonexistent/dir/x.wav: cannot write WAV file"), std::string::npos) << r.err;
-  EXPECT_EQ(r.out.find("final score"), std::string::npos) << r.out;
+// Every file a match would write is checked before it plays: a bad path costs a second, not a
+// match. The transcript's first line (the sport, its field and seed) is never printed.
+TEST(Cli, AnOutputThatCannotBeWrittenStopsPlayBeforeItStarts) {
+  const std::string folder = std::filesystem::temp_directory_path();
+  const std::pair<std::string, std::string> refused[] = {
+      {"--audio wav:/nonexistent/dir/x.wav", "/nonexistent/dir/x.wav: cannot write WAV file"},
+      {"--events /nonexistent/dir/x.jsonl", "--events /nonexistent/dir/x.jsonl: no folder /nonexistent/dir"},
+      {"--decisions " + folder, "--decisions " + folder + ": is a folder, not a file"},
+      {"--record /dev/null/x", "--record /dev/null/x: cannot make the folder"},
+      {"--snapshot /nonexistent/dir/x.png", "--snapshot /nonexistent/dir/x.png: no folder /nonexistent/dir"},
+      {"--snapshot " + folder + "/quantum_cli.bmpx", "not a picture file OpenCV writes"},
+  };
+  for (const auto& [option, said] : refused) {
+    const Outcome r = quantum("play rules/airhockey --seconds 600 --quiet " + option);
+    EXPECT_EQ(r.status, 1) << option;
+    EXPECT_NE(r.err.find(said), std::string::npos) << option << ": " << r.err;
+    EXPECT_EQ(r.out, "") << option;
+  }
+  // A study's results too: nothing is played before its --csv and --plot are known to be writable.
+  for (const char* option : {"--csv /nonexistent/dir/x.csv", "--plot /dev/null/x"}) {
+    const Outcome r = quantum(std::string("balance rules/airhockey --matches 2 --seconds 5 ") + option);
+    EXPECT_EQ(r.status, 1) << option;
+    EXPECT_NE(r.err.find(std::string(option).substr(0, 5)), std::string::npos) << option << ": " << r.err;
+    EXPECT_EQ(r.out, "") << option;
+  }
+}
+
+// Past a file size limit (a disk that fills, made here with the shell's ulimit) every file a
+// match writes is told once, when its write fails; the match plays to its end, the other files
+// are completed, and the exit code says something was lost.
+TEST(Cli, EveryFileOnAFullDiskIsToldAtOnceAndTheOthersAreCompleted) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_full_" + std::to_string(getpid()));
+  struct Case {
+    std::string option, told;
+  };
+  const Case cases[] = {
+      {"--audio wav:" + (dir / "match.wav").string(), (dir / "match.wav").string()},
+      {"--record " + (dir / "recording").string(), (dir / "recording" / "frames.bin").string()},
+  };
+  for (const Case& c : cases) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    // 24 KiB a file (48 blocks of 512 bytes, as /bin/sh counts them): the sport's copies and the
+    // event log fit (about 14 KiB), the sound (3.5 MB) and the frames (about 50 KiB) do not.
+    const std::string events = (dir / "events.jsonl").string();
+    const Outcome r = quantum("play rules/airhockey --pace fast --seconds 20 --events " + events + " " + c.option,
+                              "ulimit -f 48; ");
+    EXPECT_EQ(r.status, 1) << c.option << ": " << r.err;
+    const size_t told = r.err.find("cannot write to " + c.told + " (a full disk?)");
+    EXPECT_NE(told, std::string::npos) << c.option << ": " << r.err;
+    EXPECT_EQ(r.err.find("cannot write to " + c.told, told + 1), std::string::npos) << "told once: " << r.err;
+    EXPECT_NE(r.out.find("0:20.00"), std::string::npos) << "the match was played to its end: " << r.out;
+    const std::string log = slurp(events);
+    EXPECT_NE(log.find("\"type\":\"match_end\""), std::string::npos) << c.option << ": the event log was completed";
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, PlayRecordsTheMatchToAWav) {
