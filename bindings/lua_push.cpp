@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lua_sandbox.h"
+
 namespace quantum::lua {
 namespace {
 
@@ -233,6 +235,7 @@ std::map<std::string, double> numbers_of(lua_State* L, int index) {
   if (!lua_istable(L, index)) return out;
   lua_pushnil(L);
   while (lua_next(L, index)) {
+    Sandbox::check_budget(L);
     if (lua_type(L, -2) == LUA_TSTRING && lua_type(L, -1) == LUA_TNUMBER) out[lua_tostring(L, -2)] = lua_tonumber(L, -1);
     lua_pop(L, 1);
   }
@@ -240,3 +243,4 @@ std::map<std::string, double> numbers_of(lua_State* L, int index) {
 }
 
 }  // namespace quantum::lua
+

@@ -58,6 +58,7 @@ void Reader::only_keys(int idx, const std::string& place, std::span<const std::s
   idx = absolute(idx);
   lua_pushnil(L);
   while (lua_next(L, idx)) {
+    Sandbox::check_budget(L);
     lua_pop(L, 1);
     if (lua_type(L, -1) != LUA_TSTRING) continue;  // array parts are checked by their readers
     const std::string key = lua_tostring(L, -1);
@@ -73,6 +74,7 @@ void Reader::at_most(int idx, const std::string& place, size_t most) const {
   size_t n = 0;
   lua_pushnil(L);
   while (lua_next(L, idx)) {
+    Sandbox::check_budget(L);
     lua_pop(L, 1);
     if (++n > most) {
       lua_pop(L, 1);

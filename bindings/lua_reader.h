@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "lua_sandbox.h"
 #include "quantum/field.h"
 
 namespace quantum::lua {
@@ -85,6 +86,7 @@ class Reader {
     idx = absolute(idx);
     lua_pushnil(L);
     while (lua_next(L, idx)) {
+      Sandbox::check_budget(L);
       if (lua_type(L, -2) != LUA_TSTRING) fail(place, "expected names as keys, got a " + type_at(-2));
       const std::string key = lua_tostring(L, -2);
       each(key, place + "." + key);

@@ -65,15 +65,20 @@ std::string innermost_script_line(lua_State* L) {
   return {};
 }
 
-// Lua's own messages start "file:line: "; error("x", 0) and error objects that are not strings
-// do not.
-bool has_location(const char* m) {
-  const char* colon = std::strchr(m, ':');
-  const char* newline = std::strchr(m, '\n');
-  if (!colon || colon == m || (newline && newline < colon)) return false;
-  const char* digits = colon + 1;
-  while (*digits >= '0' && *digits <= '9') ++digits;
-  return digits > colon + 1 && *digits == ':';
+// Lua's own messages start "file:line: " with a line that runs now (error's level picks which);
+// error("x", 0), error objects that are not strings and a message that names another file or
+// line (a script blaming another) do not. LuaJIT names a file by its short_src, which cuts a
+// long path at the front.
+bool names_a_running_line(lua_State* L, const char* m) {
+  const std::string_view message = m;
+  lua_Debug ar;
+  for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+    if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
+    const std::string line = ":" + std::to_string(ar.currentline) + ":";
+    if (message.starts_with(std::string(ar.short_src) + line)) return true;
+    if (ar.source && ar.source[0] == '@' && message.starts_with(std::string(ar.source + 1) + line)) return true;
+  }
+  return false;
 }
 
 // The message handler of every call: the error as text, starting with the script line that
@@ -82,7 +87,7 @@ int on_error(lua_State* L) {
   const std::string where = innermost_script_line(L);
   if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) {
     const char* m = lua_tostring(L, 1);
-    if (!has_location(m)) lua_pushstring(L, (where + m).c_str());
+    if (!names_a_running_line(L, m)) lua_pushstring(L, (where + m).c_str());
     else lua_pushvalue(L, 1);
     return 1;
   }
@@ -215,6 +220,11 @@ void Sandbox::set_hook_period(int period) {
 void Sandbox::charge(lua_State* L, int64_t work) {
   instructions_ += work;
   if (time_up_.load(std::memory_order_relaxed) || instructions_ >= limits_.instructions) run_out(L, nullptr);
+}
+
+void Sandbox::check_budget(lua_State* L) {
+  void* ud = nullptr;
+  if (lua_getallocf(L, &ud) == &Sandbox::alloc) static_cast<Sandbox*>(ud)->charge(L, 1);
 }
 
 void Sandbox::run_out(lua_State* L, lua_Debug* ar) {

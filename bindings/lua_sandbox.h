@@ -111,6 +111,11 @@ class Sandbox {
   // For bounded library functions: counts `work` instructions' worth of work done in C; raises
   // the budget error (a Lua error) when the budget is spent.
   void charge(lua_State* L, int64_t work);
+  // charge(L, 1) for the sandbox `L` belongs to, nothing for a state that is no sandbox's (the
+  // specs'). Every call of the game table, and every step of the engine's walks over a script's
+  // tables, look at the budget: a step of lua_next walks a hash chain, which keys chosen to
+  // collide make as long as the table, and a call may ask the engine for a whole prediction.
+  static void check_budget(lua_State* L);
   // Library functions that call back into Lua (string.gsub with a function) count their nesting:
   // each C level takes C stack, which a recursion through them would exhaust.
   class Nested {

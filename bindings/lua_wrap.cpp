@@ -1,5 +1,7 @@
 #include "lua_wrap.h"
 
+#include "lua_sandbox.h"
+
 #include <string_view>
 
 namespace quantum::lua {
@@ -36,6 +38,8 @@ bool style_ok(lua_State* L) {
   push_error(L, advice.c_str());
   return false;
 }
+
+void check_budget(lua_State* L) { Sandbox::check_budget(L); }
 
 }  // namespace wrap_detail
 

@@ -7,7 +7,8 @@
 // Every function goes through guard<F>: a C++ exception thrown by F (bad arguments included, see
 // the arg helpers) becomes a Lua error at the calling script's file and line, naming the
 // function: "rules/x/sport.lua:12: game.respawn: no spot or team 'bleu' in this field". A dot
-// used for a colon, or the other way round, is the same kind of error, saying which to use.
+// used for a colon, or the other way round, is the same kind of error, saying which to use. In a
+// sandbox, a call once the budget is spent is the budget's error: the call does not run.
 #pragma once
 
 #include <lua.hpp>
@@ -30,6 +31,8 @@ namespace wrap_detail {
 bool style_ok(lua_State* L);
 // Pushes "where: name: message", the error the guard raises.
 void push_error(lua_State* L, const char* message);
+// Sandbox::check_budget: a spent budget is an error before the function runs.
+void check_budget(lua_State* L);
 }  // namespace wrap_detail
 
 // Calls F with the guard described above. F returns its number of results, like a lua_CFunction.
@@ -37,6 +40,7 @@ void push_error(lua_State* L, const char* message);
 template <int (*F)(lua_State*)>
 int guard(lua_State* L) {
   if (!wrap_detail::style_ok(L)) return lua_error(L);
+  wrap_detail::check_budget(L);
   int results = -1;
   try {
     results = F(L);

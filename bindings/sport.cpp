@@ -905,6 +905,7 @@ struct PlainCopy {
   // pushes below cannot, and lua_checkstack reports rather than raises).
   void copy(int index) {
     index = index < 0 ? lua_gettop(from) + index + 1 : index;
+    Sandbox::check_budget(to);
     if (++values > kMaxValues)
       luaL_error(to, "sport.state holds more than %d values", kMaxValues);
     switch (lua_type(from, index)) {
