@@ -95,15 +95,17 @@ class Sandbox {
   // Starts a new period: the budget is whole again.
   void new_period();
   // The instructions and CPU time of a period from now on (the memory limit is the state's).
+  // longest_period_cpu() starts again: a sport's loading, with its second, is no frame.
   void set_budget(const Limits& limits) {
     limits_.instructions = limits.instructions;
     limits_.cpu_seconds = limits.cpu_seconds;
+    longest_period_cpu_ = 0;
   }
   // The budget ran out this period (the rest of its calls are refused).
   bool spent() const { return spent_ || time_up_.load(std::memory_order_relaxed); }
   // Where the budget ran out: the source file of the script running then ("" for none).
   const std::string& spent_in() const { return spent_in_; }
-  // CPU seconds Lua used in this period, and in the longest period so far.
+  // CPU seconds Lua used in this period, and in the longest period since the budget was set.
   double period_cpu() const { return period_cpu_; }
   double longest_period_cpu() const { return longest_period_cpu_; }
   const Limits& limits() const { return limits_; }

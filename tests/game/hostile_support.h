@@ -89,9 +89,9 @@ struct Finished {
 
 // Long enough that a match has goals whatever the seed and the compiler's floating point make of
 // it (20 s had none in a clang build).
-inline Finished play_out(lua::Sport& sport, double seconds = 40) {
+inline Finished play_out(lua::Sport& sport, double seconds = 40, int particles = 300) {
   game::MatchConfig config;
-  config.particles = 300;
+  config.particles = particles;
   config.seconds = seconds;
   config.seed = 5;
   game::Match match(sport.field(), config, sport, sport.handicaps());
