@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "field_loader.h"
+#include "play.h"
 #include "session.h"
 #include "synthetic.h"
 
@@ -476,6 +477,22 @@ TEST(Recording, AReplayThatFailsLeavesNoCopyBehind) {
   std::ostringstream warnings;
   EXPECT_ANY_THROW(runtime::Session(r, nullptr, warnings));
   expect_no_work_folder_left();
+}
+
+// A replay whose recording ends before the match's time limit is not a draw: the summary says
+// the match did not finish.
+TEST(Recording, ARecordingThatEndsEarlyIsNoDraw) {
+  const fs::path recording = copy_of_recording("early");
+  const std::string whole = bytes_of(recording / "frames.bin");
+  std::ofstream(recording / "frames.bin", std::ios::binary | std::ios::trunc) << whole.substr(0, frames_in(whole).starts[100]);
+  runtime::SessionOptions r;
+  r.replay = recording.string();
+  r.pacing = runtime::SessionOptions::Pacing::Fast;
+  r.audio = "none";
+  std::ostringstream out, errors;
+  tools::play(r, out, errors);
+  EXPECT_NE(out.str().find("final score: blue 0 red 0 (not finished: level)"), std::string::npos) << out.str();
+  EXPECT_EQ(out.str().find("(draw)"), std::string::npos);
 }
 
 }  // namespace
