@@ -60,7 +60,9 @@ Status HandPlayers::advance(double t, const game::Match& match, bool waiting) {
 TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options,
                                std::ostream* warnings, std::optional<Vec2> size, tracking::SetupOptions setup)
     : field_(field), spec_(spec), tracked_(tracking::tracked_field(field, size)), input_(spec, tracked_, options),
-      setup_(spec, tracking::tracked_field(field), setup), warnings_(warnings) {
+      setup_(spec, tracking::tracked_field(field), setup), warnings_(warnings),
+      dropped_(spec, "tracking value",
+               "not a number, not a sample, not a whole OSC packet, or a frame whose time is not", warnings) {
   for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
 }
 
@@ -87,7 +89,7 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
     }
     if (pending_->t > t + 1e-9 && !live()) return Status::Ready;  // not due yet
     apply(*pending_, match.config().throw_speed);
-    tell_dropped(t);
+    dropped_.tell(t, input_.dropped());
     seen_ = true;
     next_ask_ = pending_->t + 1.0 / 60;
     pending_.reset();
@@ -95,13 +97,12 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
   }
 }
 
-void TrackedPlayers::tell_dropped(double t) {
-  const size_t dropped = dropped_ + input_.dropped();
+void DroppedValues::tell(double t, size_t elsewhere) {
+  const size_t dropped = dropped_ + elsewhere;
   if (dropped == told_ || t - told_at_ < kWarnEvery) return;
   if (warnings_)
-    *warnings_ << "quantum: " << spec_ << ": " << dropped - told_ << " tracking value" << (dropped - told_ > 1 ? "s" : "")
-               << " dropped (not a number, not a sample, not a whole OSC packet, or a frame whose time is not; " << dropped
-               << " in all), the match goes on\n";
+    *warnings_ << "quantum: " << source_ << ": " << dropped - told_ << ' ' << what_ << (dropped - told_ > 1 ? "s" : "")
+               << " dropped (" << why_ << "; " << dropped << " in all), the match goes on\n";
   told_ = dropped, told_at_ = t;
 }
 
@@ -116,7 +117,7 @@ void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) 
   for (const tracking::TrackedAction& a : f.actions) {
     const double l = std::hypot(std::hypot(a.dx, a.dy), tall * a.dz);
     if (a.type != "throw") continue;
-    if (!std::isfinite(l)) ++dropped_;
+    if (!std::isfinite(l)) dropped_.count();
     if (!(l > 0 && std::isfinite(l))) continue;
     for (size_t k = 0; k < field_.bodies.size(); ++k)
       if (field_.bodies[k].tracked_as() == a.player)
@@ -125,7 +126,7 @@ void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) 
   }
   for (const tracking::TrackedPlayer& p : f.players) {
     if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.vx) && std::isfinite(p.vy))) {
-      ++dropped_;
+      dropped_.count();
       continue;
     }
     for (size_t k = 0; k < field_.bodies.size(); ++k) {

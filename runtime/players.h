@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "game/bots.h"
@@ -42,6 +43,26 @@ class PlayerSource {
   // Scripts to load again before the next frame: a replay's source brings the reloads its
   // recording made, at the frames they were made.
   virtual std::vector<std::filesystem::path> files_to_reload() { return {}; }
+};
+
+// Input values dropped (not numbers, out of range, malformed): data, never a reason to stop. They
+// are counted, and told at most every kWarnEvery seconds of the match, e.g. "quantum: tuio:3333:
+// 12 tracking values dropped (WHY; 14 in all), the match goes on".
+class DroppedValues {
+ public:
+  // `source` names where they came from, `what` one value ("tracking value"), `why` the reasons.
+  DroppedValues(std::string source, std::string what, std::string why, std::ostream* warnings)
+      : source_(std::move(source)), what_(std::move(what)), why_(std::move(why)), warnings_(warnings) {}
+  void count() { ++dropped_; }
+  // At match time `t`; `elsewhere`: more dropped values, counted by the source itself.
+  void tell(double t, size_t elsewhere = 0);
+
+ private:
+  static constexpr double kWarnEvery = 5;
+  std::string source_, what_, why_;
+  std::ostream* warnings_;
+  size_t dropped_ = 0, told_ = 0;
+  double told_at_ = -kWarnEvery;
 };
 
 // Simulated players, one skill each (0 to 1): they strike the ball, or hold, throw and catch it
@@ -134,12 +155,8 @@ class TrackedPlayers final : public PlayerSource {
   std::optional<double> t0_;
   bool seen_ = false;     // a frame has come
   double next_ask_ = 0;   // match time from which a live source is asked again
-  // Values that were not numbers (NaN, infinite), dropped: counted, and told at most every
-  // kWarnEvery seconds of the match.
-  static constexpr double kWarnEvery = 5;
-  size_t dropped_ = 0, told_ = 0;
-  double told_at_ = -kWarnEvery;
-  void tell_dropped(double t);
+  // Values that were not numbers (NaN, infinite), here and in the input.
+  DroppedValues dropped_;
 };
 
 }  // namespace quantum::runtime

@@ -3,10 +3,12 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <unistd.h>
 
+#include "confined_path.h"
 #include "output_files.h"
 #include "session.h"
 #include "sport.h"
@@ -49,6 +51,28 @@ std::vector<std::pair<fs::path, fs::path>> copy_tree(const fs::path& from, const
     out.push_back({it->path(), copy});
   }
   return out;
+}
+
+// recording.json's `key`: a whole number from `lo` to `hi`, or a refusal naming the file and the key.
+uint64_t whole(const nlohmann::json& j, const char* key, uint64_t lo, uint64_t hi, const fs::path& file,
+               const std::string& note) {
+  const nlohmann::json& v = j.at(key);
+  const bool ok = (v.is_number_unsigned() || (v.is_number_integer() && v.get<int64_t>() >= 0)) &&
+                  v.get<uint64_t>() >= lo && v.get<uint64_t>() <= hi;
+  if (!ok)
+    throw std::runtime_error(file.string() + ": \"" + key + "\" must be a whole number from " + std::to_string(lo) +
+                             " to " + std::to_string(hi) + note + ", got " + v.dump());
+  return v.get<uint64_t>();
+}
+
+// recording.json's `key`: a number in [lo, hi], or a refusal naming the file and the key.
+double number(const nlohmann::json& j, const char* key, double lo, double hi, const fs::path& file,
+              const std::string& note) {
+  const nlohmann::json& v = j.at(key);
+  if (!(v.is_number() && v.get<double>() >= lo && v.get<double>() <= hi))
+    throw std::runtime_error(file.string() + ": \"" + key + "\" must be a number in [" + nlohmann::json(lo).dump() +
+                             ", " + nlohmann::json(hi).dump() + "]" + note + ", got " + v.dump());
+  return v.get<double>();
 }
 
 void write_json(const fs::path& file, const nlohmann::json& j) {
@@ -167,41 +191,64 @@ Replay open_replay(const fs::path& dir) {
   } catch (const std::exception& e) {
     throw std::runtime_error((dir / "recording.json").string() + ": " + e.what());
   }
-  // Replays change their files as the recording's reloads come: they play in a copy of their own.
+  const fs::path file = dir / "recording.json";
+  // Replays change their files as the recording's reloads come: they play in a copy of their own,
+  // removed whichever way the replay ends.
   static std::atomic<int> replays{0};
-  const fs::path work = fs::temp_directory_path() / ("quantum_replay_" + std::to_string(getpid()) + "_" + std::to_string(replays++));
-  fs::remove_all(work);
   Replay r;
-  r.work = work;
+  r.work = WorkFolder(fs::temp_directory_path() /
+                      ("quantum_replay_" + std::to_string(getpid()) + "_" + std::to_string(replays++)));
+  const fs::path& work = r.work.path();
+  fs::remove_all(work);
   try {
     for (const char* part : {"sport", "engine"}) copy_tree(dir / part, work / part);
     r.sport = work / j.at("sport_copy").get<std::string>();
     r.engine = work / "engine";
-    r.seed = j.at("seed");
-    r.seconds = j.at("seconds");
-    r.particles = j.at("particles");
+    // The match's settings, within what `quantum play` accepts of their options.
+    r.seed = whole(j, "seed", 0, UINT64_MAX, file, "");
+    r.seconds = number(j, "seconds", 0, 24 * 3600, file, " (0: the sport's own time limit)");
+    r.particles = uint32_t(whole(j, "particles", 0, 10'000'000, file, " (0: the sport's own)"));
     r.handicaps = j.at("handicaps").get<std::vector<double>>();
-    r.auto_balance = j.at("auto_balance");
+    r.auto_balance = number(j, "auto_balance", -1, 10, file, " (below 0: the sport's own)");
     r.factors = j.at("factors").get<std::map<std::string, double>>();
     r.params = j.value("params", std::vector<std::string>());
     r.version = j.at("engine");
     for (const nlohmann::json& f : j.at("files")) {
       const fs::path original = f.at("original").get<std::string>();
       if (!fs::exists(original)) r.differences.push_back(original.string() + " is gone since the recording");
-      else if (fingerprint(original) != f.at("fnv1a").get<std::string>())
+      // A device or a FIFO is no file of a sport's (and reading /dev/zero never ends).
+      else if (!lua::not_a_regular_file(original).empty() || fingerprint(original) != f.at("fnv1a").get<std::string>())
         r.differences.push_back(original.string() + " changed since the recording");
     }
   } catch (const nlohmann::json::exception& e) {
-    fs::remove_all(work);
-    throw std::runtime_error((dir / "recording.json").string() + ": " + e.what());
+    throw std::runtime_error(file.string() + ": " + e.what());
   }
   if (r.version != engine_version())
     r.differences.insert(r.differences.begin(), std::string("recorded with engine ") + r.version + ", this is " + engine_version());
   return r;
 }
 
-RecordedPlayers::RecordedPlayers(const fs::path& dir, const fs::path& work, size_t bodies)
-    : dir_(dir), work_(work), frames_(dir / "frames.bin", std::ios::binary) {
+WorkFolder& WorkFolder::operator=(WorkFolder&& other) noexcept {
+  if (this != &other) {
+    remove();
+    path_ = std::exchange(other.path_, {});
+  }
+  return *this;
+}
+
+void WorkFolder::remove() noexcept {
+  if (path_.empty()) return;
+  std::error_code ignored;
+  fs::remove_all(path_, ignored);
+  path_.clear();
+}
+
+RecordedPlayers::RecordedPlayers(const fs::path& dir, WorkFolder work, const Field& field, std::ostream* warnings)
+    : dir_(dir), work_(std::move(work)), field_(field), frames_(dir / "frames.bin", std::ios::binary),
+      warnings_(warnings),
+      dropped_((dir / "frames.bin").string(), "recorded value",
+               "not a number, far outside the field or faster than it allows, or a throw the match cannot make",
+               warnings) {
   char magic[sizeof kMagic - 1] = {};
   const bool read = bool(frames_.read(magic, sizeof magic));
   if (read && std::string(magic, sizeof magic) == kFlatThrows) throw_floats_ = 2;
@@ -213,48 +260,76 @@ RecordedPlayers::RecordedPlayers(const fs::path& dir, const fs::path& work, size
                                           ", this one replays " + std::string(kMagic, sizeof kMagic - 2) + ")"
                                     : ": not a recording's frames"));
   }
-  bodies_.resize(bodies);
+  for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
+  next_ = bodies_;
 }
 
-PlayerSource::Status RecordedPlayers::advance(double, const game::Match&, bool) {
-  uint8_t code = 0;
+std::string RecordedPlayers::read_frame(uint8_t& code) {
+  auto get = [&](void* to, size_t n) { return bool(frames_.read(static_cast<char*>(to), std::streamsize(n))); };
+  const std::string cut = "is cut short";
   uint32_t n = 0;
-  if (!frames_.read(reinterpret_cast<char*>(&code), 1)) return Status::Ended;
-  if (!frames_.read(reinterpret_cast<char*>(&n), sizeof n) || n != bodies_.size() || code > uint8_t(Status::Ended))
-    throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is damaged");
-  for (BodyInput& b : bodies_) {
+  if (!get(&n, sizeof n)) return cut;
+  if (code > uint8_t(Status::Ended))
+    return "is damaged (its status is " + std::to_string(code) + ", not 0 to " + std::to_string(int(Status::Ended)) + ")";
+  // Counts are checked before anything is read or made for them.
+  if (n != next_.size())
+    return "is damaged (it moves " + std::to_string(n) + " bodies, the field has " + std::to_string(next_.size()) + ")";
+  for (BodyInput& b : next_) {
     float v[4];
-    if (!frames_.read(reinterpret_cast<char*>(v), sizeof v))
-      throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is cut short");
+    if (!get(v, sizeof v)) return cut;
     b = {{v[0], v[1]}, {v[2], v[3]}};
   }
   uint32_t n_throws = 0;
-  if (!frames_.read(reinterpret_cast<char*>(&n_throws), sizeof n_throws) || n_throws > 4 * bodies_.size())
-    throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is damaged");
-  throws_.resize(n_throws);
-  for (game::Throw& t : throws_) {
+  if (!get(&n_throws, sizeof n_throws)) return cut;
+  if (n_throws > 4 * next_.size())
+    return "is damaged (" + std::to_string(n_throws) + " throws, at most " + std::to_string(4 * next_.size()) + ")";
+  next_throws_.resize(n_throws);
+  for (game::Throw& t : next_throws_) {
     int32_t player = 0;
     float v[3] = {0, 0, 0};
-    if (!frames_.read(reinterpret_cast<char*>(&player), sizeof player) ||
-        !frames_.read(reinterpret_cast<char*>(v), std::streamsize(throw_floats_ * sizeof(float))) || player < 0 ||
-        size_t(player) >= bodies_.size())
-      throw std::runtime_error((dir_ / "frames.bin").string() + ": frame " + std::to_string(frame_) + " is damaged");
+    if (!get(&player, sizeof player) || !get(v, size_t(throw_floats_) * sizeof(float))) return cut;
+    if (player < 0 || size_t(player) >= next_.size())
+      return "is damaged (a throw by player " + std::to_string(player) + ", the field has " + std::to_string(next_.size()) + ")";
     t = {player, {v[0], v[1]}, v[2]};
   }
-  ++frame_;
-  return Status(code);
+  return "";
 }
 
-RecordedPlayers::~RecordedPlayers() {
-  std::error_code ignored;
-  fs::remove_all(work_, ignored);  // the replay's own copy of the files
+PlayerSource::Status RecordedPlayers::advance(double t, const game::Match&, bool) {
+  throws_.clear();
+  uint8_t code = 0;
+  if (over_ || !frames_.read(reinterpret_cast<char*>(&code), 1)) return Status::Ended;
+  if (const std::string damage = read_frame(code); !damage.empty()) {
+    // The frames before it were whole: the replay ends there, as at the recording's end.
+    over_ = true;
+    if (warnings_)
+      *warnings_ << "quantum: " << (dir_ / "frames.bin").string() << ": frame " << frame_ << ' ' << damage
+                 << ": the replay ends after " << frame_ << " whole frames, as if the recording were over\n";
+    return Status::Ended;
+  }
+  // What the match would refuse is dropped: the body stays where it was, still.
+  for (size_t k = 0; k < next_.size(); ++k) {
+    if (body_fault(field_, next_[k]) == BodyFault::None) {
+      bodies_[k] = next_[k];
+    } else {
+      dropped_.count();
+      bodies_[k].velocity = {0, 0};
+    }
+  }
+  for (const game::Throw& th : next_throws_) {
+    if (throw_fault({th.velocity.x, th.velocity.y, th.up}, field_.has_height()).empty()) throws_.push_back(th);
+    else dropped_.count();
+  }
+  dropped_.tell(t);
+  ++frame_;
+  return Status(code);
 }
 
 std::vector<fs::path> RecordedPlayers::files_to_reload() {
   std::vector<fs::path> out;
   const fs::path saved = dir_ / "reloads" / std::to_string(frame_);
   if (!fs::is_directory(saved)) return out;
-  for (const auto& [from, to] : copy_tree(saved, work_)) out.push_back(to);
+  for (const auto& [from, to] : copy_tree(saved, work_.path())) out.push_back(to);
   return out;
 }
 

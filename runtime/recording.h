@@ -22,6 +22,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "players.h"
@@ -62,9 +63,23 @@ class Recorder {
   bool told_ = false;
 };
 
+// A folder of the replay's own, removed with its owner whichever way the replay ends.
+class WorkFolder {
+ public:
+  explicit WorkFolder(std::filesystem::path path = {}) : path_(std::move(path)) {}
+  WorkFolder(WorkFolder&& other) noexcept : path_(std::exchange(other.path_, {})) {}
+  WorkFolder& operator=(WorkFolder&& other) noexcept;
+  ~WorkFolder() { remove(); }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  void remove() noexcept;
+  std::filesystem::path path_;
+};
+
 // A recording opened for replay.
 struct Replay {
-  std::filesystem::path work;    // a copy of the recording's files, for this replay to change
+  WorkFolder work;               // a copy of the recording's files, for this replay to change
   std::filesystem::path sport;   // the sport's folder in it
   std::filesystem::path engine;  // the engine's rules in it
   uint64_t seed = 1;
@@ -81,27 +96,39 @@ struct Replay {
 };
 
 // Reads DIR's recording.json and compares the recorded files with the ones at their original
-// places. Throws std::runtime_error naming what is missing or malformed.
+// places (only regular files are read: anything else "changed"). Throws std::runtime_error naming
+// what is missing, malformed or out of range (the key of recording.json), the copy removed.
 Replay open_replay(const std::filesystem::path& dir);
 
 // The players a recording played with, frame by frame; before a frame that had a reload, the
 // files it loaded are put back into the replay's copy of the sport (`work`) for the session's
-// reloader.
+// reloader. A recording is data: a body's value the match would refuse (not a number, far
+// outside the field, too fast) is dropped, the body staying where it was, and so is a throw the
+// match would refuse, counted and told as tracking values are (DroppedValues). A damaged frame
+// (cut short, an impossible status or count) ends the replay at the frame before, told once.
 class RecordedPlayers final : public PlayerSource {
  public:
   // Owns `work` from now on: it goes when the replay is over.
-  RecordedPlayers(const std::filesystem::path& dir, const std::filesystem::path& work, size_t bodies);
-  ~RecordedPlayers() override;
+  RecordedPlayers(const std::filesystem::path& dir, WorkFolder work, const Field& field,
+                  std::ostream* warnings = nullptr);
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
   std::span<const game::Throw> throws() const override { return throws_; }
   std::vector<std::filesystem::path> files_to_reload() override;
 
  private:
-  std::filesystem::path dir_, work_;
+  // Reads the next frame into next_ and next_throws_: "" when it is whole, else what is wrong.
+  std::string read_frame(uint8_t& code);
+
+  std::filesystem::path dir_;
+  WorkFolder work_;
+  Field field_;
   std::ifstream frames_;
-  std::vector<BodyInput> bodies_;
-  std::vector<game::Throw> throws_;
+  std::ostream* warnings_;
+  std::vector<BodyInput> bodies_, next_;
+  std::vector<game::Throw> throws_, next_throws_;
+  DroppedValues dropped_;
+  bool over_ = false;
   uint64_t frame_ = 0;  // frames read so far
   int throw_floats_ = 3;  // per throw: vx, vy and up (2 in QGFRAMES2 recordings, made before height)
 };

@@ -76,7 +76,8 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   config.throw_speed = sport_->throw_speed();
   config.throw_spread = sport_->throw_spread();
   match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
-  if (!players_ && replay) players_ = std::make_unique<RecordedPlayers>(o.replay, replay->work, sport_->field().bodies.size());
+  if (!players_ && replay)
+    players_ = std::make_unique<RecordedPlayers>(o.replay, std::move(replay->work), match_->field(), &errors_);
   if (!players_) {
     if (o.input == "bots") {
       const std::vector<double> skills(sport_->field().bodies.size(), 0.6);

@@ -49,6 +49,23 @@ std::optional<Vec2> parse_field_size(const std::string& text) {
   return Vec2{float(lw[0]), float(lw[1])};
 }
 
+namespace {
+
+// " (blue wins)", " (draw)"; a match that stopped before its end (a recording over, --until) is
+// no draw: " (not finished: blue ahead)", " (not finished: level)".
+std::string outcome(const PlayResult& result) {
+  if (result.finished) return result.winner.empty() ? " (draw)" : " (" + result.winner + " wins)";
+  std::string ahead;
+  int most = 0, level = 0;
+  for (const auto& [team, goals] : result.score) {
+    if (ahead.empty() || goals > most) ahead = team, most = goals, level = 0;
+    if (goals == most) ++level;
+  }
+  return level > 1 || ahead.empty() ? " (not finished: level)" : " (not finished: " + ahead + " ahead)";
+}
+
+}  // namespace
+
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript,
                 const DeskOptions* desk) {
   PlayResult result;
@@ -58,13 +75,13 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
     runtime::Session session(options, transcript ? &out : nullptr, errors);
     session.run();
     const game::Match& match = session.match();
-    result = {match.score(), match.winner(), match.stats(), session.rule_errors()};
+    result = {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished()};
   }
   if (transcript) {
     const game::RallyStats& s = result.stats;
     out << "final score:";
     for (const auto& [team, goals] : result.score) out << ' ' << team << ' ' << goals;
-    out << (result.winner.empty() ? " (draw)" : " (" + result.winner + " wins)") << '\n';
+    out << outcome(result) << '\n';
     char buf[200];
     std::snprintf(buf, sizeof buf, "rallies %d, contacts per rally %.2f, goals per minute %.2f, %.0f s played\n",
                   s.rallies, s.rallies ? double(s.contacts) / s.rallies : 0.0, s.seconds > 0 ? s.goals * 60 / s.seconds : 0.0,

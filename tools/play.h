@@ -18,6 +18,7 @@ struct PlayResult {
   std::string winner;  // "" for a draw
   game::RallyStats stats;
   int rule_errors = 0;
+  bool finished = true;  // false when the match stopped before its end (a recording over, --until)
 };
 
 struct DeskOptions;

@@ -145,11 +145,8 @@ void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Eve
         (body >= 0 && body < int(field_.bodies.size()) ? field_.bodies[body].name : "body " + std::to_string(body)) +
         " does not hold the ball" + (holder_ >= 0 ? " (" + field_.bodies[holder_].name + " does)" : ""));
   const bool tall = field_.has_height();
-  const float flat = std::hypot(velocity.x, velocity.y), speed = std::hypot(flat, velocity.z);
-  if (!(std::isfinite(speed) && speed > 0 && speed <= 1000))
-    throw std::invalid_argument("a throw's speed must be in (0, 1000] m/s, got " + std::to_string(speed));
-  if (!tall && velocity.z != 0)
-    throw std::invalid_argument("a throw upward needs a field with height (gravity); this field is flat");
+  if (const std::string fault = throw_fault(velocity, tall); !fault.empty()) throw std::invalid_argument(fault);
+  const float flat = std::hypot(velocity.x, velocity.y);
   if (!(spread.direction >= 0 && spread.direction <= 1.6f && spread.speed >= 0 && spread.speed <= 1 &&
         spread.elevation >= 0 && spread.elevation <= 1.6f))
     throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and elevation and [0, 1] of speed");
@@ -241,12 +238,30 @@ void World::check_input(float dt, std::span<const BodyInput> input) const {
   check_bodies(input);
 }
 
+BodyFault body_fault(const Field& field, const BodyInput& in) {
+  // A body further than a field's size beyond the bounds is a tracking fault, not a player.
+  const float slack = std::max(field.bounds_max.x - field.bounds_min.x, field.bounds_max.y - field.bounds_min.y);
+  if (!std::isfinite(in.position.x) || !std::isfinite(in.position.y)) return BodyFault::Position;
+  if (!std::isfinite(in.velocity.x) || !std::isfinite(in.velocity.y)) return BodyFault::Velocity;
+  if (in.position.x < field.bounds_min.x - slack || in.position.x > field.bounds_max.x + slack ||
+      in.position.y < field.bounds_min.y - slack || in.position.y > field.bounds_max.y + slack)
+    return BodyFault::FarOut;
+  if (std::hypot(in.velocity.x, in.velocity.y) > field.max_body_speed) return BodyFault::TooFast;
+  return BodyFault::None;
+}
+
+std::string throw_fault(Vec3 velocity, bool tall) {
+  const float flat = std::hypot(velocity.x, velocity.y), speed = std::hypot(flat, velocity.z);
+  if (!(std::isfinite(speed) && speed > 0 && speed <= 1000))
+    return "a throw's speed must be in (0, 1000] m/s, got " + std::to_string(speed);
+  if (!tall && velocity.z != 0) return "a throw upward needs a field with height (gravity); this field is flat";
+  return "";
+}
+
 void World::check_bodies(std::span<const BodyInput> input) const {
   if (input.size() != field_.bodies.size())
     throw InputError("the field has " + std::to_string(field_.bodies.size()) + " bodies but the input moves " +
                      std::to_string(input.size()));
-  // A body further than a field's size beyond the bounds is a tracking fault, not a player.
-  const float slack = std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
   // Messages are built only for a body that fails: checking runs every frame.
   auto who = [&](size_t k) { return "body " + std::to_string(k) + " (" + field_.bodies[k].name + "): "; };
   auto position = [](const BodyInput& in) {
@@ -254,16 +269,15 @@ void World::check_bodies(std::span<const BodyInput> input) const {
   };
   for (size_t k = 0; k < input.size(); ++k) {
     const BodyInput& in = input[k];
-    if (!std::isfinite(in.position.x) || !std::isfinite(in.position.y))
-      throw InputError(who(k) + position(in) + " is not finite");
-    if (!std::isfinite(in.velocity.x) || !std::isfinite(in.velocity.y)) throw InputError(who(k) + "velocity is not finite");
-    if (in.position.x < field_.bounds_min.x - slack || in.position.x > field_.bounds_max.x + slack ||
-        in.position.y < field_.bounds_min.y - slack || in.position.y > field_.bounds_max.y + slack)
-      throw InputError(who(k) + position(in) + " is far outside the field");
-    const float speed = std::hypot(in.velocity.x, in.velocity.y);
-    if (speed > field_.max_body_speed)
-      throw InputError(who(k) + "speed " + std::to_string(speed) + " m/s is above the field's max_body_speed " +
-                       std::to_string(field_.max_body_speed));
+    switch (body_fault(field_, in)) {
+      case BodyFault::None: break;
+      case BodyFault::Position: throw InputError(who(k) + position(in) + " is not finite");
+      case BodyFault::Velocity: throw InputError(who(k) + "velocity is not finite");
+      case BodyFault::FarOut: throw InputError(who(k) + position(in) + " is far outside the field");
+      case BodyFault::TooFast:
+        throw InputError(who(k) + "speed " + std::to_string(std::hypot(in.velocity.x, in.velocity.y)) +
+                         " m/s is above the field's max_body_speed " + std::to_string(field_.max_body_speed));
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -84,6 +85,15 @@ struct BodyInput {
 struct InputError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
+
+// What World::step() refuses in one body's input, so that a source of players can drop it
+// first (a replay's damaged frame): None when the input may be stepped.
+enum class BodyFault { None, Position, Velocity, FarOut, TooFast };
+BodyFault body_fault(const Field& field, const BodyInput& in);
+
+// Why World::release() refuses a throw at `velocity` on a field with (`tall`) or without height;
+// "" when it takes it.
+std::string throw_fault(Vec3 velocity, bool tall);
 
 class World {
  public:

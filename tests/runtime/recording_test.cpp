@@ -6,6 +6,9 @@
 
 #include <cstring>
 #include <iterator>
+#include <limits>
+
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +17,7 @@
 #include <unistd.h>
 
 #include "field_loader.h"
+#include "play.h"
 #include "session.h"
 #include "synthetic.h"
 
@@ -63,13 +67,26 @@ Logs replay(const std::string& recording, const fs::path& out) {
   return run(r, out);
 }
 
+// No replay leaves its copy of the files behind, whichever way it ends.
+void expect_no_work_folder_left() {
+  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path()))
+    EXPECT_NE(entry.path().filename().string().rfind("quantum_replay_" + std::to_string(getpid()) + "_", 0), 0u)
+        << entry.path();
+}
+
+// 20 s of `sport` between simulated players, recorded in dir/recording.
+runtime::SessionOptions to_record(const std::string& sport, uint64_t seed, const fs::path& dir) {
+  runtime::SessionOptions o;
+  o.sport = sport;
+  o.seconds = 20;
+  o.seed = seed;
+  o.record = (dir / "recording").string();
+  return o;
+}
+
 TEST(Recording, ASimulatedMatchReplaysByteForByte) {
   const fs::path dir = scratch("bots");
-  runtime::SessionOptions o;
-  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
-  o.seconds = 20;
-  o.seed = 4;
-  o.record = (dir / "recording").string();
+  const runtime::SessionOptions o = to_record(QUANTUM_SOURCE_DIR "/rules/airhockey", 4, dir);
   fs::create_directories(dir / "played");
   const Logs played = run(o, dir / "played");
   const Logs replayed = replay(o.record, dir / "replayed");
@@ -78,10 +95,7 @@ TEST(Recording, ASimulatedMatchReplaysByteForByte) {
   EXPECT_EQ(replayed.events, played.events);
   EXPECT_EQ(replayed.decisions, played.decisions);
   EXPECT_EQ(replayed.warnings, "");  // nothing changed since
-  // The replay's own copy of the files is gone with it.
-  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path()))
-    EXPECT_NE(entry.path().filename().string().rfind("quantum_replay_" + std::to_string(getpid()) + "_", 0), 0u)
-        << entry.path();
+  expect_no_work_folder_left();  // the replay's own copy of the files is gone with it
 }
 
 TEST(Recording, AReloadHalfwayIsReplayedWhereItHappened) {
@@ -297,6 +311,188 @@ TEST(Recording, ARecordingGoesIntoANewFolder) {
     r.replay = (dir / "nothing").string();
     runtime::Session(r, nullptr, warnings);
   }, std::runtime_error);
+}
+
+// Damaged recordings: a handball match between simulated players (they throw), recorded once;
+// each test damages a copy of it.
+const fs::path& handball_recording() {
+  static const fs::path recording = [] {
+    const fs::path dir = scratch("handball");
+    const runtime::SessionOptions o = to_record(QUANTUM_SOURCE_DIR "/rules/handball", 3, dir);
+    run(o, dir);
+    return fs::path(o.record);
+  }();
+  return recording;
+}
+
+fs::path copy_of_recording(const std::string& name) {
+  const fs::path to = scratch(name) / "recording";
+  fs::copy(handball_recording(), to, fs::copy_options::recursive);
+  return to;
+}
+
+std::string bytes_of(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Where each frame of QGFRAMES3 `bytes` starts, and where each throw's player is.
+struct Frames {
+  std::vector<size_t> starts, throws;
+};
+Frames frames_in(const std::string& bytes) {
+  Frames f;
+  auto u32 = [&](size_t at) { uint32_t v; std::memcpy(&v, bytes.data() + at, 4); return v; };
+  for (size_t at = std::strlen("QGFRAMES3\n"); at < bytes.size();) {
+    f.starts.push_back(at);
+    at += 1 + 4 + 16 * size_t(u32(at + 1));
+    const uint32_t n = u32(at);
+    at += 4;
+    for (uint32_t k = 0; k < n; ++k, at += 16) f.throws.push_back(at);
+  }
+  return f;
+}
+
+void put_floats(std::string& bytes, size_t at, std::initializer_list<float> values) {
+  for (float v : values) std::memcpy(bytes.data() + at, &v, 4), at += 4;
+}
+
+size_t lines(const std::string& text) { return size_t(std::count(text.begin(), text.end(), '\n')); }
+
+// Issue 17: a recording is data. A body's position that is not a number or far outside the field
+// is dropped (the body stays where it was), counted and told, and the replay plays to its end.
+TEST(Recording, ABodysBadValuesInTheFramesAreDroppedAndTheReplayGoesOn) {
+  const fs::path recording = copy_of_recording("bad_bodies");
+  std::string bytes = bytes_of(recording / "frames.bin");
+  const Frames frames = frames_in(bytes);
+  ASSERT_GT(frames.starts.size(), 600u);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (size_t k = 100; k < 200; ++k) put_floats(bytes, frames.starts[k] + 5, {nan, nan});  // body 0's x, y
+  for (size_t k = 300; k < 310; ++k) put_floats(bytes, frames.starts[k] + 5, {3.4e38f, 1e30f});
+  // Body 1's velocity, well past the warning's 5 s from the first.
+  put_floats(bytes, frames.starts[frames.starts.size() - 10] + 5 + 16, {0, 0, std::numeric_limits<float>::infinity(), 0});
+  std::ofstream(recording / "frames.bin", std::ios::binary | std::ios::trunc) << bytes;
+  Logs replayed;
+  ASSERT_NO_THROW(replayed = replay(recording.string(), recording.parent_path() / "replayed"));
+  EXPECT_NE(replayed.warnings.find("frames.bin: 1 recorded value dropped (not a number, far outside the field"),
+            std::string::npos) << replayed.warnings;
+  EXPECT_NE(replayed.warnings.find("; 111 in all), the match goes on"), std::string::npos) << replayed.warnings;
+  EXPECT_LE(lines(replayed.warnings), 4u) << replayed.warnings;  // told at most every 5 s of the match
+  EXPECT_NE(replayed.events.find("\"type\":\"time_up\""), std::string::npos);  // played to its end
+}
+
+// A throw the match cannot make (its speed not a number, infinite, above 1000 m/s or 0) is
+// dropped and counted; the replay goes on.
+TEST(Recording, AThrowTheMatchCannotMakeIsDroppedAndTheReplayGoesOn) {
+  const fs::path recording = copy_of_recording("bad_throws");
+  std::string bytes = bytes_of(recording / "frames.bin");
+  const Frames frames = frames_in(bytes);
+  ASSERT_GE(frames.throws.size(), 4u);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::vector<std::vector<float>> bad = {{nan, nan, nan}, {inf, 0, 0}, {1e38f, 1e38f, 0}, {0, 0, 0}};
+  for (size_t k = 0; k < frames.throws.size(); ++k) {
+    const std::vector<float>& v = bad[k % bad.size()];
+    put_floats(bytes, frames.throws[k] + 4, {v[0], v[1], v[2]});
+  }
+  std::ofstream(recording / "frames.bin", std::ios::binary | std::ios::trunc) << bytes;
+  Logs replayed;
+  ASSERT_NO_THROW(replayed = replay(recording.string(), recording.parent_path() / "replayed"));
+  EXPECT_NE(replayed.warnings.find("recorded value"), std::string::npos) << replayed.warnings;
+  EXPECT_NE(replayed.events.find("\"type\":\"time_up\""), std::string::npos);
+}
+
+// A damaged frames.bin ends the replay at its last whole frame, told once, as a recording's end.
+TEST(Recording, ADamagedFrameEndsTheReplayAtTheFrameBefore) {
+  const std::string whole = bytes_of(handball_recording() / "frames.bin");
+  const Frames frames = frames_in(whole);
+  ASSERT_GE(frames.throws.size(), 1u);
+  const uint32_t huge = 0xffffffff;
+  const size_t throwing = std::upper_bound(frames.starts.begin(), frames.starts.end(), frames.throws[0]) - frames.starts.begin() - 1;
+  struct Damage {
+    std::string name, bytes, told;
+  };
+  std::vector<Damage> damages = {
+      {"cut", whole.substr(0, frames.starts[150] + 7), "frame 150 is cut short: the replay ends after 150 whole frames"},
+      {"status", whole, "frame 100 is damaged (its status is 200, not 0 to 2)"},
+      {"bodies", whole, "frame 100 is damaged (it moves 4294967295 bodies"},
+      {"throws", whole, "frame " + std::to_string(throwing) + " is damaged (4294967295 throws"},
+  };
+  damages[1].bytes[frames.starts[100]] = char(200);
+  std::memcpy(damages[2].bytes.data() + frames.starts[100] + 1, &huge, 4);
+  std::memcpy(damages[3].bytes.data() + frames.throws[0] - 4, &huge, 4);
+  for (const Damage& d : damages) {
+    const fs::path recording = copy_of_recording("damaged_" + d.name);
+    std::ofstream(recording / "frames.bin", std::ios::binary | std::ios::trunc) << d.bytes;
+    Logs replayed;
+    ASSERT_NO_THROW(replayed = replay(recording.string(), recording.parent_path() / "replayed")) << d.name;
+    EXPECT_NE(replayed.warnings.find(d.told), std::string::npos) << d.name << ": " << replayed.warnings;
+    EXPECT_EQ(lines(replayed.warnings), 1u) << replayed.warnings;
+  }
+}
+
+// recording.json's settings are checked as `quantum play` checks their options, by name.
+TEST(Recording, ARecordingsSettingsOutOfRangeAreRefusedByName) {
+  const fs::path recording = copy_of_recording("settings");
+  const std::string original = read(recording / "recording.json");
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"particles", "-1"}, {"particles", "4000000000"}, {"particles", "1e300"}, {"particles", "30000000"},
+      {"particles", "2.5"}, {"seed", "-1"}, {"seed", "1.5"}, {"seconds", "-3"}, {"seconds", "1e300"},
+      {"auto_balance", "1e300"}};
+  for (const auto& [key, value] : bad) {
+    nlohmann::json j = nlohmann::json::parse(original);
+    j[key] = nlohmann::json::parse(value);
+    std::ofstream(recording / "recording.json", std::ios::trunc) << j.dump();
+    runtime::SessionOptions r;
+    r.replay = recording.string();
+    std::ostringstream warnings;
+    try {
+      runtime::Session session(r, nullptr, warnings);
+      ADD_FAILURE() << key << " = " << value << " was taken";
+    } catch (const std::runtime_error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("recording.json: \"" + key + "\" must be"), std::string::npos) << message;
+    }
+  }
+  expect_no_work_folder_left();
+}
+
+// Only regular files are fingerprinted: a device in "files" (reading /dev/zero never ends) differs.
+TEST(Recording, ARecordedFileThatIsNoRegularFileDiffers) {
+  const fs::path recording = copy_of_recording("device");
+  nlohmann::json j = nlohmann::json::parse(read(recording / "recording.json"));
+  j["files"] = nlohmann::json::array({{{"original", "/dev/zero"}, {"fnv1a", "0"}, {"copy", "x"}}});
+  std::ofstream(recording / "recording.json", std::ios::trunc) << j.dump();
+  const Logs replayed = replay(recording.string(), recording.parent_path() / "replayed");
+  EXPECT_NE(replayed.warnings.find("/dev/zero changed since the recording"), std::string::npos) << replayed.warnings;
+}
+
+// A replay that stops with an error, in recording.json or after it (a sport copy that does not
+// load), removes its copy of the files all the same.
+TEST(Recording, AReplayThatFailsLeavesNoCopyBehind) {
+  const fs::path recording = copy_of_recording("fails");
+  nlohmann::json j = nlohmann::json::parse(read(recording / "recording.json"));
+  fs::remove(recording / j.at("sport_copy").get<std::string>() / "sport.lua");
+  runtime::SessionOptions r;
+  r.replay = recording.string();
+  std::ostringstream warnings;
+  EXPECT_ANY_THROW(runtime::Session(r, nullptr, warnings));
+  expect_no_work_folder_left();
+}
+
+// A replay whose recording ends before the match's time limit is not a draw: the summary says
+// the match did not finish.
+TEST(Recording, ARecordingThatEndsEarlyIsNoDraw) {
+  const fs::path recording = copy_of_recording("early");
+  const std::string whole = bytes_of(recording / "frames.bin");
+  std::ofstream(recording / "frames.bin", std::ios::binary | std::ios::trunc) << whole.substr(0, frames_in(whole).starts[100]);
+  runtime::SessionOptions r;
+  r.replay = recording.string();
+  r.pacing = runtime::SessionOptions::Pacing::Fast;
+  r.audio = "none";
+  std::ostringstream out, errors;
+  tools::play(r, out, errors);
+  EXPECT_NE(out.str().find("final score: blue 0 red 0 (not finished: level)"), std::string::npos) << out.str();
+  EXPECT_EQ(out.str().find("(draw)"), std::string::npos);
 }
 
 }  // namespace
