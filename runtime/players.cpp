@@ -95,13 +95,14 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
   }
 }
 
-void TrackedPlayers::tell_dropped(double t) {
+void TrackedPlayers::tell_dropped(double t, bool last) {
   const size_t dropped = dropped_ + input_.dropped();
-  if (dropped == told_ || t - told_at_ < kWarnEvery) return;
+  if (dropped == told_ || (!last && t - told_at_ < kWarnEvery)) return;
   if (warnings_)
     *warnings_ << "quantum: " << spec_ << ": " << dropped - told_ << " tracking value" << (dropped - told_ > 1 ? "s" : "")
-               << " dropped (not a number, not a sample, not a whole OSC packet, or a frame whose time is not; " << dropped
-               << " in all), the match goes on\n";
+               << " dropped (not a number, not a sample, not a whole OSC packet, a line too long, or a recorded frame "
+                  "that cannot be read or placed in time; "
+               << dropped << " in all)" << (last ? " by the end of the match\n" : ", the match goes on\n");
   told_ = dropped, told_at_ = t;
 }
 

@@ -39,6 +39,8 @@ class PlayerSource {
   virtual bool live() const { return false; }
   // After a pause the source's clock went on without the match's.
   virtual void resync() {}
+  // The match is over at match time `t`: a source that drops values tells those it has not told.
+  virtual void finish(double /*t*/) {}
   // Scripts to load again before the next frame: a replay's source brings the reloads its
   // recording made, at the frames they were made.
   virtual std::vector<std::filesystem::path> files_to_reload() { return {}; }
@@ -117,6 +119,7 @@ class TrackedPlayers final : public PlayerSource {
   std::span<const game::Throw> throws() const override { return throws_; }
   bool live() const override { return input_.live(); }
   void resync() override { t0_.reset(), next_ask_ = 0; }
+  void finish(double t) override { tell_dropped(t, true); }
 
  private:
   void apply(const tracking::TrackedFrame& f, double throw_speed);
@@ -135,11 +138,11 @@ class TrackedPlayers final : public PlayerSource {
   bool seen_ = false;     // a frame has come
   double next_ask_ = 0;   // match time from which a live source is asked again
   // Values that were not numbers (NaN, infinite), dropped: counted, and told at most every
-  // kWarnEvery seconds of the match.
+  // kWarnEvery seconds of the match; at its end (`last`), those not told yet.
   static constexpr double kWarnEvery = 5;
   size_t dropped_ = 0, told_ = 0;
   double told_at_ = -kWarnEvery;
-  void tell_dropped(double t);
+  void tell_dropped(double t, bool last = false);
 };
 
 }  // namespace quantum::runtime
