@@ -62,7 +62,9 @@ TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field, cons
     : field_(field), spec_(spec), tracked_(tracking::tracked_field(field, size)), input_(spec, tracked_, options),
       setup_(spec, tracking::tracked_field(field), setup), warnings_(warnings),
       dropped_(spec, "tracking value",
-               "not a number, not a sample, not a whole OSC packet, or a frame whose time is not", warnings) {
+               "not a number, not a sample, not a whole OSC packet, a line too long, or a recorded frame that "
+               "cannot be read or placed in time",
+               warnings) {
   for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
 }
 
@@ -97,12 +99,13 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
   }
 }
 
-void DroppedValues::tell(double t, size_t elsewhere) {
+void DroppedValues::tell(double t, size_t elsewhere, bool last) {
   const size_t dropped = dropped_ + elsewhere;
-  if (dropped == told_ || t - told_at_ < kWarnEvery) return;
+  if (dropped == told_ || (!last && t - told_at_ < kWarnEvery)) return;
   if (warnings_)
     *warnings_ << "quantum: " << source_ << ": " << dropped - told_ << ' ' << what_ << (dropped - told_ > 1 ? "s" : "")
-               << " dropped (" << why_ << "; " << dropped << " in all), the match goes on\n";
+               << " dropped (" << why_ << "; " << dropped << " in all)"
+               << (last ? " by the end of the match\n" : ", the match goes on\n");
   told_ = dropped, told_at_ = t;
 }
 

@@ -40,6 +40,8 @@ class PlayerSource {
   virtual bool live() const { return false; }
   // After a pause the source's clock went on without the match's.
   virtual void resync() {}
+  // The match is over at match time `t`: a source that drops values tells those it has not told.
+  virtual void finish(double /*t*/) {}
   // Scripts to load again before the next frame: a replay's source brings the reloads its
   // recording made, at the frames they were made.
   virtual std::vector<std::filesystem::path> files_to_reload() { return {}; }
@@ -54,8 +56,9 @@ class DroppedValues {
   DroppedValues(std::string source, std::string what, std::string why, std::ostream* warnings)
       : source_(std::move(source)), what_(std::move(what)), why_(std::move(why)), warnings_(warnings) {}
   void count() { ++dropped_; }
-  // At match time `t`; `elsewhere`: more dropped values, counted by the source itself.
-  void tell(double t, size_t elsewhere = 0);
+  // At match time `t`; `elsewhere`: more dropped values, counted by the source itself. `last`:
+  // the match is over, and what was not told yet is told now ("... by the end of the match").
+  void tell(double t, size_t elsewhere = 0, bool last = false);
 
  private:
   static constexpr double kWarnEvery = 5;
@@ -138,6 +141,7 @@ class TrackedPlayers final : public PlayerSource {
   std::span<const game::Throw> throws() const override { return throws_; }
   bool live() const override { return input_.live(); }
   void resync() override { t0_.reset(), next_ask_ = 0; }
+  void finish(double t) override { dropped_.tell(t, input_.dropped(), true); }
 
  private:
   void apply(const tracking::TrackedFrame& f, double throw_speed);

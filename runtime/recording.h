@@ -115,6 +115,7 @@ class RecordedPlayers final : public PlayerSource {
   std::span<const BodyInput> bodies() const override { return bodies_; }
   std::span<const game::Throw> throws() const override { return throws_; }
   std::vector<std::filesystem::path> files_to_reload() override;
+  void finish(double t) override { dropped_.tell(t, 0, true); }
 
  private:
   // Reads the next frame into next_ and next_throws_: "" when it is whole, else what is wrong.

@@ -237,6 +237,7 @@ void Session::finish() {
   const double played = match_->time(), took = wall_played_;
   tell();
   report_repeated_errors();
+  players_->finish(played);
   // Every file is completed, also when another could not be written whole; the first that
   // could not is what finish() throws.
   std::exception_ptr lost;

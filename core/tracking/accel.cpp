@@ -1,13 +1,14 @@
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
+#include "tracking/lines.h"
 #include "tracking/tracking.h"
 
 namespace quantum::tracking {
@@ -58,12 +59,22 @@ AccelSource::AccelSource(const std::string& spec) {
     }
     return;
   }
-  std::ifstream in(spec);
-  if (!in) throw TrackingError(spec + ": cannot open the accelerometer file");
+  // Opened as it is (a pipe from another program is fine: the file is read whole before the
+  // match); a line longer than kLongestLine is dropped and counted, never held.
+  const int fd = ::open(spec.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw TrackingError(spec + ": cannot open the accelerometer file");
+  BoundedLines lines(fd);
   int n = 0;
-  for (std::string line; std::getline(in, line);) {
+  for (std::string line;;) {
+    const BoundedLines::Line got = lines.next(line);
+    if (got == BoundedLines::Line::End) break;
     ++n;
-    if (line.empty() || line[0] == '#' || (n == 1 && line.rfind("t,", 0) == 0)) continue;  // header, comments
+    if (got == BoundedLines::Line::TooLong) {
+      ++dropped_;
+      continue;
+    }
+    const bool blank = line.find_first_not_of(" \t\r\v\f") == std::string::npos;
+    if (blank || line[0] == '#' || (n == 1 && line.rfind("t,", 0) == 0)) continue;  // header, comments
     AccelSample s;
     const Parsed parsed = parse_sample(line, s);
     if (parsed == Parsed::Malformed) throw TrackingError(spec + ":" + std::to_string(n) + ": expected t,player,ax,ay,az");

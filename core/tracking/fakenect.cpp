@@ -1,21 +1,33 @@
 #include "tracking/fakenect.h"
 
+#include <fcntl.h>
 #include <libfreenect.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+
+#include "tracking/kinect.h"
+#include "tracking/lines.h"
 
 namespace quantum::tracking {
 namespace fs = std::filesystem;
 
 namespace {
 
+// A PGM/PPM header is a few dozen bytes; comments may make it longer, never this long.
+constexpr size_t kLongestHeader = 1024;
+
 // Wall-clock seconds from a name `%c-%f-%u.%s`; -1 when it does not parse, NaN when the time is
-// not a finite number ("nan", "inf").
+// not a finite number ("nan", "inf") or is negative.
 double time_of(const std::string& name) {
   if (name.size() < 4 || name[1] != '-') return -1;
   char* end = nullptr;
@@ -24,25 +36,84 @@ double time_of(const std::string& name) {
   return std::isfinite(t) && t >= 0 ? t : std::nan("");
 }
 
-// A binary PNM (P5 or P6) as libfreenect writes it. `what` names the file and frame in errors.
-cv::Mat read_pnm(const fs::path& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RecordingError(what + ": cannot open");
-  std::string magic;
+// A descriptor for `path` if it is a regular file (symlinks followed), else -1 and `why`. Opened
+// without blocking, so that a FIFO (nobody writing) or a device is looked at, never waited on.
+int open_regular(const fs::path& path, std::string& why, off_t* size = nullptr) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    why = errno == ENOENT ? "no such file" : std::string("cannot open: ") + std::strerror(errno);
+    return -1;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    why = "not a regular file";
+    return -1;
+  }
+  if (size) *size = st.st_size;
+  return fd;
+}
+
+// Up to `n` bytes at `offset`; how many were read.
+size_t read_at(int fd, char* to, size_t n, off_t offset) {
+  size_t got = 0;
+  while (got < n) {
+    const ssize_t k = ::pread(fd, to + got, n - got, offset + off_t(got));
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) break;
+    got += size_t(k);
+  }
+  return got;
+}
+
+// A binary PNM as libfreenect writes it: 16-bit depth (P5) or 8-bit colour (P6), the Kinect's
+// 640 x 480. Empty, with `why`, for anything else. Comments ('#' to the end of the line) may come
+// between the header's fields; no more than the header and the samples it announces is read.
+cv::Mat read_pnm(const fs::path& path, bool depth, std::string& why) {
+  off_t size = 0;
+  const int fd = open_regular(path, why, &size);
+  if (fd < 0) return {};
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  char head[kLongestHeader];
+  const size_t n = read_at(fd, head, sizeof head, 0);
+  size_t at = 2;
+  // The next field, after whitespace and comments; false when the header has no such number.
+  auto number = [&](long& v) {
+    for (;;) {
+      while (at < n && std::isspace(static_cast<unsigned char>(head[at]))) ++at;
+      if (at >= n || head[at] != '#') break;
+      while (at < n && head[at] != '\n') ++at;
+    }
+    if (at >= n || !std::isdigit(static_cast<unsigned char>(head[at]))) return false;
+    for (v = 0; at < n && std::isdigit(static_cast<unsigned char>(head[at])) && v < 1000000; ++at)
+      v = 10 * v + (head[at] - '0');
+    return at < n && std::isspace(static_cast<unsigned char>(head[at]));
+  };
   long width = 0, height = 0, maxval = 0;
-  in >> magic >> width >> height >> maxval;
-  if (!in || (magic != "P5" && magic != "P6") || width <= 0 || height <= 0 || width > 8192 || height > 8192 ||
-      maxval <= 0 || maxval > 65535)
-    throw RecordingError(what + ": not a binary PGM/PPM file");
-  in.get();  // the single whitespace before the samples
-  const bool colour = magic == "P6", wide = maxval > 255;
-  if (colour == wide) throw RecordingError(what + ": expected 16-bit depth (P5) or 8-bit colour (P6)");
+  if (n < 2 || head[0] != 'P' || (head[1] != '5' && head[1] != '6') || !number(width) || !number(height) ||
+      !number(maxval) || maxval <= 0 || maxval > 65535) {
+    why = "not a binary PGM/PPM file";
+    return {};
+  }
+  ++at;  // the single whitespace before the samples
+  const DepthCamera kinect;
+  const bool colour = head[1] == '6', wide = maxval > 255;
+  if (width != kinect.width || height != kinect.height || colour == depth || colour == wide) {
+    why = std::string("expected ") + std::to_string(kinect.width) + "x" + std::to_string(kinect.height) +
+          (depth ? " 16-bit depth (P5)" : " 8-bit colour (P6)") + ", not " + std::to_string(width) + "x" +
+          std::to_string(height) + (colour ? " P6" : " P5") + " with maxval " + std::to_string(maxval);
+    return {};
+  }
   cv::Mat m(int(height), int(width), colour ? CV_8UC3 : CV_16UC1);
   const size_t bytes = m.total() * m.elemSize();
-  in.read(reinterpret_cast<char*>(m.data), std::streamsize(bytes));
-  if (size_t(in.gcount()) != bytes)
-    throw RecordingError(what + ": truncated, " + std::to_string(in.gcount()) + " of " + std::to_string(bytes) +
-                         " bytes of samples");
+  const size_t got = size_t(size) > at ? read_at(fd, reinterpret_cast<char*>(m.data), bytes, off_t(at)) : 0;
+  if (got != bytes) {
+    why = "truncated, " + std::to_string(got) + " of " + std::to_string(bytes) + " bytes of samples";
+    return {};
+  }
   // Depth is in host byte order (not PGM's big-endian), colour in RGB order.
   if (colour) cv::cvtColor(m, m, cv::COLOR_RGB2BGR);
   return m;
@@ -52,41 +123,73 @@ cv::Mat read_pnm(const fs::path& path, const std::string& what) {
 
 FakenectReader::FakenectReader(std::string dir) : dir_(std::move(dir)) {
   const fs::path index = fs::path(dir_) / "INDEX.txt";
-  std::ifstream in(index);
-  if (!in) throw RecordingError(index.string() + ": no such file (not a fakenect recording?)");
-  for (std::string line; std::getline(in, line);) {
+  std::string why;
+  const int fd = open_regular(index, why);
+  if (fd < 0) throw RecordingError(index.string() + ": " + why + " (not a fakenect recording?)");
+  BoundedLines lines(fd);
+  for (std::string line;;) {
+    const BoundedLines::Line got = lines.next(line);
+    if (got == BoundedLines::Line::End) break;
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-    if (!line.empty()) files_.push_back(line);
+    if (got == BoundedLines::Line::Read && line.empty()) continue;
+    // A line too long, a name that is not `%c-%f-%u.%s` of a file in the folder, or a time that
+    // is not a number cannot be placed: dropped and counted.
+    const double t = got == BoundedLines::Line::Read ? time_of(line) : -1;
+    const bool named = line[0] == 'd' || line[0] == 'r' || line[0] == 'a';
+    if (!(t >= 0) || !named || line.find_first_of(std::string("/\0", 2)) != std::string::npos) {
+      ++dropped_;
+      continue;
+    }
+    files_.push_back({line[0], t, line});
   }
+  // Played in the order of their times (INDEX.txt's order may be shuffled); at equal times the
+  // colour frame first, as libfreenect writes them, so that it goes with the depth frame. A
+  // recording is one run of files no more than kGap apart: the run with the most depth frames
+  // plays, the others (a time far past the rest, or far before) are dropped.
+  auto rank = [](char type) { return type == 'r' ? 0 : type == 'd' ? 1 : 2; };
+  std::stable_sort(files_.begin(), files_.end(), [&](const File& a, const File& b) {
+    return a.time < b.time || (a.time == b.time && rank(a.type) < rank(b.type));
+  });
+  size_t first = 0, last = 0, most = 0;
+  for (size_t begin = 0, end = 0; begin < files_.size(); begin = end) {
+    size_t depth = 0;
+    for (end = begin; end < files_.size() && (end == begin || files_[end].time - files_[end - 1].time <= kGap); ++end)
+      depth += files_[end].type == 'd';
+    if (depth > most) first = begin, last = end, most = depth;
+  }
+  dropped_ += files_.size() - (last - first);
+  files_.erase(files_.begin() + long(last), files_.end());
+  files_.erase(files_.begin(), files_.begin() + long(first));
+  if (!files_.empty()) t0_ = files_.front().time;
 }
 
 bool FakenectReader::next(RecordedFrame& out) {
   while (cursor_ < files_.size()) {
-    const std::string& name = files_[cursor_++];
-    const double wall = time_of(name);
-    const fs::path path = fs::path(dir_) / name;
-    const std::string what = path.string() + " (depth frame " + std::to_string(frames_) + ")";
-    if (wall < 0) throw RecordingError(what + ": the name is not type-seconds-timestamp.ext");
-    // A frame whose time is not a number, or goes back, cannot be placed: dropped and counted.
-    if (std::isnan(wall) || (name[0] == 'd' && t0_ >= 0 && wall - t0_ < last_t_)) {
+    const File& file = files_[cursor_++];
+    if (file.type == 'a') continue;  // the tilt state, which the pipelines do not use
+    const fs::path path = fs::path(dir_) / file.name;
+    std::string why;
+    cv::Mat m = read_pnm(path, file.type == 'd', why);
+    if (m.empty()) {
       ++dropped_;
+      last_dropped_ = path.string() + ": " + why;
       continue;
     }
-    if (t0_ < 0) t0_ = wall;
-    if (name[0] == 'r') {
-      rgb_ = read_pnm(path, path.string());
-      if (rgb_.type() != CV_8UC3) throw RecordingError(path.string() + ": a colour frame must be a PPM");
-    } else if (name[0] == 'd') {
-      out.depth = read_pnm(path, what);
-      if (out.depth.type() != CV_16UC1) throw RecordingError(what + ": a depth frame must be a 16-bit PGM");
-      out.rgb = rgb_;
-      out.index = frames_++;
-      out.t = last_t_ = wall - t0_;
-      out.file = path.string();
-      return true;
+    if (file.type == 'r') {
+      rgb_ = std::move(m);
+      continue;
     }
-    // 'a': the tilt state, which the pipelines do not use.
+    out.depth = std::move(m);
+    out.rgb = rgb_;
+    out.index = frames_++;
+    out.t = file.time - t0_;
+    out.file = path.string();
+    return true;
   }
+  if (frames_ == 0)
+    throw RecordingError(dir_ + ": no depth frame could be read, " + std::to_string(dropped_) + " file" +
+                         (dropped_ == 1 ? "" : "s") + " dropped" +
+                         (last_dropped_.empty() ? "" : " (the last: " + last_dropped_ + ")"));
   return false;
 }
 

@@ -1,6 +1,6 @@
 // Kinect recordings in libfreenect's own record format ("fakenect"), read and written directly,
-// no device or libfreenect needed. A recording is a directory: INDEX.txt lists the files in
-// playback order, named `%c-%f-%u.%s` (type, wall-clock seconds, device timestamp, extension):
+// no device or libfreenect needed. A recording is a directory: INDEX.txt lists the files,
+// named `%c-%f-%u.%s` (type, wall-clock seconds, device timestamp, extension):
 // d-*.pgm raw 11-bit depth (P5 640 480 65535, host byte order), r-*.ppm RGB (P6 640 480 255),
 // a-*.dump the accelerometer and tilt state.
 #pragma once
@@ -27,26 +27,46 @@ struct RecordedFrame {
   std::string file;   // the depth file
 };
 
+// Reading a recording is reading data others wrote: a file that cannot be a frame is dropped and
+// counted, never a reason to stop (docs/tracking.md, "Bad input"). Frames play in the order of
+// their names' times, whatever INDEX.txt's order; a frame whose time lies more than kGap past the
+// others (or before them) is dropped. Nothing but a regular file is opened, and no more is read
+// than a frame's header says it holds.
 class FakenectReader {
  public:
+  // Seconds between two files' times beyond which they are not one recording: the files on the
+  // side with fewer depth frames are dropped.
+  static constexpr double kGap = 5;
+
   // Throws RecordingError when the directory has no readable INDEX.txt.
   explicit FakenectReader(std::string dir);
 
-  // The next depth frame; false after the last. Throws RecordingError for a file that is
-  // missing, truncated or not what its name says.
+  // The next depth frame; false after the last. A file that is missing, not a regular file,
+  // truncated or not what its name says is dropped and counted. Throws RecordingError when the
+  // recording is over without a single depth frame read.
   bool next(RecordedFrame& out);
 
   const std::string& dir() const { return dir_; }
-  // Frames skipped so far because their name's time was not a number or went back.
+  // Files dropped so far: an INDEX.txt line too long or not a name `%c-%f-%u.%s`, a time that is
+  // not a number or lies apart from the recording's, and frames that could not be read.
   size_t dropped() const { return dropped_; }
+  // The file last dropped for what it holds and why ("" when none was): "DIR/d-...pgm: truncated,
+  // 1000 of 614400 bytes of samples".
+  const std::string& last_dropped() const { return last_dropped_; }
 
  private:
+  struct File {
+    char type;
+    double time;  // the name's seconds
+    std::string name;
+  };
   std::string dir_;
-  std::vector<std::string> files_;
+  std::vector<File> files_;
   size_t cursor_ = 0;
   int frames_ = 0;
-  double t0_ = -1, last_t_ = 0;
+  double t0_ = 0;
   size_t dropped_ = 0;
+  std::string last_dropped_;
   cv::Mat rgb_;
 };
 

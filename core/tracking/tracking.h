@@ -291,12 +291,15 @@ struct AccelSample {
 
 class AccelSource {
  public:
-  // "FILE" (CSV) or "udp:PORT". Throws TrackingError naming the file and line of bad input.
+  // "FILE" (CSV) or "udp:PORT". Throws TrackingError naming the file and line of bad input; blank
+  // lines (spaces and tabs at most) are skipped, a line longer than kLongestLine (lines.h) is
+  // dropped and counted.
   explicit AccelSource(const std::string& spec);
   ~AccelSource();
   // Samples up to time t (for UDP: everything received so far, stamped t).
   std::vector<AccelSample> until(double t);
-  // Samples dropped so far: a value NaN or infinite, or a datagram that is not a sample.
+  // Samples dropped so far: a value NaN or infinite, a line too long, or a datagram that is not a
+  // sample.
   size_t dropped() const { return dropped_; }
 
  private:

@@ -2,14 +2,17 @@
 // known: accuracy, hover rejection, the recording format and bad input.
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "field_loader.h"
+#include "play.h"
 #include "synthetic.h"
 #include "tracking/tracking.h"
 
@@ -226,7 +229,9 @@ void write_index(const std::string& dir, const std::vector<std::string>& lines) 
   for (const std::string& l : lines) out << l << '\n';
 }
 
-TEST(Depth, ATruncatedFrameIsNamedWithItsNumber) {
+// A frame is data: a truncated one is dropped and counted, named in last_dropped(), and the
+// recording plays on past it.
+TEST(Depth, ATruncatedFrameIsDroppedAndNamed) {
   TempDir dir("truncated");
   const std::string rec = small_recording(dir);
   std::vector<std::string> depth;
@@ -235,21 +240,18 @@ TEST(Depth, ATruncatedFrameIsNamedWithItsNumber) {
   fs::resize_file(fs::path(rec) / depth[12], 1000);
   FakenectReader reader(rec);
   RecordedFrame f;
-  int read = 0;
-  try {
-    while (reader.next(f)) ++read;
-    FAIL() << "no error";
-  } catch (const tracking::RecordingError& e) {
-    const std::string m = e.what();
-    EXPECT_NE(m.find(depth[12]), std::string::npos) << m;
-    EXPECT_NE(m.find("depth frame 12"), std::string::npos) << m;
-    EXPECT_NE(m.find("truncated"), std::string::npos) << m;
-  }
-  EXPECT_EQ(read, 12);  // everything before it was read
+  std::vector<std::string> read;
+  while (reader.next(f)) read.push_back(fs::path(f.file).filename().string());
+  EXPECT_EQ(reader.dropped(), 1u);
+  EXPECT_EQ(read.size(), depth.size() - 1);
+  EXPECT_EQ(std::find(read.begin(), read.end(), depth[12]), read.end());
+  const std::string m = reader.last_dropped();
+  EXPECT_NE(m.find(depth[12]), std::string::npos) << m;
+  EXPECT_NE(m.find("truncated, 983 of 614400 bytes"), std::string::npos) << m;
 }
 
-// A frame whose name's time is not a number ("nan", "inf") or goes back cannot be placed: it is
-// dropped and counted, and the recording plays on at its own pace (not all at once).
+// A frame whose name's time is not a number ("nan", "inf") or lies far from the others' cannot be
+// placed: it is dropped and counted, and the recording plays on at its own pace (not all at once).
 TEST(Depth, FramesWhoseTimeIsNotANumberAreDroppedAndCounted) {
   TempDir dir("nan_times");
   const std::string rec = small_recording(dir);
@@ -264,7 +266,7 @@ TEST(Depth, FramesWhoseTimeIsNotANumberAreDroppedAndCounted) {
   };
   renamed(depth[3], "nan");
   renamed(depth[5], "inf");
-  renamed(depth[7], "0.000001");  // before the first frame
+  renamed(depth[7], "1000");  // far past the recording's other frames
   std::ofstream index(fs::path(rec) / "INDEX.txt");
   for (const std::string& l : lines) index << l << "\n";
   index.close();
@@ -285,6 +287,195 @@ TEST(Depth, ANonRecordingIsNamed) {
   } catch (const tracking::RecordingError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/recording/INDEX.txt"), std::string::npos) << e.what();
   }
+}
+
+// Everything a recording's reader gives: each depth frame's file name, time and whether it came
+// with a colour frame.
+struct Replayed {
+  std::vector<std::string> files;
+  std::vector<double> times;
+  std::vector<bool> coloured;
+  size_t dropped = 0;
+};
+
+Replayed replay(const std::string& rec) {
+  FakenectReader reader(rec);
+  RecordedFrame f;
+  Replayed r;
+  while (reader.next(f)) {
+    r.files.push_back(fs::path(f.file).filename().string());
+    r.times.push_back(f.t);
+    r.coloured.push_back(!f.rgb.empty());
+  }
+  r.dropped = reader.dropped();
+  return r;
+}
+
+// Renames a file of the recording (and its line in INDEX.txt) to carry the time `time`; its new name.
+std::string retime(const std::string& rec, const std::string& name, const std::string& time) {
+  const std::string to = name.substr(0, 2) + time + name.substr(name.find('-', 2));
+  fs::rename(fs::path(rec) / name, fs::path(rec) / to);
+  std::vector<std::string> lines = index_of(rec);
+  for (std::string& l : lines)
+    if (l == name) l = to;
+  write_index(rec, lines);
+  return to;
+}
+
+// One huge but finite time (1000 s, 1e12, 1e308 in a 1 s recording) neither holds the match for
+// as long nor makes the frames after it "go back": the frame is dropped and counted, and every
+// other frame plays at its own time.
+TEST(Fakenect, AFrameFarPastTheOthersIsDroppedAndTheRestPlayAtTheirTimes) {
+  TempDir dir("far_frame");
+  const std::string rec = small_recording(dir);
+  const Replayed clean = replay(rec);
+  ASSERT_EQ(clean.dropped, 0u);
+  std::string name;
+  for (const std::string& l : index_of(rec))
+    if (l[0] == 'd' && l.find("-30.pgm") != std::string::npos) name = l;
+  ASSERT_FALSE(name.empty());
+  const size_t at = size_t(std::find(clean.files.begin(), clean.files.end(), name) - clean.files.begin());
+  for (const char* time : {"1000", "1e12", "1e308"}) {
+    name = retime(rec, name, time);
+    const Replayed r = replay(rec);
+    EXPECT_EQ(r.dropped, 1u) << time;
+    ASSERT_EQ(r.times.size(), clean.times.size() - 1) << time;
+    for (size_t k = 0; k < r.times.size(); ++k) EXPECT_EQ(r.times[k], clean.times[k + (k >= at)]) << time << " " << k;
+  }
+}
+
+// INDEX.txt's order is not the recording's: frames play in the order of their times, a colour
+// frame going with the depth frames at or after its time. A colour frame named 1e12 s, listed
+// first, is dropped; the lines after the first in reverse order play as the clean recording.
+TEST(Fakenect, FramesPlayInTheOrderOfTheirTimesWhateverTheIndexSays) {
+  TempDir dir("shuffled");
+  const std::string rec = small_recording(dir);
+  const Replayed clean = replay(rec);
+  std::vector<std::string> lines = index_of(rec);
+  std::reverse(lines.begin() + 1, lines.end());
+  write_index(rec, lines);
+  const Replayed reversed = replay(rec);
+  EXPECT_EQ(reversed.dropped, 0u);
+  EXPECT_EQ(reversed.files, clean.files);
+  EXPECT_EQ(reversed.times, clean.times);
+  EXPECT_EQ(reversed.coloured, clean.coloured);
+
+  std::reverse(lines.begin() + 1, lines.end());
+  write_index(rec, lines);
+  std::string colour;
+  for (const std::string& l : lines)
+    if (l[0] == 'r' && colour.empty()) colour = l;
+  ASSERT_EQ(lines[0], colour) << "the synthetic recording starts with a colour frame";
+  retime(rec, colour, "1e12");
+  const Replayed far = replay(rec);
+  EXPECT_EQ(far.dropped, 1u);
+  EXPECT_EQ(far.files, clean.files);
+  EXPECT_EQ(far.times, clean.times);
+}
+
+// Files named like frames that are not frames are dropped and counted and the recording plays
+// on: none is opened unless it is a regular file (a FIFO nobody writes would block for ever, a
+// link to /dev/zero never ends), none is read past the size its header gives (a 1 GB frame of
+// NULs costs a header's bytes), and a legal PGM with a comment in its header is read.
+TEST(Fakenect, FilesThatAreNotFramesAreDroppedAndCounted) {
+  TempDir dir("not_frames");
+  const std::string rec = small_recording(dir);
+  std::vector<std::string> depth;
+  for (const std::string& l : index_of(rec))
+    if (l[0] == 'd') depth.push_back(l);
+  auto path = [&](size_t k) { return fs::path(rec) / depth.at(k); };
+  auto write = [&](size_t k, const std::string& bytes) {
+    fs::remove(path(k));
+    std::ofstream(path(k), std::ios::binary) << bytes;
+  };
+  const std::vector<uint16_t> samples(640 * 480, 700);
+  const std::string wide(reinterpret_cast<const char*>(samples.data()), samples.size() * 2);
+  fs::remove(path(2));                                          // missing
+  write(3, "");                                                 // 0 bytes
+  write(4, "P2 640 480 65535\n0 0 0\n");                        // a text PGM
+  write(5, "P5 640 480 255\n" + std::string(640 * 480, '\1'));  // 8-bit
+  write(6, "P5 320 240 65535\n" + wide.substr(0, 320 * 240 * 2));  // another size
+  fs::remove(path(7));
+  fs::create_directory(path(7));  // a directory
+  fs::remove(path(8));
+  fs::create_symlink("/dev/zero", path(8));
+  fs::remove(path(9));
+  ASSERT_EQ(::mkfifo(path(9).c_str(), 0600), 0);
+  write(10, "");
+  fs::resize_file(path(10), 1ull << 30);  // sparse: 1 GB of NULs, no whitespace
+  write(11, "P5\n# written by hand\n640 480\n# 16-bit\n65535\n" + wide);  // legal, with comments
+  const Replayed r = replay(rec);
+  EXPECT_EQ(r.dropped, 9u);
+  EXPECT_EQ(r.files.size(), depth.size() - 9);
+  EXPECT_NE(std::find(r.files.begin(), r.files.end(), depth[11]), r.files.end()) << "the PGM with comments was refused";
+  FakenectReader reader(rec);
+  RecordedFrame f;
+  while (reader.next(f) && fs::path(f.file).filename() != depth[11]) {
+  }
+  ASSERT_EQ(fs::path(f.file).filename(), depth[11]);
+  EXPECT_EQ(cv::countNonZero(f.depth != 700), 0);
+}
+
+// An INDEX.txt line longer than a name can be (a megabyte of NULs, the last line without its
+// newline; 5,000 letters) or that is no frame's name is dropped and counted, never held whole.
+TEST(Fakenect, IndexLinesThatAreNotNamesAreDroppedAndCounted) {
+  TempDir dir("long_lines");
+  const std::string rec = small_recording(dir);
+  const Replayed clean = replay(rec);
+  std::vector<std::string> lines = index_of(rec);
+  lines.insert(lines.begin() + 5, std::string(5000, 'd'));
+  lines.insert(lines.begin() + 9, "notes.txt");
+  write_index(rec, lines);
+  std::ofstream(fs::path(rec) / "INDEX.txt", std::ios::app | std::ios::binary) << std::string(1 << 20, '\0');
+  const Replayed r = replay(rec);
+  EXPECT_EQ(r.dropped, 3u);
+  EXPECT_EQ(r.files, clean.files);
+  EXPECT_EQ(r.times, clean.times);
+}
+
+// A recording in which no depth frame can be read is refused, saying so.
+TEST(Fakenect, ARecordingWithoutAReadableFrameIsRefused) {
+  TempDir dir("unreadable");
+  const std::string rec = small_recording(dir);
+  for (const std::string& l : index_of(rec))
+    if (l[0] == 'd') fs::resize_file(fs::path(rec) / l, 100);
+  try {
+    replay(rec);
+    FAIL() << "no error";
+  } catch (const tracking::RecordingError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(rec + ": no depth frame could be read"), std::string::npos) << m;
+    EXPECT_NE(m.find("truncated"), std::string::npos) << m;
+  }
+}
+
+// What a match drops is told at the first drop, then at most every 5 s; what was dropped after
+// the last of those lines is told at the match's end, in one line. A 1.7 s recording: a frame
+// whose time is not a number (told with the first frame), and a truncated frame near the end.
+TEST(Fakenect, DropsNotToldYetAreToldAtTheMatchsEnd) {
+  TempDir dir("tally");
+  const std::string rec = small_recording(dir);
+  std::vector<std::string> depth;
+  for (const std::string& l : index_of(rec))
+    if (l[0] == 'd') depth.push_back(l);
+  retime(rec, depth[35], "nan");
+  fs::resize_file(fs::path(rec) / depth[45], 1000);
+  runtime::SessionOptions o;
+  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.input = "fakenect:" + rec;
+  o.pacing = runtime::SessionOptions::Pacing::Fast;
+  std::ostringstream out, errors;
+  tools::play(o, out, errors);
+  const std::string e = errors.str();
+  const std::string first = "quantum: fakenect:" + rec + ": 1 tracking value dropped (";
+  const size_t at = e.find(first);
+  ASSERT_NE(at, std::string::npos) << e;
+  EXPECT_NE(e.find("; 1 in all), the match goes on\n", at), std::string::npos) << e;
+  const size_t last = e.find(first, at + 1);
+  ASSERT_NE(last, std::string::npos) << "the last drop was never told: " << e;
+  EXPECT_NE(e.find("; 2 in all) by the end of the match\n", last), std::string::npos) << e;
+  EXPECT_EQ(e.find(first, last + 1), std::string::npos) << "one line at the end: " << e;
+  EXPECT_NE(out.str().find("(the recording is over)"), std::string::npos) << out.str();
 }
 
 // Dropped frames (gaps in the index) and frames without a single depth reading go by: the

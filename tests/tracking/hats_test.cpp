@@ -168,6 +168,31 @@ TEST(Hats, AnAccelerometerValueThatIsNotANumberIsDroppedAndCounted) {
   fs::remove(file);
 }
 
+// A line of only spaces or a tab is as blank as an empty one: skipped, not a malformed sample.
+TEST(Hats, ABlankAccelerometerLineIsSkipped) {
+  const fs::path file = fs::temp_directory_path() / "quantum_accel_blank.csv";
+  std::ofstream(file) << "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n   \n\t\n \t \r\n\n0.01,blue 1,0,0,9.8\n";
+  tracking::AccelSource accel(file.string());
+  EXPECT_EQ(accel.dropped(), 0u);
+  EXPECT_EQ(accel.until(1).size(), 2u);
+  fs::remove(file);
+}
+
+// A line longer than a sample can be (here 8 MB of NULs, the last line without a newline, and
+// one of commas between samples) is dropped and counted, never held whole.
+TEST(Hats, AnOverlongAccelerometerLineIsDroppedAndCounted) {
+  const fs::path file = fs::temp_directory_path() / "quantum_accel_long.csv";
+  {
+    std::ofstream out(file, std::ios::binary);
+    out << "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n" << std::string(5000, ',') << "\n0.01,blue 1,0,0,9.8\n";
+    out << std::string(8 << 20, '\0');
+  }
+  tracking::AccelSource accel(file.string());
+  EXPECT_EQ(accel.dropped(), 2u);
+  EXPECT_EQ(accel.until(1).size(), 2u);
+  fs::remove(file);
+}
+
 // Live accelerometers: one sample per UDP datagram, stamped when it is read.
 TEST(Hats, AccelerometerSamplesArriveOverUdp) {
   const int port = 47000 + int(getpid() % 1000);
