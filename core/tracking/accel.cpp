@@ -2,6 +2,7 @@
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -60,10 +61,14 @@ AccelSource::AccelSource(const std::string& spec) {
     return;
   }
   // Opened as it is (a pipe from another program is fine: the file is read whole before the
-  // match); a line longer than kLongestLine is dropped and counted, never held.
+  // match, up to kMostLines or kMostBytes); a line longer than kLongestLine is dropped and
+  // counted, never held. A device is no file of samples (/dev/zero would be read forever).
   const int fd = ::open(spec.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw TrackingError(spec + ": cannot open the accelerometer file");
   BoundedLines lines(fd);
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !(S_ISREG(st.st_mode) || S_ISFIFO(st.st_mode)))
+    throw TrackingError("--accel " + spec + ": not a file of samples or a pipe");
   int n = 0;
   for (std::string line;;) {
     const BoundedLines::Line got = lines.next(line);
@@ -81,6 +86,7 @@ AccelSource::AccelSource(const std::string& spec) {
     if (parsed == Parsed::NotFinite) ++dropped_;
     else samples_.push_back(s);
   }
+  dropped_ += lines.cut();  // the rest of a file past what is read: one drop, told with the others
   std::stable_sort(samples_.begin(), samples_.end(), [](const AccelSample& a, const AccelSample& b) { return a.t < b.t; });
 }
 

@@ -142,6 +142,7 @@ FakenectReader::FakenectReader(std::string dir) : dir_(std::move(dir)) {
     }
     files_.push_back({line[0], t, line});
   }
+  dropped_ += lines.cut();  // an INDEX.txt past what is read: one drop, told with the others
   // Played in the order of their times (INDEX.txt's order may be shuffled); at equal times the
   // colour frame first, as libfreenect writes them, so that it goes with the depth frame. A
   // recording is one run of files no more than kGap apart: the run with the most depth frames

@@ -15,16 +15,24 @@ BoundedLines::~BoundedLines() {
 
 BoundedLines::Line BoundedLines::next(std::string& line) {
   line.clear();
+  if (lines_ == kMostLines) {
+    if (at_ < size_ || !end_) cut_ = true;
+    end_ = true, at_ = size_;
+    return Line::End;
+  }
+  ++lines_;
   bool any = false, too_long = false;
   for (;;) {
     if (at_ == size_) {
+      if (bytes_ >= kMostBytes) cut_ = end_ = true;
       ssize_t n = -1;
       while (!end_ && (n = ::read(fd_, buffer_.data(), buffer_.size())) < 0 && errno == EINTR) {
       }
+      if (n > 0) bytes_ += size_t(n);
       if (end_ || n <= 0) {
         end_ = true;
         if (!any) return Line::End;
-        return too_long ? Line::TooLong : Line::Read;
+        return too_long || cut_ ? Line::TooLong : Line::Read;  // a line the cut went through is not whole
       }
       at_ = 0, size_ = size_t(n);
     }

@@ -11,6 +11,11 @@ namespace quantum::tracking {
 
 // The most bytes a line of an input file may have; a longer one is dropped and counted.
 constexpr size_t kLongestLine = 4096;
+// The most of an input file that is read: past it the rest is left unread, as if the file ended
+// there (cut()), so that an endless pipe or a device cannot hold the match before it starts.
+// An hour of a 100 Hz accelerometer on four players is 1.4 million lines.
+constexpr size_t kMostLines = 5'000'000;
+constexpr size_t kMostBytes = size_t(1) << 30;
 
 class BoundedLines {
  public:
@@ -21,15 +26,18 @@ class BoundedLines {
   BoundedLines(const BoundedLines&) = delete;
   BoundedLines& operator=(const BoundedLines&) = delete;
   // The next line, without its newline, in `line` (Read); TooLong for one longer than `max`
-  // (`line` then empty); End when the file is over (or cannot be read further).
+  // (`line` then empty); End when the file is over (or cannot be read further, or is cut).
   Line next(std::string& line);
+  // The file went on past kMostLines lines or kMostBytes bytes: the rest was not read.
+  bool cut() const { return cut_; }
 
  private:
   int fd_;
   size_t max_;
   std::vector<char> buffer_;
   size_t at_ = 0, size_ = 0;
-  bool end_ = false;
+  size_t lines_ = 0, bytes_ = 0;
+  bool end_ = false, cut_ = false;
 };
 
 }  // namespace quantum::tracking

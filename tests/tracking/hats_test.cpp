@@ -16,6 +16,7 @@
 #include <map>
 
 #include "synthetic.h"
+#include "tracking/lines.h"
 #include "tracking/tracking.h"
 
 namespace quantum {
@@ -191,6 +192,29 @@ TEST(Hats, AnOverlongAccelerometerLineIsDroppedAndCounted) {
   EXPECT_EQ(accel.dropped(), 2u);
   EXPECT_EQ(accel.until(1).size(), 2u);
   fs::remove(file);
+}
+
+// A file is read up to kMostLines lines (lines.h): the rest of a longer one, or of an endless
+// pipe, is one drop; a device is no file of samples (/dev/zero would never end).
+TEST(Hats, AnAccelerometerFileIsReadUpToItsLimitAndADeviceIsRefused) {
+  const fs::path file = fs::temp_directory_path() / "quantum_accel_many.csv";
+  {
+    std::ofstream out(file, std::ios::binary);
+    out << "t,player,ax,ay,az\n";
+    for (size_t k = 1; k < tracking::kMostLines; ++k) out << "#\n";
+    out << "0.00,blue 1,0,0,9.8\n0.01,blue 1,0,0,9.8\n";  // lines kMostLines + 1 and + 2: never read
+  }
+  tracking::AccelSource accel(file.string());
+  EXPECT_EQ(accel.dropped(), 1u);
+  EXPECT_EQ(accel.until(1).size(), 0u);
+  fs::remove(file);
+  try {
+    tracking::AccelSource zero("/dev/zero");
+    ADD_FAILURE() << "/dev/zero was taken as a file of samples";
+  } catch (const tracking::TrackingError& e) {
+    EXPECT_NE(std::string(e.what()).find("--accel /dev/zero: not a file of samples or a pipe"), std::string::npos)
+        << e.what();
+  }
 }
 
 // Live accelerometers: one sample per UDP datagram, stamped when it is read.
