@@ -61,10 +61,7 @@ TrackedPlayers::TrackedPlayers(const std::string& spec, const Field& field, cons
                                std::ostream* warnings, std::optional<Vec2> size, tracking::SetupOptions setup)
     : field_(field), spec_(spec), tracked_(tracking::tracked_field(field, size)), input_(spec, tracked_, options),
       setup_(spec, tracking::tracked_field(field), setup), warnings_(warnings),
-      dropped_(spec, "tracking value",
-               "not a number, not a sample, not a whole OSC packet, a line too long, or a recorded frame that "
-               "cannot be read or placed in time",
-               warnings) {
+      dropped_(spec, "tracking value", DroppedValues::kTrackingWhy, warnings) {
   for (const BodySpec& b : field.bodies) bodies_.push_back({b.start, {0, 0}});
 }
 

@@ -52,6 +52,10 @@ class PlayerSource {
 // 12 tracking values dropped (WHY; 14 in all), the match goes on".
 class DroppedValues {
  public:
+  // What a tracking source drops, as told: `DroppedValues(spec, "tracking value", kTrackingWhy, ...)`.
+  static constexpr const char* kTrackingWhy =
+      "not a number, not a sample, not a whole OSC packet, a line too long, or a recorded frame that cannot be read "
+      "or placed in time";
   // `source` names where they came from, `what` one value ("tracking value"), `why` the reasons.
   DroppedValues(std::string source, std::string what, std::string why, std::ostream* warnings)
       : source_(std::move(source)), what_(std::move(what)), why_(std::move(why)), warnings_(warnings) {}

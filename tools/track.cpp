@@ -7,6 +7,7 @@
 #include "json_lines.h"
 #include "field_loader.h"
 #include "params.h"
+#include "players.h"
 #include "play.h"
 #include "tracking/input.h"
 
@@ -40,6 +41,8 @@ void track(const TrackOptions& o, std::ostream& out) {
   bool lost = false;
   tracking::SetupCheck setup(o.source, tracking::tracked_field(field), o.setup);
   tracking::TrackedFrame frame;
+  // Told on stderr as a match tells them: stdout is the frames' JSON.
+  runtime::DroppedValues dropped(o.source, "tracking value", runtime::DroppedValues::kTrackingWhy, &std::cerr);
   for (int n = 0; o.frames == 0 || n < o.frames;) {
     const tracking::TrackingInput::Status status = input.next(frame, 0.1);
     if (status == tracking::TrackingInput::Status::Ended) break;
@@ -54,8 +57,10 @@ void track(const TrackOptions& o, std::ostream& out) {
     for (const std::string& line : setup.check(frame, input, tracked)) std::cerr << "quantum: " << line << '\n';
     write_frame(out, frame);
     out << std::flush;  // other tools read it as it comes
+    dropped.tell(frame.t, input.dropped());
     ++n;
   }
+  dropped.tell(frame.t, input.dropped(), true);
 }
 
 }  // namespace quantum::tools

@@ -289,7 +289,7 @@ TEST(Cli, TrackPrintsOneJsonObjectPerFrame) {
   }
   EXPECT_EQ(n, o.background_frames + o.frames);
 
-  // A corrupt depth frame is data: dropped, and every other frame is out.
+  // A corrupt depth frame is data: dropped and told on stderr, and every other frame is out.
   std::ifstream index(dir / "INDEX.txt");
   std::string line, fifth_depth;
   for (int d = 0; std::getline(index, line);)
@@ -298,6 +298,7 @@ TEST(Cli, TrackPrintsOneJsonObjectPerFrame) {
   const Outcome bad = quantum("track fakenect:" + dir.string() + " --field-size 0.9,0.45");
   EXPECT_EQ(bad.status, 0) << bad.err;
   EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), o.background_frames + o.frames - 1);
+  EXPECT_NE(bad.err.find("1 tracking value dropped"), std::string::npos) << bad.err;
   std::filesystem::remove_all(dir);
 }
 
