@@ -76,7 +76,9 @@ Status TrackedPlayers::advance(double t, const game::Match& match, bool waiting)
       tracking::TrackedFrame f;
       const TrackingStatus s = input_.next(f, timeout);
       if (s == TrackingStatus::Calibrating) continue;  // the match waits for the source
-      // Nothing new: the bodies stay as they are; before the first frame the match waits.
+      // Nothing new: the bodies stay as they are; before the first frame the match waits, and a
+      // tracker that sends only what is dropped is told while it does.
+      if (s == TrackingStatus::Waiting || s == TrackingStatus::Lost) dropped_.tell(t, input_.dropped());
       if (s == TrackingStatus::Waiting) return seen_ ? Status::Ready : Status::Lost;
       if (s == TrackingStatus::Lost) return Status::Lost;
       if (s == TrackingStatus::Ended) return Status::Ended;

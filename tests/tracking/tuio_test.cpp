@@ -273,6 +273,45 @@ TEST(Tuio, AMatchPausesWhileItsTrackerIsSilent) {
   std::filesystem::remove(events);
 }
 
+// A tracker that sends only what is dropped: the match waits for a frame it can play, and says
+// meanwhile what it drops, not only once a good frame comes.
+TEST(Tuio, DropsAreToldWhileTheMatchWaitsForItsFirstFrame) {
+  const int port = test_port() + 6;
+  const std::string warnings = (std::filesystem::temp_directory_path() / ("quantum_tuio_waits_" + std::to_string(port))).string();
+  runtime::SessionOptions o;
+  o.input = "tuio:" + std::to_string(port);
+  o.seconds = 1;
+  std::ostringstream out;
+  std::ofstream errors(warnings);
+  errors << std::unitbuf;  // read by this thread while the match writes it
+  std::atomic<bool> done{false};
+  std::thread match([&] {
+    tools::play(o, out, errors);
+    done = true;
+  });
+  // 6 bytes, not a whole OSC packet, every 50 ms: the first ones may come before the match listens.
+  std::string said;
+  for (int wait = 0; wait < 100 && said.find(" dropped (not a number") == std::string::npos; ++wait) {
+    send_raw(port, "/tuio/");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::ifstream in(warnings);
+    said.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  EXPECT_FALSE(done) << "the match waits for a frame";
+  EXPECT_NE(said.find("tracking value"), std::string::npos) << said;
+  EXPECT_NE(said.find(" dropped (not a number"), std::string::npos) << said;
+  Sender send;
+  lo_address_free(send.to);
+  send.to = lo_address_new("127.0.0.1", std::to_string(port).c_str());
+  for (int k = 0; k < 60 * 5 && !done; ++k) {
+    send.cursors({{{1, 0.1f, 0.5f}}, {{2, 0.9f, 0.5f}}});
+    std::this_thread::sleep_for(std::chrono::microseconds(16667));
+  }
+  match.join();
+  EXPECT_TRUE(done);
+  std::filesystem::remove(warnings);
+}
+
 // Input from the network is data, never a reason to stop: cursors at NaN, infinity or 1e38 are
 // dropped, counted and told (at most every 5 s), and the match plays to its end.
 TEST(Tuio, ValuesThatAreNotNumbersAreDroppedAndTheMatchGoesOn) {
