@@ -136,7 +136,7 @@ std::string LineFile::shown() const { return path_ == "-" ? "stdout" : path_; }
 void LineFile::say_failure(std::ostream& errors) {
   if (!stream_ || *stream_ || told_) return;
   told_ = true;
-  errors << "quantum: " << lost_from_now(shown()) << '\n';
+  say_lost(errors, shown());
 }
 
 }  // namespace quantum::runtime

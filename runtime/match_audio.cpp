@@ -164,7 +164,7 @@ void MatchAudio::render(double now) {
     wav_->write(chunk_);
   } catch (const audio::AudioError&) {
     wav_lost_ = true;
-    warnings_ << "quantum: " << lost_from_now(wav_path_) << '\n';
+    say_lost(warnings_, wav_path_);
   }
 }
 

@@ -32,8 +32,9 @@ void make_output_folder(const std::string& option, const fs::path& dir) {
     throw std::runtime_error(option + " " + dir.string() + ": cannot be written (" + std::strerror(errno) + ")");
 }
 
-std::string lost_from_now(const std::string& shown) {
-  return "cannot write to " + shown + " (a full disk?): what follows is lost; the match goes on, and quantum will exit with 1";
+void say_lost(std::ostream& errors, const std::string& shown) {
+  errors << "quantum: cannot write to " << shown
+         << " (a full disk?): what follows is lost; the match goes on, and quantum will exit with 1\n";
 }
 
 }  // namespace quantum::runtime

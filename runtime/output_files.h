@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 namespace quantum::runtime {
@@ -15,7 +16,7 @@ void check_output_file(const std::string& option, const std::string& path);
 // Creates `dir` and its parents; throws std::runtime_error "OPTION DIR: why" when it cannot.
 void make_output_folder(const std::string& option, const std::filesystem::path& dir);
 
-// What a session says, once, when a write to `shown` first fails (a full disk).
-std::string lost_from_now(const std::string& shown);
+// The line a session writes to `errors`, once, when a write to `shown` first fails (a full disk).
+void say_lost(std::ostream& errors, const std::string& shown);
 
 }  // namespace quantum::runtime

@@ -167,7 +167,7 @@ void Recorder::reloaded(const std::vector<fs::path>& files) {
 void Recorder::say_failure(std::ostream& errors) {
   if (lost_.empty() || told_) return;
   told_ = true;
-  errors << "quantum: " << lost_from_now(lost_) << '\n';
+  say_lost(errors, lost_);
 }
 
 void Recorder::close() {
