@@ -155,59 +155,59 @@ TEST(Hats, ABadAccelerometerLineIsNamed) {
   fs::remove(file);
 }
 
+// `text` as an accelerometer file (`name` in the temporary folder), read as --accel reads it:
+// what it dropped, and the samples of its first second.
+struct AccelFile {
+  size_t dropped;
+  std::vector<tracking::AccelSample> samples;
+};
+AccelFile read_accel(const std::string& name, const std::string& text) {
+  const fs::path file = fs::temp_directory_path() / name;
+  std::ofstream(file, std::ios::binary) << text;
+  tracking::AccelSource accel(file.string());
+  AccelFile read{accel.dropped(), accel.until(1)};
+  fs::remove(file);
+  return read;
+}
+
 // A sensor's glitch is data: a sample whose value is NaN or infinite is dropped and counted, and
 // the file's other samples play.
 TEST(Hats, AnAccelerometerValueThatIsNotANumberIsDroppedAndCounted) {
-  const fs::path file = fs::temp_directory_path() / "quantum_accel_nan.csv";
-  std::ofstream(file) << "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n0.01,blue 1,nan,0,9.8\n0.02,blue 1,0,inf,9.8\n"
-                         "0.03,blue 1,0,0,9.8\n";
-  tracking::AccelSource accel(file.string());
-  EXPECT_EQ(accel.dropped(), 2u);
-  const auto samples = accel.until(1);
-  ASSERT_EQ(samples.size(), 2u);
-  EXPECT_DOUBLE_EQ(samples[1].t, 0.03);
-  fs::remove(file);
+  const AccelFile read = read_accel("quantum_accel_nan.csv",
+                                    "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n0.01,blue 1,nan,0,9.8\n"
+                                    "0.02,blue 1,0,inf,9.8\n0.03,blue 1,0,0,9.8\n");
+  EXPECT_EQ(read.dropped, 2u);
+  ASSERT_EQ(read.samples.size(), 2u);
+  EXPECT_DOUBLE_EQ(read.samples[1].t, 0.03);
 }
 
 // A line of only spaces or a tab is as blank as an empty one: skipped, not a malformed sample.
 TEST(Hats, ABlankAccelerometerLineIsSkipped) {
-  const fs::path file = fs::temp_directory_path() / "quantum_accel_blank.csv";
-  std::ofstream(file) << "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n   \n\t\n \t \r\n\n0.01,blue 1,0,0,9.8\n";
-  tracking::AccelSource accel(file.string());
-  EXPECT_EQ(accel.dropped(), 0u);
-  EXPECT_EQ(accel.until(1).size(), 2u);
-  fs::remove(file);
+  const AccelFile read =
+      read_accel("quantum_accel_blank.csv", "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n   \n\t\n \t \r\n\n0.01,blue 1,0,0,9.8\n");
+  EXPECT_EQ(read.dropped, 0u);
+  EXPECT_EQ(read.samples.size(), 2u);
 }
 
 // A line longer than a sample can be (here 8 MB of NULs, the last line without a newline, and
 // one of commas between samples) is dropped and counted, never held whole.
 TEST(Hats, AnOverlongAccelerometerLineIsDroppedAndCounted) {
-  const fs::path file = fs::temp_directory_path() / "quantum_accel_long.csv";
-  {
-    std::ofstream out(file, std::ios::binary);
-    out << "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n" << std::string(5000, ',') << "\n0.01,blue 1,0,0,9.8\n";
-    out << std::string(8 << 20, '\0');
-  }
-  tracking::AccelSource accel(file.string());
-  EXPECT_EQ(accel.dropped(), 2u);
-  EXPECT_EQ(accel.until(1).size(), 2u);
-  fs::remove(file);
+  const AccelFile read = read_accel("quantum_accel_long.csv", "t,player,ax,ay,az\n0.00,blue 1,0,0,9.8\n" +
+                                                                  std::string(5000, ',') + "\n0.01,blue 1,0,0,9.8\n" +
+                                                                  std::string(8 << 20, '\0'));
+  EXPECT_EQ(read.dropped, 2u);
+  EXPECT_EQ(read.samples.size(), 2u);
 }
 
 // A file is read up to kMostLines lines (lines.h): the rest of a longer one, or of an endless
 // pipe, is one drop; a device is no file of samples (/dev/zero would never end).
 TEST(Hats, AnAccelerometerFileIsReadUpToItsLimitAndADeviceIsRefused) {
-  const fs::path file = fs::temp_directory_path() / "quantum_accel_many.csv";
-  {
-    std::ofstream out(file, std::ios::binary);
-    out << "t,player,ax,ay,az\n";
-    for (size_t k = 1; k < tracking::kMostLines; ++k) out << "#\n";
-    out << "0.00,blue 1,0,0,9.8\n0.01,blue 1,0,0,9.8\n";  // lines kMostLines + 1 and + 2: never read
-  }
-  tracking::AccelSource accel(file.string());
-  EXPECT_EQ(accel.dropped(), 1u);
-  EXPECT_EQ(accel.until(1).size(), 0u);
-  fs::remove(file);
+  std::string text = "t,player,ax,ay,az\n";
+  for (size_t k = 1; k < tracking::kMostLines; ++k) text += "#\n";
+  text += "0.00,blue 1,0,0,9.8\n0.01,blue 1,0,0,9.8\n";  // lines kMostLines + 1 and + 2: never read
+  const AccelFile read = read_accel("quantum_accel_many.csv", text);
+  EXPECT_EQ(read.dropped, 1u);
+  EXPECT_EQ(read.samples.size(), 0u);
   try {
     tracking::AccelSource zero("/dev/zero");
     ADD_FAILURE() << "/dev/zero was taken as a file of samples";
