@@ -317,7 +317,8 @@ TEST(Recording, ARecordingGoesIntoANewFolder) {
 // each test damages a copy of it.
 const fs::path& handball_recording() {
   static const fs::path recording = [] {
-    const fs::path dir = scratch("handball");
+    // One per test process: CTest runs the tests that share it side by side.
+    const fs::path dir = scratch("handball_" + std::to_string(getpid()));
     const runtime::SessionOptions o = to_record(QUANTUM_SOURCE_DIR "/rules/handball", 3, dir);
     run(o, dir);
     return fs::path(o.record);
