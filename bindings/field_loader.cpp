@@ -159,17 +159,17 @@ std::string field_file(const std::string& path) {
 Field load_field(const std::string& path, Params* params) {
   const std::string file = field_file(path);
   if (!std::filesystem::exists(file)) throw FieldError(file, "no such field file");
-  Sandbox sandbox(kFieldLimits, false);
-  lua_State* L = sandbox.L();
+  const Sandbox::Ptr sandbox = Sandbox::make(kFieldLimits, false);
+  lua_State* L = sandbox->L();
   Params none;
-  sandbox.push_environment();
+  sandbox->push_environment();
   (params ? *params : none).install(L);
   lua_pop(L, 1);
   Field f;
   try {
     // Protected: the engine's reads of the returned table may run out of the script's memory.
-    sandbox.protect([&] {
-      sandbox.run_file(file);
+    sandbox->protect([&] {
+      sandbox->run_file(file);
       if (!lua_istable(L, -1)) throw FieldError(file, std::string("must return a table, returned ") + luaL_typename(L, -1));
       Reader reader(L);
       try {

@@ -2,6 +2,9 @@
 
 #include <luajit.h>
 #include <pthread.h>
+#include <sched.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,6 +15,7 @@
 #include <filesystem>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "confined_path.h"
@@ -57,10 +61,16 @@ std::string where_of(lua_State* L, lua_Debug& ar, const char* what) {
   return file + ":" + std::to_string(ar.currentline > 0 ? ar.currentline : ar.linedefined) + ": ";
 }
 
+// Frames these walks look at, from the innermost: LuaJIT finds a level by walking every frame above
+// it, so a walk to the bottom of a deep recursion (a stack overflow's error) is quadratic, with
+// no hook to stop it. An error names a line a few levels up at most, or below callbacks nested
+// as deep as the sandbox allows (each a C frame, its Lua one gone when it ends in a tail call).
+constexpr int kLevelsLooked = 256;
+
 // The innermost script frame's "file:line: " (level 1 up), "" when no script runs.
 std::string innermost_script_line(lua_State* L) {
   lua_Debug ar;
-  for (int level = 1; lua_getstack(L, level, &ar); ++level)
+  for (int level = 1; level <= kLevelsLooked && lua_getstack(L, level, &ar); ++level)
     if (std::string w = where_of(L, ar, "Sl"); !w.empty() && ar.currentline > 0) return w;
   return {};
 }
@@ -72,7 +82,7 @@ std::string innermost_script_line(lua_State* L) {
 bool names_a_running_line(lua_State* L, const char* m) {
   const std::string_view message = m;
   lua_Debug ar;
-  for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+  for (int level = 1; level <= kLevelsLooked && lua_getstack(L, level, &ar); ++level) {
     if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
     const std::string line = ":" + std::to_string(ar.currentline) + ":";
     if (message.starts_with(std::string(ar.short_src) + line)) return true;
@@ -99,22 +109,23 @@ int on_error(lua_State* L) {
 
 }  // namespace
 
-// One thread for every sandbox of the process: while a call runs it looks at the calling
-// thread's CPU clock every millisecond, and when the call's share of the period is used up it
-// raises the sandbox's flag, which the count hook, the allocator and the bounded library
-// functions look at. It never calls into Lua: lua_sethook from another thread rewrites the hook
-// mask while the Lua thread may be toggling its "in a hook" bit, and a stale bit turns every
-// hook off for good. It keeps looking for a while after the last call, so a match's many short
-// calls do not wake it each time.
+// One thread for every sandbox of the process: while a call runs it looks at the lane's CPU
+// clock every millisecond, and when the call's share of the period is used up it raises the
+// sandbox's flag, which the count hook, the allocator and the bounded library functions look at.
+// From then on it watches the lane's state: one stretch of Lua that goes on for kStuckAfter is
+// inside an instruction the hook cannot interrupt, and it abandons the sandbox. It never calls
+// into Lua: lua_sethook from another thread rewrites the hook mask while the Lua thread may be
+// toggling its "in a hook" bit, and a stale bit turns every hook off for good. It keeps looking
+// for a while after the last call, so a match's many short calls do not wake it each time.
 class Watchdog {
  public:
   static Watchdog& get() {
     static Watchdog dog;
     return dog;
   }
-  void watch(Sandbox* s, clockid_t clock, timespec deadline) {
+  void watch(Sandbox* s, clockid_t clock, double armed_at, double deadline) {
     std::lock_guard lock(mutex_);
-    watched_.push_back({s, clock, deadline});
+    watched_.push_back({s, clock, armed_at, deadline});
     if (idle_) wake_.notify_one();
   }
   // Once this returns, the watchdog does not touch `s`.
@@ -127,8 +138,32 @@ class Watchdog {
   struct Entry {
     Sandbox* sandbox;
     clockid_t clock;
-    timespec deadline;
+    double armed_at, deadline;  // on the lane's CPU clock
+    bool due = false;
+    uint64_t seen = Sandbox::kEngine;  // the stretch of Lua last seen past the deadline...
+    double seen_at = 0;                // ...and when it was first seen
   };
+  // False once the entry is done with: the sandbox abandoned.
+  static bool look(Entry& e) {
+    timespec now{};
+    if (clock_gettime(e.clock, &now) != 0) return true;
+    const double t = seconds(now);
+    if (!e.due) {
+      if (t < e.deadline) return true;
+      e.due = true;
+      e.sandbox->time_up();
+    }
+    const uint64_t word = e.sandbox->lane_state_.load(std::memory_order_acquire);
+    if ((word & Sandbox::kWhat) != Sandbox::kLua) {
+      e.seen = Sandbox::kEngine;  // the engine's work is bounded by its own looks at the budget
+      return true;
+    }
+    if (word != e.seen) {
+      e.seen = word, e.seen_at = t;
+      return true;
+    }
+    return !(t - e.seen_at >= kStuckAfter && e.sandbox->abandon(word, t - e.armed_at));
+  }
   Watchdog() : thread_([this] { run(); }) {}
   ~Watchdog() {
     {
@@ -148,12 +183,9 @@ class Watchdog {
         wake_.wait(lock, [&] { return stop_ || !watched_.empty(); });
         idle_ = false;
       }
-      std::erase_if(watched_, [](const Entry& e) {  // each call's deadline fires once
-        timespec now{};
-        const bool due = clock_gettime(e.clock, &now) == 0 && seconds(now) >= seconds(e.deadline);
-        if (due) e.sandbox->time_up();
-        return due;
-      });
+      for (size_t k = 0; k < watched_.size();)
+        if (look(watched_[k])) ++k;
+        else watched_.erase(watched_.begin() + std::ptrdiff_t(k));
       if (!watched_.empty()) last_seen = std::chrono::steady_clock::now();
       wake_.wait_for(lock, 1ms);
     }
@@ -163,6 +195,57 @@ class Watchdog {
   std::vector<Entry> watched_;
   bool idle_ = false, stop_ = false;
   std::thread thread_;
+};
+
+// The sandbox's thread: runs one job at a time for the thread that waits on it. A match calls its
+// scripts a few times a frame, and waking a sleeping thread costs tens of microseconds on a
+// virtual machine (50 us a round trip here), more than most calls: so each side keeps looking a
+// little before it sleeps, the caller while the job runs, the lane for the frame's next call. It
+// looks between yields of its core, not in a busy loop: when threads outnumber cores (studies
+// that play matches side by side) a spinning thread would take the core its partner needs.
+struct Sandbox::Lane {
+  enum Turn : uint32_t { kIdle, kPosted, kDone, kAbandoned, kStop };
+  static constexpr auto kCallerSpins = std::chrono::microseconds(500);
+  static constexpr auto kLaneSpins = std::chrono::microseconds(100);
+  std::atomic<uint32_t> turn{kIdle};
+  void (*job)(void*) = nullptr;  // set before kPosted; the results after kDone
+  void* arg = nullptr;
+  std::exception_ptr thrown;
+  double stuck_cpu = 0;  // set before kAbandoned: the abandoned call's CPU
+  std::atomic<pid_t> tid{0};
+  std::thread thread{[this] { loop(); }};
+
+  // The turn once it is no longer `from`: spinning for `spin`, then asleep.
+  uint32_t wait_past(uint32_t from, std::chrono::microseconds spin) const {
+    const auto until = std::chrono::steady_clock::now() + spin;
+    for (int k = 0;; ++k) {
+      if (const uint32_t t = turn.load(std::memory_order_acquire); t != from) return t;
+      if (k % 16 == 15 && std::chrono::steady_clock::now() > until) break;
+      sched_yield();
+    }
+    turn.wait(from, std::memory_order_acquire);
+    for (;;)
+      if (const uint32_t t = turn.load(std::memory_order_acquire); t != from) return t;
+      else turn.wait(t, std::memory_order_acquire);
+  }
+
+  void loop() {
+    pthread_setname_np(pthread_self(), kLaneName);
+    tid = gettid();
+    for (uint32_t t = kIdle;;) {
+      while (t != kPosted && t != kStop) t = wait_past(t, kLaneSpins);
+      if (t == kStop) return;
+      std::exception_ptr caught;
+      try {
+        job(arg);
+      } catch (...) {
+        caught = std::current_exception();
+      }
+      thrown = caught;
+      turn.store(t = kDone, std::memory_order_release);
+      turn.notify_all();
+    }
+  }
 };
 
 void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
@@ -246,7 +329,74 @@ void Sandbox::run_out(lua_State* L, lua_Debug* ar) {
 
 void Sandbox::time_up() { time_up_.store(true, std::memory_order_relaxed); }
 
+bool Sandbox::abandoned() const { return lane_state_.load(std::memory_order_acquire) == kAbandoned; }
+
+void Sandbox::enter_lua() {
+  uint64_t engine = stretches_ << 2 | kEngine;
+  ++stretches_;
+  if (!lane_state_.compare_exchange_strong(engine, stretches_ << 2 | kLua, std::memory_order_acq_rel)) park();
+}
+
+void Sandbox::leave_lua() {
+  uint64_t lua = stretches_ << 2 | kLua;
+  if (!lane_state_.compare_exchange_strong(lua, stretches_ << 2 | kEngine, std::memory_order_acq_rel)) park();
+}
+
+// The lane of an abandoned sandbox, back from its long instruction, would next touch the engine,
+// which has gone on without it: it stops here, for good, holding nothing.
+void Sandbox::park() {
+  for (;;) std::this_thread::sleep_for(std::chrono::hours(24));
+}
+
+Sandbox* Sandbox::enter_engine(lua_State* L) {
+  void* ud = nullptr;
+  if (lua_getallocf(L, &ud) != &Sandbox::alloc) return nullptr;
+  auto* s = static_cast<Sandbox*>(ud);
+  s->charge(L, 1);
+  s->leave_lua();
+  return s;
+}
+
+bool Sandbox::abandon(uint64_t seen, double call_cpu) {
+  if (!lane_state_.compare_exchange_strong(seen, kAbandoned, std::memory_order_acq_rel)) return false;
+  setpriority(PRIO_PROCESS, id_t(lane_->tid.load()), 19);  // it may run on for minutes: the match comes first
+  lane_->stuck_cpu = call_cpu;
+  lane_->turn.store(Lane::kAbandoned, std::memory_order_release);
+  lane_->turn.notify_all();
+  return true;
+}
+
+bool Sandbox::run_on_lane(void (*job)(void*), void* arg) {
+  if (std::this_thread::get_id() == lane_->thread.get_id()) {
+    job(arg);
+    return true;
+  }
+  if (abandoned()) return false;
+  lane_->job = job;
+  lane_->arg = arg;
+  lane_->turn.store(Lane::kPosted, std::memory_order_release);
+  lane_->turn.notify_all();
+  if (lane_->wait_past(Lane::kPosted, Lane::kCallerSpins) == Lane::kDone) {
+    if (lane_->thrown) std::rethrow_exception(std::exchange(lane_->thrown, nullptr));
+    return true;
+  }
+  const double cpu = lane_->stuck_cpu;
+  longest_period_cpu_ = std::max(longest_period_cpu_, period_cpu_ + cpu);
+  const Where& w = where_[std::clamp(where_depth_ - 1, 0, int(std::size(where_)) - 1)];
+  std::string where;
+  if (where_depth_ > 0 && w.source) where = w.source + (w.line > 0 ? ":" + std::to_string(w.line) : std::string()) + ": ";
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "script stuck: one step of Lua %s ran on past the budget (%.0f ms of CPU, of %.0f ms) inside a "
+                "single instruction no hook can stop, such as filing again a table's keys chosen to collide; its "
+                "Lua state is abandoned",
+                w.line > 0 ? "in the function starting here" : "here", cpu * 1e3, limits_.cpu_seconds * 1e3);
+  stuck_ = where + text;
+  return false;
+}
+
 void Sandbox::new_period() {
+  if (abandoned()) return;
   instructions_ = 0;
   printed_ = 0;
   period_cpu_ = 0;
@@ -284,13 +434,8 @@ bool Sandbox::arm(std::string* refused) {
   set_hook_period(hook_period());
   armed_at_ = thread_cpu_now();
   clockid_t cpu_clock{};
-  if (limits_.cpu_seconds > 0 && pthread_getcpuclockid(pthread_self(), &cpu_clock) == 0) {
-    const double deadline = seconds(armed_at_) + (limits_.cpu_seconds - period_cpu_);
-    timespec at{};
-    at.tv_sec = time_t(deadline);
-    at.tv_nsec = long((deadline - double(at.tv_sec)) * 1e9);
-    Watchdog::get().watch(this, cpu_clock, at);
-  }
+  if (limits_.cpu_seconds > 0 && pthread_getcpuclockid(pthread_self(), &cpu_clock) == 0)
+    Watchdog::get().watch(this, cpu_clock, seconds(armed_at_), seconds(armed_at_) + (limits_.cpu_seconds - period_cpu_));
   return true;
 }
 
@@ -359,6 +504,29 @@ Sandbox::Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> m
   env_ = luaL_ref(L_, LUA_REGISTRYINDEX);
   lua_pushcfunction(L_, on_error);
   on_error_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+  lane_ = std::make_unique<Lane>();
+}
+
+Sandbox::Ptr Sandbox::make(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders) {
+  return Ptr(new Sandbox(limits, rules, std::move(module_folders)));
+}
+
+void Sandbox::Release::operator()(Sandbox* sandbox) const {
+  if (!sandbox->abandoned()) {
+    delete sandbox;
+    return;
+  }
+  static std::mutex mutex;
+  static auto* kept = new std::vector<Sandbox*>;  // never freed: the leak checker sees them kept
+  std::lock_guard lock(mutex);
+  kept->push_back(sandbox);
+}
+
+void Sandbox::set_budget(const Limits& limits) {
+  if (abandoned()) return;
+  limits_.instructions = limits.instructions;
+  limits_.cpu_seconds = limits.cpu_seconds;
+  longest_period_cpu_ = 0;
 }
 
 void Sandbox::require_module(const std::string& name, int cache) {
@@ -417,6 +585,9 @@ void Sandbox::new_environment(int cache) {
 }
 
 Sandbox::~Sandbox() {
+  lane_->turn.store(Lane::kStop, std::memory_order_release);
+  lane_->turn.notify_all();
+  lane_->thread.join();
   Watchdog::get().forget(this);
   lua_close(L_);
 }
@@ -424,6 +595,13 @@ Sandbox::~Sandbox() {
 void Sandbox::push_environment() const { lua_rawgeti(L_, LUA_REGISTRYINDEX, env_); }
 
 bool Sandbox::call(int nargs, int nresults, std::string& error) {
+  bool ok = false;
+  auto job = [&] { ok = call_here(nargs, nresults, error); };
+  if (!on_lane(job)) error = stuck_;
+  return ok;
+}
+
+bool Sandbox::call_here(int nargs, int nresults, std::string& error) {
   const int function = lua_gettop(L_) - nargs;
   if (!arm(&error)) {
     lua_settop(L_, function - 1);
@@ -435,7 +613,15 @@ bool Sandbox::call(int nargs, int nresults, std::string& error) {
   lua_insert(L_, function);
   lua_pushvalue(L_, function + 1);
   lua_insert(L_, function);
+  lua_Debug called{};
+  lua_pushvalue(L_, function);
+  lua_getinfo(L_, ">S", &called);
+  const bool script = called.source && called.source[0] == '@';
+  where_[std::min(where_depth_++, int(std::size(where_)) - 1)] = {script ? called.source + 1 : nullptr, called.linedefined};
+  enter_lua();
   const int status = lua_pcall(L_, nargs, nresults, function + 1);
+  leave_lua();
+  --where_depth_;
   disarm();
   if (status == 0) {
     lua_remove(L_, function);
@@ -459,6 +645,11 @@ bool Sandbox::call(int nargs, int nresults, std::string& error) {
 }
 
 void Sandbox::protect_raw(lua_CFunction trampoline, void* run) {
+  auto job = [&] { protect_here(trampoline, run); };
+  if (!on_lane(job)) throw ScriptError(stuck_);
+}
+
+void Sandbox::protect_here(lua_CFunction trampoline, void* run) {
   const int top = lua_gettop(L_);
   std::string refused;
   if (!arm(&refused)) throw ScriptError(refused);
@@ -479,7 +670,12 @@ void Sandbox::run_file(const std::string& file, int cache) {
   if (const std::string why = not_a_regular_file(file); !why.empty()) throw ScriptError(why);
   if (!std::filesystem::exists(file)) throw ScriptError(file + ": no such file");
   files_.push_back(file);
+  // The parser files a chunk's constants in a table too: keys chosen to collide stall it as well.
+  where_[std::min(where_depth_++, int(std::size(where_)) - 1)] = {files_.back().c_str(), 0};
+  enter_lua();
   const int status = luaL_loadfilex(L_, file.c_str(), "t");
+  leave_lua();
+  --where_depth_;
   if (status != 0) {
     std::string m = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "not enough memory";
     lua_pop(L_, 1);

@@ -1,6 +1,11 @@
 // A Lua state for designer scripts: text only, a memory cap, a budget of instructions and CPU
 // time shared by all calls of a period (a match frame), and only the libraries a rule needs.
 // Field files and sports both run in one. docs/lua-api.md, "The sandbox", states the limits.
+//
+// The scripts run on a thread of the sandbox's own, its lane; the thread that calls them waits.
+// A count hook cannot stop a single instruction that runs long (a table whose keys were chosen to
+// collide files them all again in one step): when one runs on past the budget, the watchdog
+// abandons the sandbox and the caller goes on without it, as if the call had failed.
 #pragma once
 
 #include <lua.hpp>
@@ -11,6 +16,7 @@
 #include <ctime>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -40,16 +46,38 @@ struct Limits {
   double cpu_seconds = 0.02 * kCpuScale;
 };
 
+// How much CPU one stretch of Lua may run on once the budget is spent before the sandbox is
+// abandoned: the hook raises the budget's error within a few milliseconds of the deadline, so
+// only an instruction it cannot interrupt lasts this long. A frame's scripts thus hold it for at
+// most 20 + 25 ms of CPU (and the watchdog's millisecond), under the 50 ms docs/lua-api.md states.
+inline constexpr double kStuckAfter = 0.025 * kCpuScale;
+
 class Sandbox {
  public:
+  // Deletes a sandbox, except one that was abandoned: its lane may still be inside the one long
+  // instruction, and afterwards parks for good, so it and its Lua state are kept until the
+  // process ends (a few megabytes, once per stuck script).
+  struct Release {
+    void operator()(Sandbox* sandbox) const;
+  };
+  using Ptr = std::unique_ptr<Sandbox, Release>;
+
   // Of Lua's own libraries the scripts get the base functions, math, string (its pattern
   // functions bounded), table and os.clock: no io, the rest of os, debug, package, ffi, jit, load,
   // loadstring, dofile or collectgarbage. With `rules` (sports, not field files), `require` loads
   // the script's own Lua modules, as text, from `module_folders` only (see require_module).
-  Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders = {});
-  ~Sandbox();
+  static Ptr make(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders = {});
+  // The name of every sandbox's thread (as `top -H` and a debugger show it).
+  static constexpr const char* kLaneName = "quantum-lua";
   Sandbox(const Sandbox&) = delete;
   Sandbox& operator=(const Sandbox&) = delete;
+
+  // The sandbox was abandoned (see above): from then on nothing touches its Lua state, call()
+  // fails and protect() throws at once, with stuck() as the error, and spent() stays true.
+  bool abandoned() const;
+  // "file:line: script stuck: ..." naming the function that was running (the one whose first line
+  // it is), for the error of the call that was abandoned.
+  const std::string& stuck() const { return stuck_; }
 
   lua_State* L() const { return L_; }
   // Pushes the template of the scripts' environments (to add a global of the caller's, like
@@ -67,6 +95,13 @@ class Sandbox {
   // with level 0, get the innermost script line). When the period's budget is spent the call
   // does not run: the function and arguments are popped and the error says so.
   bool call(int nargs, int nresults, std::string& error);
+
+  // A script's call into the engine (guard<F>, lua_wrap.h), on the lane: checks the budget (its
+  // error is raised here), then marks the lane as waiting for the engine, which the watchdog
+  // never abandons, until leave_engine. Once the sandbox is abandoned the lane parks here and
+  // never touches the engine again. Null, and nothing done, for a state that is no sandbox's.
+  static Sandbox* enter_engine(lua_State* L);
+  void leave_engine() { enter_lua(); }
 
   // Runs `body` (the engine reading and filling a script's tables) protected and under the
   // budget: a metamethod that errors or loops, or memory running out, becomes a ScriptError
@@ -96,13 +131,10 @@ class Sandbox {
   void new_period();
   // The instructions and CPU time of a period from now on (the memory limit is the state's).
   // longest_period_cpu() starts again: a sport's loading, with its second, is no frame.
-  void set_budget(const Limits& limits) {
-    limits_.instructions = limits.instructions;
-    limits_.cpu_seconds = limits.cpu_seconds;
-    longest_period_cpu_ = 0;
-  }
-  // The budget ran out this period (the rest of its calls are refused).
-  bool spent() const { return spent_ || time_up_.load(std::memory_order_relaxed); }
+  void set_budget(const Limits& limits);
+  // The budget ran out this period (the rest of its calls are refused), or the sandbox was
+  // abandoned.
+  bool spent() const { return abandoned() || spent_ || time_up_.load(std::memory_order_relaxed); }
   // Where the budget ran out: the source file of the script running then ("" for none).
   const std::string& spent_in() const { return spent_in_; }
   // CPU seconds Lua used in this period, and in the longest period since the budget was set.
@@ -157,6 +189,33 @@ class Sandbox {
 
  private:
   friend class Watchdog;
+  struct Lane;
+  Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders);
+  ~Sandbox();
+  // Runs `job` on the lane (at once when this is the lane) and waits. False when the sandbox was
+  // abandoned while it ran; an exception the job threw is thrown here.
+  template <class Job>
+  bool on_lane(Job& job) {
+    return run_on_lane(+[](void* j) { (*static_cast<Job*>(j))(); }, &job);
+  }
+  bool run_on_lane(void (*job)(void*), void* arg);
+  bool call_here(int nargs, int nresults, std::string& error);
+  void protect_here(lua_CFunction trampoline, void* run);
+  // The lane's state, one word the watchdog reads: what the lane does (kEngine, kLua, or
+  // kAbandoned for good) and, above it, how many stretches of Lua it has begun, so that the
+  // watchdog can tell one long stretch from many short ones.
+  static constexpr uint64_t kEngine = 0, kLua = 1, kAbandoned = 2, kWhat = 3;
+  void enter_lua();
+  void leave_lua();  // parks once the sandbox is abandoned
+  [[noreturn]] static void park();
+  // The watchdog's: abandons the sandbox if the lane is still in the stretch of Lua `seen`.
+  bool abandon(uint64_t seen, double call_cpu);
+  // Where the lane's calls in progress are, innermost last: a script function's file and first
+  // line, or a file being loaded (line 0); no file for a C function. stuck() names the innermost.
+  struct Where {
+    const char* source;
+    int line;
+  };
   struct Memory {
     size_t used = 0, limit = 0, calls = 0;
     size_t large = 0;  // in blocks of kSmallAllocation or more: the longest string is no longer
@@ -198,6 +257,12 @@ class Sandbox {
   int on_error_ = LUA_NOREF;  // the message handler that puts the file and line on every error
   std::vector<std::filesystem::path> module_folders_;
   std::vector<std::string> files_;
+  std::atomic<uint64_t> lane_state_{kEngine};
+  uint64_t stretches_ = 0;  // the lane's own count of stretches of Lua (lane_state_ >> 2)
+  Where where_[kMostNested + 2] = {};
+  int where_depth_ = 0;
+  std::string stuck_;
+  std::unique_ptr<Lane> lane_;  // last: its thread starts once the rest is whole
 };
 
 }  // namespace quantum::lua

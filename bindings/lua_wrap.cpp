@@ -39,7 +39,10 @@ bool style_ok(lua_State* L) {
   return false;
 }
 
-void check_budget(lua_State* L) { Sandbox::check_budget(L); }
+EngineCall::EngineCall(lua_State* L) : sandbox_(Sandbox::enter_engine(L)) {}
+EngineCall::~EngineCall() {
+  if (sandbox_) sandbox_->leave_engine();
+}
 
 }  // namespace wrap_detail
 

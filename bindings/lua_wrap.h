@@ -26,13 +26,26 @@ struct ArgError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+class Sandbox;
+
 namespace wrap_detail {
 // False, with the error message pushed, when the function was called in the wrong style.
 bool style_ok(lua_State* L);
 // Pushes "where: name: message", the error the guard raises.
 void push_error(lua_State* L, const char* message);
-// Sandbox::check_budget: a spent budget is an error before the function runs.
-void check_budget(lua_State* L);
+// A call from a script into the engine. In a sandbox it checks the budget first (a spent budget
+// is the error, before the function runs), then tells the sandbox that its scripts wait for the
+// engine until the call returns or raises (Sandbox::enter_engine).
+class EngineCall {
+ public:
+  explicit EngineCall(lua_State* L);
+  ~EngineCall();
+  EngineCall(const EngineCall&) = delete;
+  EngineCall& operator=(const EngineCall&) = delete;
+
+ private:
+  Sandbox* sandbox_;
+};
 }  // namespace wrap_detail
 
 // Calls F with the guard described above. F returns its number of results, like a lua_CFunction.
@@ -40,12 +53,14 @@ void check_budget(lua_State* L);
 template <int (*F)(lua_State*)>
 int guard(lua_State* L) {
   if (!wrap_detail::style_ok(L)) return lua_error(L);
-  wrap_detail::check_budget(L);
   int results = -1;
-  try {
-    results = F(L);
-  } catch (const std::exception& e) {
-    wrap_detail::push_error(L, e.what());
+  {
+    const wrap_detail::EngineCall engine(L);
+    try {
+      results = F(L);
+    } catch (const std::exception& e) {
+      wrap_detail::push_error(L, e.what());
+    }
   }
   return results >= 0 ? results : lua_error(L);
 }

@@ -145,17 +145,17 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
       powerup_folders_(powerup_folders_of(folder_, engine)),
       module_folders_({fs::path(folder_), engine / "lib"}),
       params_(std::move(params)),
-      sandbox_(Limits{}, true, module_folders_) {
+      sandbox_(Sandbox::make(Limits{}, true, module_folders_)) {
   if (!fs::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
   std::fill(std::begin(by_kind_), std::end(by_kind_), 1.0);
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   std::string field_file;
-  sandbox_.set_budget(load);
-  sandbox_.protect([&] {
-    sandbox_.push_environment();
+  sandbox_->set_budget(load);
+  sandbox_->protect([&] {
+    sandbox_->push_environment();
     params_.install(L);
     lua_pop(L, 1);
-    sandbox_.run_file(file_);
+    sandbox_->run_file(file_);
     if (!lua_istable(L, -1)) throw ScriptError(file_ + ": must return a table, returned " + luaL_typename(L, -1));
     or_script_error(file_, [&] {
       const std::string name = Reader(L).string(lua_gettop(L), "field", "", "field.lua", false);
@@ -167,7 +167,7 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
   });
   // Outside the sport's budget: the field file runs in a sandbox of its own, with its own.
   field_ = load_field(field_file, &params_);
-  sandbox_.protect([&] {
+  sandbox_->protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
     or_script_error(file_, [&] { read_sport(lua_gettop(L)); });
     check_said_keys();
@@ -177,15 +177,15 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
   });
   // Loading is not a frame: what it spent must not leave the first frame (or a grant before it)
   // without a budget, as it did on a slow machine.
-  sandbox_.set_budget(Limits{});
-  sandbox_.new_period();
+  sandbox_->set_budget(Limits{});
+  sandbox_->new_period();
   timers_.reserve(16);
 }
 
 Sport::~Sport() = default;
 
 void Sport::read_sport(int t) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   const Reader r(L);
   r.only_keys(t, "", kSportKeys);
   name_ = r.string(t, "name", "", folder_, false);
@@ -292,7 +292,7 @@ void Sport::read_sport(int t) {
 // match = {seconds, start}, and whatever else the sport keeps there (first_to, ...): a key one
 // slip away from the engine's own is taken for a typo.
 void Sport::read_match(const Reader& r, int t) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   if (!r.field(t, "match")) return;
   r.expect(LUA_TTABLE, "match");
   const int m = lua_gettop(L);
@@ -329,7 +329,7 @@ void Sport::read_match(const Reader& r, int t) {
 // now, not when (if ever) the handler runs. Keys made at run time are checked when said.
 void Sport::check_said_keys() const {
   const std::string engine = engine_.lexically_normal().string();
-  for (const std::string& file : sandbox_.files()) {
+  for (const std::string& file : sandbox_->files()) {
     if (fs::path(file).lexically_normal().string().rfind(engine, 0) == 0) continue;  // the engine's helpers
     std::ifstream in(file);
     int number = 0;
@@ -369,7 +369,7 @@ void Sport::check_phrases() const {
 }
 
 void Sport::read_audio(const Reader& r, int t) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   // A sound file: in the sport's folder, else among the engine's own (sounds/). One in neither is
   // the engine's name for it: the match warns once that it stays silent.
   const std::vector<fs::path> folders = {fs::path(folder_), QUANTUM_SOUNDS_DIR};
@@ -473,9 +473,9 @@ void Sport::say_host(game::Match& match, const std::string& key, const std::stri
 }
 
 double Sport::factor(const std::string& kind) const {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   double value = 1;
-  const_cast<Sandbox&>(sandbox_).protect([&] {
+  sandbox_->protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
     raw_field(L, -1, "factors");
     if (lua_istable(L, -1)) {
@@ -492,8 +492,8 @@ void Sport::set_factor(const std::string& kind, double value) {
     throw std::invalid_argument(unknown_key(kind, kinds, "fate kind"));
   if (game::bounded_factor(value).problem)
     throw std::invalid_argument("factor for " + kind + " must be a number in [0, 1e6]");
-  lua_State* L = sandbox_.L();
-  sandbox_.protect([&] {
+  lua_State* L = sandbox_->L();
+  sandbox_->protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
     raw_field(L, -1, "factors");
     if (!lua_istable(L, -1)) {
@@ -513,12 +513,12 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
   zeroed_by_.reserve(std::max<size_t>(256, fates.size()));  // as Match's fate buffers: room for a busy moment
   zeroed_by_.assign(fates.size(), kNotZeroed);
   bool scripted = false;
-  if (!disabled_ && !sandbox_.spent()) {
+  if (!disabled_ && !sandbox_->spent()) {
     try {
-      sandbox_.protect([&] { script_factors(fates, match, out); });
+      sandbox_->protect([&] { script_factors(fates, match, out); });
       scripted = true;
     } catch (const ScriptError& e) {
-      match.report_error(std::string(e.what()) + " (this frame's modifiers skipped)");
+      if (!stuck(match)) match.report_error(std::string(e.what()) + " (this frame's modifiers skipped)");
     }
   }
   if (!scripted)  // the scripts could not run: the factors by kind as last read
@@ -531,7 +531,7 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
 }
 
 void Sport::script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   const Acting reading(*this, match, false);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
   const int sport = lua_gettop(L);
@@ -566,12 +566,12 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
       fill_fate(L, f, match.field());
       lua_pop(L, 1);
     }
-    for (size_t i = 1; i <= n_modifiers && !sandbox_.spent(); ++i) {  // spent: the rest keep their factor
+    for (size_t i = 1; i <= n_modifiers && !sandbox_->spent(); ++i) {  // spent: the rest keep their factor
       lua_rawgeti(L, modifiers, int(i));
       fate_tables_.push(L, k);
       lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
       std::string error;
-      if (!sandbox_.call(2, 1, error)) {
+      if (!sandbox_->call(2, 1, error)) {
         match.report_error(error + " (modifiers[" + std::to_string(i) + "] skipped)");
         continue;
       }
@@ -624,16 +624,17 @@ void Sport::report_zeroing(std::span<const game::FateView> fates, game::Match& m
 }
 
 void Sport::on_event(const game::GameEvent& e, game::Match& match) {
-  if (disabled_ || sandbox_.spent()) return game::plain_event(e, match);
+  if (disabled_ || sandbox_->spent()) return game::plain_event(e, match);
   try {
-    sandbox_.protect([&] { run_handler(e, match); });
+    sandbox_->protect([&] { run_handler(e, match); });
   } catch (const ScriptError& x) {
+    if (stuck(match)) return game::plain_event(e, match);  // so that no goal goes uncounted
     match.report_error(std::string(x.what()) + " (on." + game::to_string(e.type) + " skipped)");
   }
 }
 
 void Sport::run_handler(const game::GameEvent& e, game::Match& match) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   const Acting acting(*this, match, true);
   if (e.type == game::EventKind::Powerup || e.type == game::EventKind::PowerupEnd) {
     const int before = lua_gettop(L);
@@ -652,17 +653,28 @@ void Sport::run_handler(const game::GameEvent& e, game::Match& match) {
   lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
   push_event(L, e);
   std::string error;
-  if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on." + game::to_string(e.type) + " skipped)");
+  if (!sandbox_->call(2, 0, error)) match.report_error(error + " (on." + game::to_string(e.type) + " skipped)");
 }
 
 void Sport::begin_frame(game::Match& match) {
-  if (sandbox_.spent()) note_overrun(match);
-  sandbox_.new_period();
+  if (stuck(match)) return;
+  if (sandbox_->spent()) note_overrun(match);
+  sandbox_->new_period();
+}
+
+bool Sport::stuck(game::Match& match) {
+  if (!sandbox_->abandoned()) return false;
+  if (!disabled_) {
+    disabled_ = true;
+    match.report_error(sandbox_->stuck() + "; " + name_ +
+                       " disabled: the match goes on with the engine's plain rules (a goal counts for the other team)");
+  }
+  return true;
 }
 
 // The script that ran when the budget ran out: a power-up's file, else the sport's own.
 void Sport::note_overrun(game::Match& match) {
-  const std::string& file = sandbox_.spent_in();
+  const std::string& file = sandbox_->spent_in();
   std::string powerup;
   for (const auto& [name, f] : powerup_files_)
     if (f == file) powerup = name;
@@ -679,7 +691,7 @@ void Sport::note_overrun(game::Match& match) {
 }
 
 int Sport::add_timer(game::Match& match, double seconds) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   if (!(std::isfinite(seconds) && seconds > 0 && seconds <= 3600))
     throw std::invalid_argument("seconds must be in (0, 3600], got " + std::to_string(seconds));
   if (timers_.size() >= 1000) throw std::invalid_argument("1000 timers are pending already");
@@ -691,30 +703,32 @@ int Sport::add_timer(game::Match& match, double seconds) {
 void Sport::cancel_timer(int id) {
   const auto it = std::find_if(timers_.begin(), timers_.end(), [&](const Timer& t) { return t.id == id; });
   if (it == timers_.end()) return;
-  luaL_unref(sandbox_.L(), LUA_REGISTRYINDEX, it->function);
+  luaL_unref(sandbox_->L(), LUA_REGISTRYINDEX, it->function);
   timers_.erase(it);
 }
 
 void Sport::tick(game::Match& match) {
-  if (disabled_ || sandbox_.spent()) return;  // due timers wait for a frame with budget
+  if (disabled_ || sandbox_->spent()) return;  // due timers wait for a frame with budget
+  // Most frames have no timer due: the trip to the sandbox's thread is spared them.
+  if (std::none_of(timers_.begin(), timers_.end(), [&](const Timer& t) { return t.is_due(match.time()); })) return;
   try {
-    sandbox_.protect([&] { run_timers(match); });
+    sandbox_->protect([&] { run_timers(match); });
   } catch (const ScriptError& x) {
-    match.report_error(std::string(x.what()) + " (timer skipped)");
+    if (!stuck(match)) match.report_error(std::string(x.what()) + " (timer skipped)");
   }
 }
 
 void Sport::run_timers(game::Match& match) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   // Timers set while these run wait for the next frame, however short their delay.
   const int before = next_timer_;
   for (;;) {
     auto next = timers_.end();
     for (auto it = timers_.begin(); it != timers_.end(); ++it)
-      if (it->id < before && it->due <= match.time() + 1e-9 &&
+      if (it->id < before && it->is_due(match.time()) &&
           (next == timers_.end() || it->due < next->due || (it->due == next->due && it->id < next->id)))
         next = it;
-    if (next == timers_.end() || sandbox_.spent()) return;
+    if (next == timers_.end() || sandbox_->spent()) return;
     const Timer timer = *next;
     timers_.erase(next);
     const Acting acting(*this, match, true);
@@ -723,7 +737,7 @@ void Sport::run_timers(game::Match& match) {
     luaL_unref(L, LUA_REGISTRYINDEX, timer.function);
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     std::string error;
-    if (!sandbox_.call(1, 0, error)) match.report_error(error + " (timer skipped)");
+    if (!sandbox_->call(1, 0, error)) match.report_error(error + " (timer skipped)");
   }
 }
 
@@ -734,9 +748,9 @@ int Sport::powerup(const std::string& name) {
   std::string looked;
   const fs::path file = powerup_file(name, looked);
   if (file.empty()) throw ScriptError("no power-up '" + name + "' (looked for " + looked + ")");
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   const int base = lua_gettop(L);
-  sandbox_.run_file(file.string());
+  sandbox_->run_file(file.string());
   const std::string where = file.string() + ": ";
   const Reader r(L);
   try {
@@ -785,11 +799,11 @@ fs::path Sport::powerup_file(const std::string& name, std::string& looked) const
 void Sport::grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts) {
   if (disabled_ || disabled_powerups_.count(name))
     throw std::invalid_argument("power-up " + name + ": disabled in this match (its scripts overran their budget)");
-  sandbox_.protect([&] { grant_protected(match, player, name, std::move(opts)); });
+  sandbox_->protect([&] { grant_protected(match, player, name, std::move(opts)); });
 }
 
 void Sport::grant_protected(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   const int script = powerup(name);
   const int top = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, script);
@@ -822,7 +836,7 @@ void Sport::grant_protected(game::Match& match, int player, const std::string& n
     lua_pushvalue(L, -1);
     lua_insert(L, -5);  // a reference to the params table below the function, for after the call
     std::string error;
-    if (!sandbox_.call(3, 0, error)) {
+    if (!sandbox_->call(3, 0, error)) {
       lua_settop(L, top);
       throw ScriptError(error + " (start of power-up " + name + ")");
     }
@@ -833,11 +847,11 @@ void Sport::grant_protected(game::Match& match, int player, const std::string& n
 }
 
 double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   double factor = 1;
   for (size_t j = 0; j < match.powerups().size(); ++j) {
     const game::ActivePowerup& a = match.powerups()[j];
-    if (disabled_powerups_.count(a.name) || sandbox_.spent()) continue;
+    if (disabled_powerups_.count(a.name) || sandbox_->spent()) continue;
     int script = LUA_NOREF;
     try {
       script = powerup(a.name);  // granted before this sport was reloaded: its script loads here
@@ -853,7 +867,7 @@ double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     powerup_tables_.push(L, j);
     std::string error;
-    if (!sandbox_.call(4, 1, error)) {
+    if (!sandbox_->call(4, 1, error)) {
       match.report_error(error + " (power-up " + a.name + " skipped)");
     } else if (!lua_isnil(L, -1)) {
       const double f = checked_term(L, match, [&] {
@@ -877,14 +891,14 @@ void Sport::reload_powerup(const std::string& name) {
   const std::string old_file = powerup_files_[name];
   powerups_.erase(it);
   try {
-    sandbox_.protect([&] { powerup(name); });
+    sandbox_->protect([&] { powerup(name); });
     disabled_powerups_.erase(name), overruns_.erase(name);  // a new version gets a fresh start
   } catch (...) {
     powerups_[name] = old;
     powerup_files_[name] = old_file;
     throw;
   }
-  luaL_unref(sandbox_.L(), LUA_REGISTRYINDEX, old);
+  luaL_unref(sandbox_->L(), LUA_REGISTRYINDEX, old);
 }
 
 namespace {
@@ -961,17 +975,18 @@ struct PlainCopy {
 }  // namespace
 
 void Sport::take_over(Sport& old, game::Match& match) {
-  old.sandbox_.new_period();  // reading its state is the engine's work, whatever the old scripts spent
+  if (old.sandbox_->abandoned()) return;  // its state cannot be read: the new version starts afresh
+  old.sandbox_->new_period();  // reading its state is the engine's work, whatever the old scripts spent
   try {
-    old.sandbox_.protect([&] { sandbox_.protect([&] { carry_state(old, match); }); });
+    old.sandbox_->protect([&] { sandbox_->protect([&] { carry_state(old, match); }); });
   } catch (const ScriptError& e) {
-    match.report_error(std::string(e.what()) + " (on_reload skipped)");
+    if (!stuck(match)) match.report_error(std::string(e.what()) + " (on_reload skipped)");
   }
 }
 
 void Sport::carry_state(Sport& old, game::Match& match) {
-  lua_State* from = old.sandbox_.L();
-  lua_State* L = sandbox_.L();
+  lua_State* from = old.sandbox_->L();
+  lua_State* L = sandbox_->L();
   const int old_top = lua_gettop(from), top = lua_gettop(L);
   lua_rawgeti(from, LUA_REGISTRYINDEX, old.sport_ref_);
   raw_field(from, lua_gettop(from), "state");
@@ -996,7 +1011,7 @@ void Sport::carry_state(Sport& old, game::Match& match) {
     lua_insert(L, -2);  // on_reload, game, state
     const Acting acting(*this, match, true);
     std::string error;
-    if (!sandbox_.call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
+    if (!sandbox_->call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
   } else if (!lua_isnil(L, -2)) {  // nothing to carry: the new version's own state stays
     lua_pop(L, 1);
     lua_pushstring(L, "state");
@@ -1009,7 +1024,7 @@ void Sport::carry_state(Sport& old, game::Match& match) {
 void Sport::announce_powerup(const game::GameEvent& e, game::Match& match) {
   const auto script = powerups_.find(e.powerup);
   if (script == powerups_.end()) return;
-  lua_State* L = sandbox_.L();
+  lua_State* L = sandbox_->L();
   const int top = lua_gettop(L);
   const bool starting = e.type == game::EventKind::Powerup;
   const std::string team = team_name(std::string(e.team));
@@ -1042,7 +1057,7 @@ void Sport::announce_powerup(const game::GameEvent& e, game::Match& match) {
     fill_player(L, match, size_t(e.actor_index));
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     std::string error;
-    if (!sandbox_.call(2, 0, error)) match.report_error(error + " (stop of power-up " + e.powerup + " skipped)");
+    if (!sandbox_->call(2, 0, error)) match.report_error(error + " (stop of power-up " + e.powerup + " skipped)");
   }
   lua_settop(L, top);
 }

@@ -93,7 +93,8 @@ class Sport final : public game::Rules {
   // disabled: the sport's own (handlers, timers, modifiers) gives way to game::plain_event and its
   // factors by kind, a power-up's to nothing. Events whose handler cannot run because the frame's
   // budget is spent get the plain rules too, so no goal goes uncounted. (Power-ups share the
-  // sport's state: a disabled sport's power-ups stop too.)
+  // sport's state: a disabled sport's power-ups stop too.) A script stuck in one instruction
+  // (the sandbox abandoned) disables the sport at once.
   static constexpr int kOverrunsToDisable = 3;
   void factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) override;
   void on_event(const game::GameEvent& event, game::Match& match) override;
@@ -149,8 +150,8 @@ class Sport final : public game::Rules {
   // (modifiers and power-up factors too).
   game::Match* match() const { return match_; }
   const game::Match* reading() const { return reading_; }
-  lua_State* L() const { return sandbox_.L(); }
-  const Sandbox& sandbox() const { return sandbox_; }
+  lua_State* L() const { return sandbox_->L(); }
+  const Sandbox& sandbox() const { return *sandbox_; }
   // A team's display name (sport.lua's `teams`), else the team's own name.
   std::string team_name(const std::string& team) const;
 
@@ -160,6 +161,7 @@ class Sport final : public game::Rules {
     double due;
     int id;
     int function;  // registry reference
+    bool is_due(double now) const { return due <= now + 1e-9; }
   };
   // While a handler, timer or power-up callback runs, the match it may act on.
   class Acting;
@@ -187,6 +189,9 @@ class Sport final : public game::Rules {
   void grant_protected(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);
   void carry_state(Sport& old, game::Match& match);
   void note_overrun(game::Match& match);
+  // The sandbox was abandoned (lua_sandbox.h): the sport is disabled, said once. Nothing may
+  // touch its Lua state after that.
+  bool stuck(game::Match& match);
   void announce_powerup(const game::GameEvent& e, game::Match& match);
   void report_zeroing(std::span<const game::FateView> fates, game::Match& match);
 
@@ -194,7 +199,7 @@ class Sport final : public game::Rules {
   std::filesystem::path engine_;
   std::vector<std::filesystem::path> powerup_folders_, module_folders_;
   Params params_;  // before the sandbox: its `param` function points here
-  Sandbox sandbox_;
+  Sandbox::Ptr sandbox_;
   int sport_ref_ = LUA_NOREF, game_ref_ = LUA_NOREF;
   Field field_;
   uint32_t particles_ = 1000;

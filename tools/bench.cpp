@@ -351,12 +351,43 @@ void BM_FrameWithReload(benchmark::State& state) {
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
+// `work` called again and again in the sandbox (arg 0), from this thread to the sandbox's lane
+// and back, each call arming the frame's budget, or in a plain LuaJIT state with its own
+// libraries (arg 1). Both run with the JIT off, as rules do.
+void lua_work(benchmark::State& state, const char* work) {
+  const bool sandboxed = state.range(0) == 0;
+  const lua::Sandbox::Ptr sandbox = lua::Sandbox::make(lua::Limits{}, false);
+  lua_State* L = sandboxed ? sandbox->L() : luaL_newstate();
+  if (!sandboxed) {
+    luaL_openlibs(L);
+    luaJIT_setmode(L, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
+  }
+  luaL_loadstring(L, work);
+  if (sandboxed) {
+    sandbox->push_environment();
+    lua_setfenv(L, -2);
+  }
+  const int function = luaL_ref(L, LUA_REGISTRYINDEX);
+  for (auto _ : state) {
+    sandbox->new_period();
+    lua_rawgeti(L, LUA_REGISTRYINDEX, function);
+    std::string error;
+    if (sandboxed ? !sandbox->call(0, 1, error) : lua_pcall(L, 0, 1, 0) != 0) state.SkipWithError("the work failed");
+    benchmark::DoNotOptimize(lua_tonumber(L, -1));
+    lua_pop(L, 1);
+  }
+  if (!sandboxed) lua_close(L);
+}
+
+// What a call into the scripts costs by itself: a function that returns at once. In the sandbox
+// that is the budget armed and the trip to the lane and back.
+void BM_LuaCall(benchmark::State& state) { lua_work(state, "return 1"); }
+
 // What the sandbox's bounds cost a rule: the same string work (an announcer's phrase taken apart
-// and put together again) in the sandbox, where each call arms the frame's budget and the pattern
-// functions are the engine's counted ones (arg 0), and in a plain LuaJIT state with its own
-// (arg 1). Both run with the JIT off, as rules do.
+// and put together again) in the sandbox, where the pattern functions are the engine's counted
+// ones (arg 0), and in a plain LuaJIT state with LuaJIT's own (arg 1).
 void BM_LuaStrings(benchmark::State& state) {
-  const char* work = R"lua(
+  lua_work(state, R"lua(
     local said = "Goal for Blue, 3 to 2"
     local n = 0
     for i = 1, 20 do
@@ -366,29 +397,7 @@ void BM_LuaStrings(benchmark::State& state) {
       if said:find("to", 1, true) then n = n + tonumber(a) + tonumber(b) end
     end
     return n
-  )lua";
-  const bool sandboxed = state.range(0) == 0;
-  lua::Sandbox sandbox(lua::Limits{}, false);
-  lua_State* L = sandboxed ? sandbox.L() : luaL_newstate();
-  if (!sandboxed) {
-    luaL_openlibs(L);
-    luaJIT_setmode(L, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
-  }
-  luaL_loadstring(L, work);
-  if (sandboxed) {
-    sandbox.push_environment();
-    lua_setfenv(L, -2);
-  }
-  const int function = luaL_ref(L, LUA_REGISTRYINDEX);
-  for (auto _ : state) {
-    sandbox.new_period();
-    lua_rawgeti(L, LUA_REGISTRYINDEX, function);
-    std::string error;
-    if (sandboxed ? !sandbox.call(0, 1, error) : lua_pcall(L, 0, 1, 0) != 0) state.SkipWithError("the work failed");
-    benchmark::DoNotOptimize(lua_tonumber(L, -1));
-    lua_pop(L, 1);
-  }
-  if (!sandboxed) lua_close(L);
+  )lua");
 }
 
 // Real-time pacing without a sound card: 2 s of a match (120 frames) paced by the session's own
@@ -486,6 +495,7 @@ BENCHMARK(BM_FateTurnover)->Arg(100'000)->Arg(1'000'000)->Iterations(600)->Unit(
 BENCHMARK(BM_AnnounceLatency)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RealTimePacing)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrameWithReload)->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LuaCall)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LuaStrings)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DepthFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Box2DStep)->Arg(1'000)->Iterations(600)->Unit(benchmark::kMicrosecond);

@@ -258,7 +258,8 @@ TEST(Sandbox, TablesTheEngineReadsMayCarryHostileMetatables) {
 // and every step of lua_next over such a table walks a chain as long as the table. (Were a
 // LuaJIT to seed that hash, the keys would no longer collide and these attacks would cost
 // nothing: the tests still pass, and prove less.)
-std::string colliding_keys(const char* name, int n) {
+// Lua that defines `key(i)`, for i in 1..n: n numbers LuaJIT files in one hash slot.
+std::string colliding_keys(int n) {
   auto rol = [](uint32_t x, int k) { return (x << k) | (x >> (32 - k)); };
   auto ror = [](uint32_t x, int k) { return (x >> k) | (x << (32 - k)); };
   constexpr uint32_t kHash = 0x12345678;
@@ -275,11 +276,10 @@ std::string colliding_keys(const char* name, int n) {
     hex += word;
   }
   // From hex in one string, not as n literals: the parser would file the literals in a table too.
-  return "local hex = '" + hex + "' " + name + " = {} for i = 1, #hex / 16 do "
+  return "local hex = '" + hex + "' local function key(i) "
          "local hi, lo = tonumber(hex:sub(16 * i - 15, 16 * i - 8), 16), tonumber(hex:sub(16 * i - 7, 16 * i), 16) "
          "local m = 1 + ((hi % 2^20) * 2^32 + lo) / 2^52 "
-         "local k = math.ldexp(m, math.floor(hi / 2^20) % 2048 - 1023) " + name + "[hi >= 2^31 and -k or k] = 1 end "
-         "hex = nil ";
+         "local k = math.ldexp(m, math.floor(hi / 2^20) % 2048 - 1023) return hi >= 2^31 and -k or k end\n";
 }
 
 // Work the engine does in C for a script is under the budget too, with no hook to look: every
@@ -288,7 +288,7 @@ std::string colliding_keys(const char* name, int n) {
 // of the whole chain; before, one grant took 0.6 s at 32,768 keys). An error that names a line
 // no running script is at (a script blaming another) gets its own line in front.
 TEST(Sandbox, EngineWorkForAScriptIsWithinTheBudget) {
-  const std::string options = colliding_keys("OPTS", 8192);
+  const std::string options = colliding_keys(8192) + " OPTS = {} for i = 1, 8192 do OPTS[key(i)] = 1 end";
   const Attack attacks[] = {
       {"grant_colliding_options", "for i = 1, 1000 do game.grant(\"Red's mallet\", 'attract', OPTS) end", options.c_str(),
        "", "script runs too long"},
@@ -305,6 +305,62 @@ TEST(Sandbox, EngineWorkForAScriptIsWithinTheBudget) {
   ASSERT_FALSE(f.errors.empty());
   EXPECT_TRUE(std::regex_search(f.errors[0], std::regex(R"(^/\S+/sport\.lua:\d+: .*script runs too long)"))) << f.errors[0];
   EXPECT_LE(sport.sandbox().longest_period_cpu(), kFrameBound);
+}
+
+// One instruction no hook can interrupt: a table whose keys all collide files every key again, in
+// one step, when it grows (LuaJIT hashes numbers with no seed), in time quadratic in the keys.
+// Each attack grows one by 200 keys a frame until a rehash of 8,192 keys (about 50 ms), 16,384
+// (0.16 s) or 32,768 (0.65 s) runs in one instruction: in a timer, in a modifier (inside the
+// engine's walk over the fates) and in a power-up's start (a script's game.grant calling the
+// script again, engine frames between). The watchdog abandons the sandbox at the bound, the sport
+// is disabled with one error naming the function that ran, and the match plays on by the plain
+// rules, every goal counted. (A rehash that ends within the bound is an overrun: at most one
+// before the one that is not.)
+TEST(Sandbox, AnInstructionNoHookCanStopIsAbandonedAtTheBound) {
+  const std::string keys = colliding_keys(32769);
+  const std::string grow = keys + R"(
+local table_of_keys, filed = {}, 0
+local function grow()
+  for i = filed + 1, math.min(filed + 200, 32769) do table_of_keys[key(i)] = true end
+  filed = math.min(filed + 200, 32769)
+end
+)";
+  const std::string in_timer = grow + "function tick(game) game.after(0.02, tick) grow() end";
+  const std::string in_modifier =
+      grow + "local last sport.modifiers = { function(fate, game) if game.time() ~= last then last = game.time() grow() end "
+             "return 1 end }";
+  const std::string in_powerup = grow + "return { duration = 0.01, factor = function() return 1 end, start = grow }\n";
+  const struct {
+    const char* name;
+    const char* drop;
+    const std::string& extra;
+    const std::string& powerup;
+  } attacks[] = {
+      {"collide_timer", "if not TICKING then TICKING = true game.after(0.02, tick) end", in_timer, ""},
+      {"collide_modifier", "", in_modifier, ""},
+      {"collide_powerup", "if not TICKING then TICKING = true game.after(0.02, tick) end",
+       "function tick(game) game.after(0.02, tick) game.grant(\"Red's mallet\", 'evil', { seconds = 0.01 }) end", in_powerup},
+  };
+  for (const auto& a : attacks) {
+    SCOPED_TRACE(a.name);
+    lua::Sport sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
+    const Finished f = play_out(sport);
+    EXPECT_TRUE(sport.sandbox().abandoned());
+    EXPECT_TRUE(sport.disabled());
+    EXPECT_TRUE(f.finished);
+    EXPECT_GT(f.goals, 0);
+    EXPECT_EQ(f.scored, f.goals) << "a goal went uncounted";
+    int stuck = 0;
+    for (const std::string& e : f.errors)
+      if (e.find("script stuck") != std::string::npos) {
+        ++stuck;
+        EXPECT_TRUE(std::regex_search(e, std::regex(R"(^/\S+/(sport|evil)\.lua:\d+: script stuck: .*; Quantum air hockey disabled: )")))
+            << e;
+      }
+    EXPECT_EQ(stuck, 1);
+    EXPECT_LE(f.errors.size(), 2u) << f.errors[0];  // and at most one overrun before
+    EXPECT_LE(sport.sandbox().longest_period_cpu(), kFrameBound);
+  }
 }
 
 TEST(Sandbox, EveryErrorNamesItsFileAndLine) {
@@ -343,14 +399,14 @@ TEST(Sandbox, PatternFunctionsMatchLuajitsOwn) {
     add(pcall(function() local t = {} for a, b in s:gmatch(p) do t[#t + 1] = tostring(a) .. "," .. tostring(b) end return table.concat(t, ";") end))
     return table.concat(out, "|")
   )";
-  lua::Sandbox sandbox(lua::Limits{}, false);
-  lua_State* own = sandbox.L();
+  const lua::Sandbox::Ptr sandbox = lua::Sandbox::make(lua::Limits{}, false);
+  lua_State* own = sandbox->L();
   lua_State* jit = luaL_newstate();
   luaL_openlibs(jit);
   auto load = [&](lua_State* L, bool sandboxed) {
     ASSERT_EQ(luaL_loadstring(L, probe), 0);
     if (sandboxed) {
-      sandbox.push_environment();
+      sandbox->push_environment();
       lua_setfenv(L, -2);
     }
     lua_setglobal(L, "probe");
@@ -363,8 +419,8 @@ TEST(Sandbox, PatternFunctionsMatchLuajitsOwn) {
     lua_pushlstring(L, pattern.data(), pattern.size());
     std::string result, error;
     if (sandboxed) {
-      sandbox.new_period();
-      if (!sandbox.call(2, 1, error)) return "failed: " + error;
+      sandbox->new_period();
+      if (!sandbox->call(2, 1, error)) return "failed: " + error;
     } else if (lua_pcall(L, 2, 1, 0) != 0) {
       return std::string("failed: ") + lua_tostring(L, -1);
     }

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <execinfo.h>
+#include <pthread.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -18,26 +19,39 @@
 #include <utility>
 #include <sstream>
 
+#include "lua_sandbox.h"
 #include "session.h"
 #include "system/sanitizers.h"
 
 namespace {
 
-thread_local bool counting = false;
+thread_local bool counting = false;  // the frame's thread
+std::atomic<bool> lanes_counting{false};  // the sandboxes' lanes, which run the frame's Lua
 std::atomic<size_t> allocations{0};
 bool tracing = false;  // the measurement that the test judges
 
+bool on_a_lane() {
+  thread_local const bool lane = [] {
+    char name[16] = {};
+    pthread_getname_np(pthread_self(), name, sizeof name);
+    return std::string_view(name) == quantum::lua::Sandbox::kLaneName;
+  }();
+  return lane;
+}
+
 void count() {
-  if (!counting) return;
+  if (!counting && !(lanes_counting && on_a_lane())) return;
   ++allocations;
   static const bool trace = std::getenv("QUANTUM_ALLOCATION_TRACE") != nullptr;
   if (!trace || !tracing) return;
-  counting = false;
+  const bool was = std::exchange(counting, false);
+  const bool lanes = lanes_counting.exchange(false);
   void* frames[32];
   const int n = backtrace(frames, 32);
   backtrace_symbols_fd(frames, n, STDERR_FILENO);
   write(STDERR_FILENO, "--\n", 3);
-  counting = true;
+  counting = was;
+  lanes_counting = lanes;
 }
 
 }  // namespace
@@ -139,9 +153,9 @@ Measured measure(uint32_t particles, const std::string& audio, const std::string
     any_event = false;
     const size_t lua_before = session.sport().sandbox().allocations();
     allocations = 0;
-    counting = true;
+    counting = lanes_counting = true;
     session.frame();
-    counting = false;
+    counting = lanes_counting = false;
     const size_t lua = session.sport().sandbox().allocations() - lua_before;
     const size_t cxx = allocations - lua;
     m.lua += lua;
