@@ -6,26 +6,40 @@
 #include "lua_sandbox.h"
 
 namespace quantum::lua {
+
+void raw_field(lua_State* L, int index, const char* key) {
+  if (index < 0 && index > LUA_REGISTRYINDEX) index = lua_gettop(L) + index + 1;
+  lua_pushstring(L, key);
+  lua_rawget(L, index);
+}
+
+void raw_set(lua_State* L, const char* key) {
+  lua_pushstring(L, key);
+  lua_insert(L, -2);
+  lua_rawset(L, -3);
+}
+
 namespace {
 
 void set(lua_State* L, const char* key, std::string_view value) {
   lua_pushlstring(L, value.data(), value.size());
-  lua_setfield(L, -2, key);
+  raw_set(L, key);
 }
 
 void set(lua_State* L, const char* key, double value) {
   lua_pushnumber(L, value);
-  lua_setfield(L, -2, key);
+  raw_set(L, key);
 }
 
 // Pushes t[key] of the table on top, a new empty table put there first when it has none.
 void subtable(lua_State* L, const char* key) {
-  lua_getfield(L, -1, key);
+  raw_field(L, -1, key);
   if (lua_istable(L, -1)) return;
   lua_pop(L, 1);
   lua_newtable(L);
-  lua_pushvalue(L, -1);
-  lua_setfield(L, -3, key);
+  lua_pushstring(L, key);
+  lua_pushvalue(L, -2);
+  lua_rawset(L, -4);
 }
 
 // Makes the list on top hold exactly `n` entries, set by put(i) (which pushes entry i, 0-based).
@@ -56,7 +70,7 @@ void push_score(lua_State* L, const std::map<std::string, int>& score) {
   lua_createtable(L, 0, int(score.size()));
   for (const auto& [team, goals] : score) {
     lua_pushinteger(L, goals);
-    lua_setfield(L, -2, team.c_str());
+    raw_set(L, team.c_str());
   }
 }
 
@@ -83,7 +97,7 @@ void push_point(lua_State* L, Vec2 p) {
 
 void set_point(lua_State* L, const char* key, Vec2 p) {
   push_point(L, p);
-  lua_setfield(L, -2, key);
+  raw_set(L, key);
 }
 
 // A list of `items`, each a table filled by fill(item).
@@ -95,7 +109,7 @@ void set_list(lua_State* L, const char* key, const Items& items, Fill fill) {
     fill(items[i]);
     lua_rawseti(L, -2, int(i + 1));
   }
-  lua_setfield(L, -2, key);
+  raw_set(L, key);
 }
 
 }  // namespace
@@ -108,7 +122,7 @@ void push_field(lua_State* L, const Field& f) {
   lua_rawseti(L, -2, 1);
   push_point(L, f.bounds_max);
   lua_rawseti(L, -2, 2);
-  lua_setfield(L, -2, "bounds");
+  raw_set(L, "bounds");
   set(L, "ball_radius", f.ball_radius), set(L, "friction", f.friction);
   set_list(L, "goals", f.goals, [&](const Goal& g) {
     set(L, "name", g.name), set(L, "team", g.team), set_point(L, "from", g.a), set_point(L, "to", g.b);
@@ -121,10 +135,10 @@ void push_field(lua_State* L, const Field& f) {
   set_list(L, "players", f.bodies, [&](const BodySpec& b) {
     set(L, "name", b.name), set(L, "team", b.team), set(L, "role", b.role), set(L, "reach", b.radius);
     lua_pushboolean(L, b.catches);
-    lua_setfield(L, -2, "catches");
+    raw_set(L, "catches");
   });
   push_strings(L, f.wall_names);
-  lua_setfield(L, -2, "walls");
+  raw_set(L, "walls");
 }
 
 void TablePool::push(lua_State* L, size_t k) {
@@ -168,13 +182,13 @@ void fill_player(lua_State* L, const game::Match& match, size_t k) {
   set(L, "speed", std::hypot(p.velocity.x, p.velocity.y));
   set(L, "handicap", match.handicap_now(int(k)));
   lua_pushboolean(L, p.turn);
-  lua_setfield(L, -2, "turn");
+  raw_set(L, "turn");
   const BodySpec& body = match.field().bodies[k];
   set(L, "role", body.role);
   const int area = match.field().area_at(p.position);
   set(L, "area", area < 0 ? std::string_view() : std::string_view(match.field().areas[size_t(area)].name));
   lua_pushboolean(L, match.holder() == int(k));
-  lua_setfield(L, -2, "holds");
+  raw_set(L, "holds");
   subtable(L, "powerups");
   size_t held = 0;
   for (const game::ActivePowerup& a : match.powerups()) held += a.player == int(k);

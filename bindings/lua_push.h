@@ -23,6 +23,14 @@ namespace quantum::lua {
 // Scripts give angles in degrees (a throw's spread); the engine works in radians.
 inline constexpr double kRadiansPerDegree = std::numbers::pi / 180;
 
+// The engine reads and writes scripts' tables raw: a table a script was handed may have been
+// given a metatable, and its code must not run inside the engine's work, which the sandbox never
+// abandons half done (lua_sandbox.h).
+// Pushes t[key] of the table at `index`.
+void raw_field(lua_State* L, int index, const char* key);
+// t[key] = the value on top (popped), for the table below it.
+void raw_set(lua_State* L, const char* key);
+
 void push_strings(lua_State* L, std::span<const std::string> list);  // {"a", "b", ...}
 void push_score(lua_State* L, const std::map<std::string, int>& score);  // {blue = 2, red = 1}
 // {name, bounds = {{x0, y0}, {x1, y1}}, ball_radius, friction, goals = {{name, team, from, to}},

@@ -63,13 +63,6 @@ void check_engine_phrase(const std::string& place, const PhraseTemplate& phrase,
   }
 }
 
-// Pushes t[key] of the table at `index` without running metamethods.
-void raw_field(lua_State* L, int index, const char* key) {
-  if (index < 0 && index > LUA_REGISTRYINDEX) index = lua_gettop(L) + index + 1;
-  lua_pushstring(L, key);
-  lua_rawget(L, index);
-}
-
 // How far beyond the field's bounds the listener may stand (a commentator's box, a gallery).
 constexpr float kListenerReach = 10;
 
@@ -831,7 +824,7 @@ void Sport::grant_protected(game::Match& match, int player, const std::string& n
     lua_createtable(L, 0, int(params.size()));
     for (const auto& [key, value] : params) {
       lua_pushnumber(L, value);
-      lua_setfield(L, -2, key.c_str());
+      raw_set(L, key.c_str());
     }
     lua_pushvalue(L, -1);
     lua_insert(L, -5);  // a reference to the params table below the function, for after the call

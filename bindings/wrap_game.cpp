@@ -189,9 +189,9 @@ ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to
     const Vec3 v{float(lua_tonumber(L, -3)), float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
     lua_pop(L, 3);
     if (velocity) return {true, v, {}};
-    lua_getfield(L, to, "x");
-    lua_getfield(L, to, "y");
-    lua_getfield(L, to, "z");
+    raw_field(L, to, "x");
+    raw_field(L, to, "y");
+    raw_field(L, to, "z");
     if (!lua_isnumber(L, -3) || !lua_isnumber(L, -2))
       throw ArgError("argument " + std::to_string(script_arg(L, to)) +
                      ": expected a velocity {vx, vy}, a point {x = .., y = ..} or a name");

@@ -252,13 +252,12 @@ TEST(Sandbox, TablesTheEngineReadsMayCarryHostileMetatables) {
   for (const Attack& a : attacks) expect_survived(a);
 }
 
-// `n` numbers that LuaJIT files under one hash slot, as Lua that builds them into `name`, each
-// key 1. LuaJIT hashes a number by its bits with no seed (lj_tab.c's hashrot), so the hash can be
+// `n` numbers that LuaJIT files under one hash slot, as Lua that defines `key(i)`, the i-th of
+// them (i in 1..n). LuaJIT hashes a number by its bits with no seed (lj_tab.c's hashrot), so the hash can be
 // run backwards: for each low word, the high word that makes the hash 0x12345678. Every store
 // and every step of lua_next over such a table walks a chain as long as the table. (Were a
 // LuaJIT to seed that hash, the keys would no longer collide and these attacks would cost
 // nothing: the tests still pass, and prove less.)
-// Lua that defines `key(i)`, for i in 1..n: n numbers LuaJIT files in one hash slot.
 std::string colliding_keys(int n) {
   auto rol = [](uint32_t x, int k) { return (x << k) | (x >> (32 - k)); };
   auto ror = [](uint32_t x, int k) { return (x >> k) | (x << (32 - k)); };
