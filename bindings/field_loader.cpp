@@ -11,8 +11,10 @@ namespace quantum::lua {
 namespace {
 
 // A field file is data: a runaway loop or a memory bomb in it is a mistake to report, not a hang.
-// It runs once, when a match is set up: a whole second of CPU for its geometry.
-constexpr Limits kFieldLimits{64u << 20, 10'000'000, 1.0};
+// It runs once, when a match is set up: a whole second of CPU for its geometry, and the hundred
+// million instructions a sport's loading gets (a list of a million walls is charged 16 million
+// for its array alone, and is refused by its count, not the budget).
+constexpr Limits kFieldLimits{64u << 20, 100'000'000, 1.0};
 
 // "3" of "walls[3]": an unnamed wall, spot or area is called by its number in the list.
 std::string number_of(const std::string& place) {
