@@ -3,6 +3,7 @@
 #include "lua_reader.h"
 #include "lua_sandbox.h"
 #include "quantum/limits.h"
+#include "quantum/narrow.h"
 
 #include <filesystem>
 #include <string>
@@ -83,10 +84,10 @@ Field read_field(Reader& r, int top) {
     hoop.team = r.string(h, "team", place, "", false);
     hoop.name = r.string(h, "name", place, hoop.team.empty() ? "hoop " + number_of(place) : hoop.team + " hoop", false);
     hoop.a = hoop.b = r.point_at(h, "at", place);
-    hoop.rim_height = float(r.number(h, "height", place, 0, true));
-    hoop.rim_radius = float(r.number(h, "radius", place, 0, true));
-    hoop.rim_thickness = float(r.number(h, "thickness", place, hoop.rim_thickness, false));
-    hoop.rim_restitution = float(r.number(h, "restitution", place, hoop.rim_restitution, false));
+    hoop.rim_height = to_float(r.number(h, "height", place, 0, true));
+    hoop.rim_radius = to_float(r.number(h, "radius", place, 0, true));
+    hoop.rim_thickness = to_float(r.number(h, "thickness", place, hoop.rim_thickness, false));
+    hoop.rim_restitution = to_float(r.number(h, "restitution", place, hoop.rim_restitution, false));
     const std::string rim = r.string(h, "rim", place, hoop.name + " rim", false);
     hoop.rim_wall = f.wall_id(rim);
     f.goals.push_back(hoop);
@@ -98,9 +99,9 @@ Field read_field(Reader& r, int top) {
     board.wall = f.wall_id(name);
     board.a = r.point_at(b, "from", place);
     board.b = r.point_at(b, "to", place);
-    board.bottom = float(r.number(b, "bottom", place, 0, true));
-    board.top = float(r.number(b, "top", place, 0, true));
-    board.restitution = float(r.number(b, "restitution", place, board.restitution, false));
+    board.bottom = to_float(r.number(b, "bottom", place, 0, true));
+    board.top = to_float(r.number(b, "top", place, 0, true));
+    board.restitution = to_float(r.number(b, "restitution", place, board.restitution, false));
     f.boards.push_back(board);
   });
   r.array(top, "spots", "", limits::kMaxSpots, [&](int s, const std::string& place) {
@@ -121,7 +122,7 @@ Field read_field(Reader& r, int top) {
     body.catches = r.boolean(b, "catches", place, false);
     body.role = r.string(b, "role", place, "", false);
     body.track = r.string(b, "track", place, "", false);
-    body.reach = float(r.number(b, "reach", place, 0, false));
+    body.reach = to_float(r.number(b, "reach", place, 0, false));
     f.bodies.push_back(body);
   });
   r.array(top, "areas", "", limits::kMaxAreas, [&](int a, const std::string& place) {
@@ -136,7 +137,7 @@ Field read_field(Reader& r, int top) {
       area.a = r.point_at(a, "from", place);
       area.b = r.point_at(a, "to", place);
     }
-    area.radius = float(r.number(a, "radius", place, 0, true));
+    area.radius = to_float(r.number(a, "radius", place, 0, true));
     f.areas.push_back(area);
   });
   if (r.field(top, "bounds")) {

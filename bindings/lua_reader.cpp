@@ -1,7 +1,11 @@
 #include "lua_reader.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <numeric>
+
+#include "quantum/narrow.h"
 
 namespace quantum::lua {
 
@@ -110,6 +114,24 @@ double Reader::number(int idx, const char* key, const std::string& place, double
   return v;
 }
 
+int Reader::whole(int idx, const char* key, const std::string& place, int fallback, int lo, int hi) const {
+  if (!field(idx, key)) return fallback;
+  const int v = whole_at_top(place.empty() ? key : place + "." + key, lo, hi);
+  lua_pop(L, 1);
+  return v;
+}
+
+int Reader::whole_at_top(const std::string& place, int lo, int hi) const {
+  expect(LUA_TNUMBER, place);
+  const double v = lua_tonumber(L, -1);
+  if (!(v >= lo && v <= hi && v == std::floor(v))) {
+    char message[96];
+    std::snprintf(message, sizeof message, "expected a whole number from %d to %d, got %.14g", lo, hi, v);
+    fail(place, message);
+  }
+  return int(v);
+}
+
 std::string Reader::string(int idx, const char* key, const std::string& place, const std::string& fallback,
                            bool required) const {
   if (!field(idx, key)) {
@@ -144,7 +166,7 @@ Vec2 Reader::point(const std::string& place) const {
     }
     if (lua_type(L, -1) != LUA_TNUMBER)
       fail(place, std::string("expected a number for ") + names[k] + ", got " + type_at(-1));
-    (k == 0 ? p.x : p.y) = float(lua_tonumber(L, -1));
+    (k == 0 ? p.x : p.y) = to_float(lua_tonumber(L, -1));
     lua_pop(L, 1);
   }
   lua_pop(L, 1);

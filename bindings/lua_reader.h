@@ -49,6 +49,10 @@ class Reader {
   void expect(int type, const std::string& place, const char* what = nullptr) const;
 
   double number(int idx, const char* key, const std::string& place, double fallback, bool required) const;
+  // A whole number from lo to hi at t[key] (fallback when nil), or the one at the top of the stack
+  // (left there): a script's 1e300 or 2.5 fails here, naming the range, instead of reaching an int.
+  int whole(int idx, const char* key, const std::string& place, int fallback, int lo, int hi) const;
+  int whole_at_top(const std::string& place, int lo, int hi) const;
   std::string string(int idx, const char* key, const std::string& place, const std::string& fallback,
                      bool required) const;
   bool boolean(int idx, const char* key, const std::string& place, bool fallback) const;

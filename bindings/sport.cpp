@@ -11,6 +11,7 @@
 #include "game/plain_rules.h"
 #include "lua_reader.h"
 #include "quantum/limits.h"
+#include "quantum/narrow.h"
 
 namespace quantum::lua {
 namespace fs = std::filesystem;
@@ -65,6 +66,11 @@ void check_engine_phrase(const std::string& place, const PhraseTemplate& phrase,
 
 // How far beyond the field's bounds the listener may stand (a commentator's box, a gallery).
 constexpr float kListenerReach = 10;
+// What espeak-ng can say (its espeakRATE_MINIMUM..MAXIMUM words per minute, volume 0..200; Speech
+// refuses the rest), checked here so a sport learns it at load, not at the first phrase; and how
+// many announcer priorities there are room for.
+struct Range { int lo, hi; };
+constexpr Range kSpeechRate{80, 450}, kSpeechVolume{0, 200}, kPriority{0, 100};
 
 // "rules/x/sport.lua:12: ", where the Lua function at `index` is defined; `fallback` + ": " when
 // that is unknown.
@@ -230,7 +236,7 @@ void Sport::read_sport(int t) {
     const double degrees = r.number(w, "spread", "throws", throw_spread_.direction / kRadiansPerDegree, false);
     if (!(degrees >= 0 && degrees <= 90)) r.fail("throws.spread", "must be in [0, 90] degrees");
     throw_spread_.direction = float(degrees * kRadiansPerDegree);
-    throw_spread_.speed = float(r.number(w, "speed_spread", "throws", throw_spread_.speed, false));
+    throw_spread_.speed = to_float(r.number(w, "speed_spread", "throws", throw_spread_.speed, false));
     if (!(throw_spread_.speed >= 0 && throw_spread_.speed <= 1)) r.fail("throws.speed_spread", "must be in [0, 1]");
     const double up = r.number(w, "elevation_spread", "throws", throw_spread_.elevation / kRadiansPerDegree, false);
     if (!(up >= 0 && up <= 90)) r.fail("throws.elevation_spread", "must be in [0, 90] degrees");
@@ -384,8 +390,8 @@ void Sport::read_audio(const Reader& r, int t) {
   r.only_keys(a, "audio", {"voice", "rate", "volume", "listener", "facing", "sounds", "recorded", "priorities",
                            "supersede", "duck", "repeat_gap", "wait_for", "keep"});
   audio_.voice = r.string(a, "voice", "audio", audio_.voice, false);
-  audio_.rate = int(r.number(a, "rate", "audio", audio_.rate, false));
-  audio_.volume = int(r.number(a, "volume", "audio", audio_.volume, false));
+  audio_.rate = r.whole(a, "rate", "audio", audio_.rate, kSpeechRate.lo, kSpeechRate.hi);
+  audio_.volume = r.whole(a, "volume", "audio", audio_.volume, kSpeechVolume.lo, kSpeechVolume.hi);
   if (r.field(a, "listener")) audio_.listener = r.point("audio.listener");
   if (r.field(a, "facing")) audio_.facing = r.point("audio.facing");
   // Sounds are placed around the listener: it stands on the field or beside it, facing some way.
@@ -407,7 +413,7 @@ void Sport::read_audio(const Reader& r, int t) {
   audio_.duck = float(within("duck", audio_.duck, 1));
   audio_.repeat_gap = within("repeat_gap", audio_.repeat_gap, 60);
   audio_.wait_for = within("wait_for", audio_.wait_for, 5);
-  audio_.keep = int(r.number(a, "keep", "audio", audio_.keep, false));
+  audio_.keep = r.whole(a, "keep", "audio", audio_.keep, kPriority.lo, kPriority.hi);
   std::vector<std::string> events = game::event_names();
   if (r.field(a, "sounds")) {
     r.expect(LUA_TTABLE, "audio.sounds");
@@ -441,8 +447,7 @@ void Sport::read_audio(const Reader& r, int t) {
     r.expect(LUA_TTABLE, "audio.priorities");
     r.only_keys(-1, "audio.priorities", events);
     r.map(-1, "audio.priorities", [&](const std::string& event, const std::string& place) {
-      r.expect(LUA_TNUMBER, place);
-      audio_.priorities[event] = int(lua_tonumber(L, -1));
+      audio_.priorities[event] = r.whole_at_top(place, kPriority.lo, kPriority.hi);
     });
     lua_pop(L, 1);
   }

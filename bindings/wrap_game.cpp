@@ -3,10 +3,12 @@
 // Called with a dot (game.say(...)); see lua_wrap.h and docs/lua-api.md.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "lua_push.h"
 #include "lua_reader.h"
 #include "lua_wrap.h"
+#include "quantum/narrow.h"
 #include "sport.h"
 
 namespace quantum::lua {
@@ -82,8 +84,8 @@ int wormhole(lua_State* L) {
   game::Match& m = acting(L);
   std::vector<Wormhole> holes;
   if (lua_gettop(L) > 0)
-    holes.push_back({{float(check_number(L, 1)), float(check_number(L, 2))},
-                     {float(check_number(L, 3)), float(check_number(L, 4))}, float(opt_number(L, 5, 0.1))});
+    holes.push_back({{to_float(check_number(L, 1)), to_float(check_number(L, 2))},
+                     {to_float(check_number(L, 3)), to_float(check_number(L, 4))}, to_float(opt_number(L, 5, 0.1))});
   m.set_wormholes(std::move(holes));
   return 0;
 }
@@ -109,7 +111,9 @@ int after(lua_State* L) {
 // game.cancel(id): a timer that has not run yet never will.
 int cancel(lua_State* L) {
   acting(L);
-  sport_of(L).cancel_timer(int(check_number(L, 1)));
+  // Ids are whole numbers game.after gave; any other number names no timer.
+  const double id = check_number(L, 1);
+  if (id >= 1 && id <= std::numeric_limits<int>::max() && id == std::floor(id)) sport_of(L).cancel_timer(int(id));
   return 0;
 }
 
@@ -135,7 +139,7 @@ int aim(lua_State* L) {
     lua_rawgeti(L, 2, 1);
     lua_rawgeti(L, 2, 2);
     if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) throw ArgError("argument 2: expected a point {x, y}");
-    aim = {game::Aim::Kind::Point, -1, {float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))}};
+    aim = {game::Aim::Kind::Point, -1, {to_float(lua_tonumber(L, -2)), to_float(lua_tonumber(L, -1))}};
   } else if (!lua_isnoneornil(L, 2)) {
     const std::string where = check_string(L, 2);
     std::vector<std::string> names;
@@ -186,7 +190,7 @@ ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to
     lua_rawgeti(L, to, 2);
     lua_rawgeti(L, to, 3);
     const bool velocity = lua_isnumber(L, -3) && lua_isnumber(L, -2);
-    const Vec3 v{float(lua_tonumber(L, -3)), float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
+    const Vec3 v{to_float(lua_tonumber(L, -3)), to_float(lua_tonumber(L, -2)), to_float(lua_tonumber(L, -1))};
     lua_pop(L, 3);
     if (velocity) return {true, v, {}};
     raw_field(L, to, "x");
@@ -195,7 +199,7 @@ ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to
     if (!lua_isnumber(L, -3) || !lua_isnumber(L, -2))
       throw ArgError("argument " + std::to_string(script_arg(L, to)) +
                      ": expected a velocity {vx, vy}, a point {x = .., y = ..} or a name");
-    const Vec3 p{float(lua_tonumber(L, -3)), float(lua_tonumber(L, -2)), float(lua_tonumber(L, -1))};
+    const Vec3 p{to_float(lua_tonumber(L, -3)), to_float(lua_tonumber(L, -2)), to_float(lua_tonumber(L, -1))};
     lua_pop(L, 3);
     return {false, {}, p};
   }
@@ -304,7 +308,7 @@ int field(lua_State* L) {
 // game.area(x, y): the name and team of the field's area at that point (field.lua's `areas`), or nil.
 int area(lua_State* L) {
   const Field& f = reading(L).field();
-  const int a = f.area_at({float(check_number(L, 1)), float(check_number(L, 2))});
+  const int a = f.area_at({to_float(check_number(L, 1)), to_float(check_number(L, 2))});
   if (a < 0) return 0;
   lua_pushstring(L, f.areas[size_t(a)].name.c_str());
   lua_pushstring(L, f.areas[size_t(a)].team.c_str());

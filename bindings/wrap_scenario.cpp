@@ -8,12 +8,14 @@
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <sstream>
 
 #include "lua_push.h"
 #include "lua_reader.h"
 #include "lua_wrap.h"
+#include "quantum/narrow.h"
 #include "session.h"
 
 namespace quantum::lua {
@@ -120,6 +122,18 @@ double option(lua_State* L, int index, const char* key, double fallback) {
   return v;
 }
 
+// A whole-number option in [lo, hi), which `range` says in words: a spec's -1 or 1e300 fails
+// naming the option instead of becoming some other seed or count.
+double whole_option(lua_State* L, int index, const char* key, double fallback, double lo, double hi, const char* range) {
+  const double v = option(L, index, key, fallback);
+  if (!(v >= lo && v < hi && v == std::floor(v))) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%.14g", v);
+    throw ArgError(std::string(key) + ": expected a whole number from " + range + ", got " + got);
+  }
+  return v;
+}
+
 void push_told(lua_State* L, const Told& t) {
   push_event(L, t.event);
   push_strings(L, t.said);
@@ -154,8 +168,8 @@ int scenario(lua_State* L) {
   auto s = std::make_unique<Scenario>();
   runtime::SessionOptions o;
   o.sport = folder;
-  o.seed = uint64_t(option(L, 2, "seed", 1));
-  o.particles = uint32_t(option(L, 2, "particles", 0));
+  o.seed = uint64_t(whole_option(L, 2, "seed", 1, 0, 0x1p64, "0 to 2^64 - 1"));
+  o.particles = uint32_t(whole_option(L, 2, "particles", 0, 0, 10'000'001, "0 (the sport's) to 10000000"));
   o.seconds = option(L, 2, "seconds", 0);
   o.pacing = runtime::SessionOptions::Pacing::Fast;
   o.params = params_of(L, 2);
@@ -214,7 +228,7 @@ int place(lua_State* L) {
   Scenario& s = self(L);
   std::vector<ScriptedPlayers::Motion> motions = s.bodies->motions;
   ScriptedPlayers::Motion& m = motions[size_t(body_index(s, check_string(L, 2)))];
-  m.position = m.target = {float(check_number(L, 3)), float(check_number(L, 4))};
+  m.position = m.target = {to_float(check_number(L, 3)), to_float(check_number(L, 4))};
   m.velocity = {0, 0}, m.until = 0;
   show(s, motions);
   return 0;
@@ -227,8 +241,8 @@ int move(lua_State* L) {
   ScriptedPlayers::Motion& m = motions[size_t(body_index(s, check_string(L, 2)))];
   const double seconds = check_number(L, 5);
   if (!(seconds > 0 && std::isfinite(seconds))) throw ArgError("seconds must be > 0");
-  m.target = {float(check_number(L, 3)), float(check_number(L, 4))};
-  m.velocity = {float((m.target.x - m.position.x) / seconds), float((m.target.y - m.position.y) / seconds)};
+  m.target = {to_float(check_number(L, 3)), to_float(check_number(L, 4))};
+  m.velocity = {to_float((m.target.x - m.position.x) / seconds), to_float((m.target.y - m.position.y) / seconds)};
   m.until = s.match().time() + seconds;
   show(s, motions);
   return 0;
@@ -255,9 +269,7 @@ int ball(lua_State* L) {
   const double x = option(L, 2, "x", 0), y = option(L, 2, "y", 0);
   const double vx = option(L, 2, "vx", 0), vy = option(L, 2, "vy", 0);
   const double spread = option(L, 2, "spread", 0.01), turn = option(L, 2, "turn", 0.05);
-  const double count = option(L, 2, "count", 400);
-  if (!(count >= 1 && count <= 10'000'000)) throw ArgError("count must be in [1, 10000000]");
-  const int n = int(count);
+  const int n = int(whole_option(L, 2, "count", 400, 1, 10'000'001, "1 to 10000000"));
   Cloud c;
   const double speed = std::hypot(vx, vy), heading = std::atan2(vy, vx);
   // A deterministic lattice: spread and turn cover their ranges evenly, so specs need no seed.
@@ -265,8 +277,8 @@ int ball(lua_State* L) {
     const double u = n > 1 ? double(i) / (n - 1) - 0.5 : 0;
     const double a = heading + 2 * turn * u;
     const double side = spread * std::sin(2 * M_PI * 7.3 * u);
-    c.push(float(x - side * std::sin(heading)), float(y + side * std::cos(heading)), float(speed * std::cos(a)),
-           float(speed * std::sin(a)), 1.0 / n, 1.0 / n);
+    c.push(to_float(x - side * std::sin(heading)), to_float(y + side * std::cos(heading)), to_float(speed * std::cos(a)),
+           to_float(speed * std::sin(a)), 1.0 / n, 1.0 / n);
   }
   int by = -1;
   lua_getfield(L, 2, "by");
@@ -291,7 +303,7 @@ int throw_ball(lua_State* L) {
   Scenario& s = self(L);
   const int k = body_index(s, check_string(L, 2));
   if (s.match().holder() != k) throw ArgError(check_string(L, 2) + " does not hold the ball");
-  s.match().throw_ball(k, {float(check_number(L, 3)), float(check_number(L, 4)), float(opt_number(L, 5, 0))});
+  s.match().throw_ball(k, {to_float(check_number(L, 3)), to_float(check_number(L, 4)), to_float(opt_number(L, 5, 0))});
   s.session->tell();
   return 0;
 }

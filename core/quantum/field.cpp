@@ -101,9 +101,9 @@ namespace {
 using limits::kMaxCoordinate;
 
 void check_point(const Vec2& p, const std::string& place) {
-  if (!std::isfinite(p.x) || !std::isfinite(p.y))
-    throw FieldError(place, "coordinates must be finite numbers");
-  if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate)
+  if (std::isnan(p.x) || std::isnan(p.y)) throw FieldError(place, "coordinates must be numbers, not NaN");
+  // An infinity (or a file's 1e300, narrowed to one) is as far beyond as any typo.
+  if (!(std::fabs(p.x) <= kMaxCoordinate && std::fabs(p.y) <= kMaxCoordinate))
     throw FieldError(place, "coordinates beyond +-1000 m; the field is in metres");
 }
 

@@ -148,6 +148,16 @@ TEST(HostileValues, FactorsSetWhilePlayingAreCheckedWithTheirKeyNamed) {
 }
 
 // A balance that multiplies handicaps without end would overflow a factor as surely.
+// Loading the sport fails with an error naming its file ("sport" for sport.lua) and `error`.
+void expect_refused(const std::string& sport, const std::string& file, const std::string& error) {
+  try {
+    lua::Sport loaded(sport);
+    ADD_FAILURE() << "loaded";
+  } catch (const std::exception& e) {
+    EXPECT_TRUE(std::regex_search(e.what(), std::regex("/" + file + R"(\.lua: )" + error))) << e.what();
+  }
+}
+
 TEST(HostileValues, FactorsOutOfBoundsAreRefusedWhenTheSportLoads) {
   const struct {
     const char* lua;
@@ -161,12 +171,7 @@ TEST(HostileValues, FactorsOutOfBoundsAreRefusedWhenTheSportLoads) {
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.lua);
-    try {
-      lua::Sport loaded(hostile_sport("factor_load", "", c.lua));
-      ADD_FAILURE() << "loaded";
-    } catch (const std::exception& e) {
-      EXPECT_TRUE(std::regex_search(e.what(), std::regex(std::string(R"(/sport\.lua: )") + c.error))) << e.what();
-    }
+    expect_refused(hostile_sport("factor_load", "", c.lua), "sport", c.error);
   }
 }
 
@@ -206,13 +211,7 @@ TEST(HostileValues, APhraseThatIsNotUtf8IsRefusedWithItsKey) {
     SCOPED_TRACE(bytes);
     const std::string sport =
         hostile_sport("phrase_bytes", "", std::string("sport.phrases.drop = 'Puck to {team}") + bytes + "'");
-    try {
-      lua::Sport loaded(sport);
-      ADD_FAILURE() << "loaded";
-    } catch (const std::exception& e) {
-      EXPECT_TRUE(std::regex_search(e.what(), std::regex(R"(/sport\.lua: phrases\.drop: byte 15 is not UTF-8)")))
-          << e.what();
-    }
+    expect_refused(sport, "sport", R"(phrases\.drop: byte 15 is not UTF-8)");
   }
 }
 
@@ -245,16 +244,45 @@ TEST(HostileValues, AListenerOffTheFieldOrNotANumberIsRefusedWithItsKey) {
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.lua);
-    const std::string sport = hostile_sport("listener", "", c.lua);
-    try {
-      lua::Sport loaded(sport);
-      ADD_FAILURE() << "loaded";
-    } catch (const std::exception& e) {
-      EXPECT_TRUE(std::regex_search(e.what(), std::regex(std::string(R"(/sport\.lua: )") + c.error))) << e.what();
-    }
+    expect_refused(hostile_sport("listener", "", c.lua), "sport", c.error);
   }
   // Beside the field is a place to listen from: a commentator's box 5 m behind Blue's end.
   EXPECT_NO_THROW(lua::Sport(hostile_sport("listener", "", "sport.audio.listener = { -6, 0 }")));
+}
+
+// The announcer's numbers become ints: one beyond an int's range (the fuzzer's 4.4e104) or not
+// whole is refused at load, naming the key and the range, rather than narrowed to nonsense.
+TEST(HostileValues, AudioNumbersThatAreNoWholeNumberInRangeAreRefusedWithTheirKey) {
+  const struct {
+    const char* lua;
+    const char* error;
+  } cases[] = {
+      {"sport.audio.rate = 4.4e104", R"(audio\.rate: expected a whole number from 80 to 450, got 4\.4e\+104)"},
+      {"sport.audio.rate = 79", R"(audio\.rate: expected a whole number from 80 to 450, got 79)"},
+      {"sport.audio.rate = 170.5", R"(audio\.rate: expected a whole number from 80 to 450, got 170\.5)"},
+      {"sport.audio.volume = -1", R"(audio\.volume: expected a whole number from 0 to 200, got -1)"},
+      {"sport.audio.volume = 0/0", R"(audio\.volume: expected a whole number from 0 to 200, got -?nan)"},
+      {"sport.audio.keep = 1e300", R"(audio\.keep: expected a whole number from 0 to 100, got 1e\+300)"},
+      {"sport.audio.priorities = { goal = -2^63 }", R"(audio\.priorities\.goal: expected a whole number from 0 to 100)"},
+      {"sport.audio.priorities = { shot = 2.5 }", R"(audio\.priorities\.shot: expected a whole number from 0 to 100)"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.lua);
+    expect_refused(hostile_sport("audio_numbers", "", c.lua), "sport", c.error);
+  }
+  lua::Sport edges(hostile_sport("audio_numbers", "", "sport.audio.rate = 450; sport.audio.volume = 0; sport.audio.keep = 100"));
+  EXPECT_EQ(edges.audio().rate, 450);
+  EXPECT_EQ(edges.audio().volume, 0);
+  EXPECT_EQ(edges.audio().keep, 100);
+}
+
+// A number beyond a float's range in a game call is a value like any other that cannot be: the
+// call is refused (or, for a timer id, names no timer) and the match plays on.
+TEST(HostileValues, NumbersBeyondAFloatInGameCallsAreRefusedAndPlayGoesOn) {
+  const std::string sport = hostile_sport("beyond_float",
+                                          "game.cancel(1e300); game.cancel(-1e300); game.cancel(0.5)\n"
+                                          "  game.aim('blue', { 1e300, 0 })");
+  expect_played_on(play(sport), at_line("beyond_float") + "game.aim: a point to aim at must be finite");
 }
 
 // The bounds are the walls' and goals' (docs/field-files.md): a spot or a player's start beyond
@@ -269,6 +297,10 @@ TEST(HostileValues, ASpotOrAStartOffTheFieldIsRefusedWithItsKey) {
       {"at = { -0.5, 0 } }", "at = { -0.5, 3 } }",
        R"(spots\[1\] \(in front of Blue's goal\): lies outside the bounds)"},
       {"at = { 0.85, 0 } }", "at = { 50, 0 } }", R"(bodies\[2\] \(Red's mallet\): starts outside the field)"},
+      // Beyond a float: refused as off the field, never narrowed with undefined behaviour.
+      {"at = { 0.5, 0 } }", "at = { 1e300, 0 } }", R"(spots\[2\] \(in front of Red's goal\): coordinates beyond \+-1000 m)"},
+      {"at = { 0.85, 0 } }", "at = { 0, -1e39 } }", R"(bodies\[2\] \(Red's mallet\): coordinates beyond \+-1000 m)"},
+      {"at = { 0.85, 0 } }", "at = { 0/0, 0 } }", R"(bodies\[2\] \(Red's mallet\): coordinates must be numbers, not NaN)"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.to);
@@ -276,12 +308,7 @@ TEST(HostileValues, ASpotOrAStartOffTheFieldIsRefusedWithItsKey) {
     std::string field = text_of(fs::path(sport) / "field.lua");
     field.replace(field.find(c.from), std::string(c.from).size(), c.to);
     std::ofstream(fs::path(sport) / "field.lua") << field;
-    try {
-      lua::Sport loaded(sport);
-      ADD_FAILURE() << "loaded";
-    } catch (const std::exception& e) {
-      EXPECT_TRUE(std::regex_search(e.what(), std::regex(std::string(R"(/field\.lua: )") + c.error))) << e.what();
-    }
+    expect_refused(sport, "field", c.error);
   }
 }
 

@@ -20,6 +20,18 @@ describe("The scenario API", function()
     has(error_of(function() quantum.scenario(SPORT, { handicaps = { Bleu = 2 } }) end), "did you mean 'Blue'?")
   end)
 
+  it("refuses a seed, a cloud or a count it cannot honour, naming the option", function()
+    has(error_of(function() quantum.scenario(SPORT, { seed = -1 }) end), "seed: expected a whole number from 0 to 2^64 - 1, got -1")
+    has(error_of(function() quantum.scenario(SPORT, { seed = 2^64 }) end), "seed: expected a whole number")
+    has(error_of(function() quantum.scenario(SPORT, { seed = 0/0 }) end), "seed: expected a whole number")
+    has(error_of(function() quantum.scenario(SPORT, { particles = 1e300 }) end), "particles: expected a whole number")
+    local s = quantum.scenario(SPORT, { seed = 2^53 })
+    has(error_of(function() s:ball { x = 0, y = 0, count = 2.5 } end), "count: expected a whole number from 1 to 10000000")
+    -- Beyond a float's range is refused, not narrowed to an infinity the cloud cannot hold.
+    has(error_of(function() s:ball { x = 1e300, y = 0 } end), "scenario:ball")
+    has(error_of(function() s:place("Red", 1e300, 0) end), "is not finite")
+  end)
+
   it("names an unknown key of a ball", function()
     local s = quantum.scenario(SPORT)
     local err = error_of(function() s:ball { x = 0, y = 0, cout = 3 } end)
