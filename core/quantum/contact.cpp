@@ -227,13 +227,15 @@ void Geometry::build_grid(const Field& f) {
           if (touches(cell_box(col, row))) add(3 * (size_t(row) * size_t(cols) + size_t(col)) + size_t(list), k);
     });
   };
+  // Counted two places on, each list's start lands one place on, and serves as the fill's cursor
+  // until it ends where the next list starts: no copy of a hall's 4 MB of starts to fill from.
   const size_t cells = size_t(rows) * size_t(cols);
-  cell_start.assign(3 * cells + 1, 0);
-  visit_all([&](size_t list, size_t) { ++cell_start[list + 1]; });
+  cell_start.assign(3 * cells + 2, 0);
+  visit_all([&](size_t list, size_t) { ++cell_start[list + 2]; });
   std::partial_sum(cell_start.begin(), cell_start.end(), cell_start.begin());
   cell_items.resize(cell_start.back());
-  std::vector<uint32_t> next(cell_start.begin(), cell_start.end() - 1);
-  visit_all([&](size_t list, size_t k) { cell_items[next[list]++] = uint16_t(k); });
+  visit_all([&](size_t list, size_t k) { cell_items[cell_start[list + 1]++] = uint16_t(k); });
+  cell_start.pop_back();
   const float goal_reach = grid_reach + 1e-3f;
   cell_near_bounds.resize(cells);
   for (int row = 0; row < rows; ++row)
