@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Every test, once: sets up, runs in the optimized build the tests whose cost is repetition
-# (labels statistical, long and soak: hundreds of seeded matches, the full-size tables, the
-# soak's hour), then every other test under the sanitizers with the fuzzers and a shorter soak
+# Every test: sets up, runs in the optimized build the tests whose cost is repetition (labels
+# statistical, long and soak: hundreds of seeded matches, the full-size tables, the soak's hour)
+# and those that assert its CPU bound per frame (label bounds: the sandbox and hostile scripts),
+# then every test but the repeated ones under the sanitizers with the fuzzers and a shorter soak
 # (tools/sanitize.sh). docs/reliability.md says what runs where, why, and for how long.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,5 +11,5 @@ tools/setup.sh
 export ALSOFT_DRIVERS="${ALSOFT_DRIVERS:-null}"
 # A test that hangs fails by name after 10 minutes (the longest takes 2 here, 4 under the
 # sanitizers) instead of running into CI's limit; the soak sets its own.
-ctest --test-dir build --output-on-failure --timeout 600 -j"$(nproc)" -L 'statistical|long|soak'
+ctest --test-dir build --output-on-failure --timeout 600 -j"$(nproc)" -L 'statistical|long|soak|bounds'
 tools/sanitize.sh -LE 'statistical|long'
