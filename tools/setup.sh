@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs every Debian package the project uses (idempotent, non-interactive) and builds Release.
-# Safe to run again: it installs only what is missing and rebuilds only what changed.
+# Installs every Debian package the project uses (idempotent, non-interactive) and builds Release:
+# every target, or only those named (`tools/setup.sh quantum quantum_tests`). Safe to run again:
+# it installs only what is missing and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -39,7 +40,9 @@ fi
 
 mkdir -p build
 log=build/setup.log
-if ! { cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build -j"$(nproc)"; } >"$log" 2>&1; then
+targets=()
+for t in "$@"; do targets+=(--target "$t"); done
+if ! { cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build -j"$(nproc)" "${targets[@]}"; } >"$log" 2>&1; then
   cat "$log"
   echo "setup: the build failed (log above, also in $log)" >&2
   exit 1

@@ -55,14 +55,13 @@ void HatTracker::masks(const cv::Mat& bgr) {
   }
 }
 
-std::vector<HatTracker::Blob> HatTracker::blobs(size_t colour) const {
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(masks_[colour], labels, stats, centroids);
+std::vector<HatTracker::Blob> HatTracker::blobs(size_t colour) {
+  const int n = cv::connectedComponentsWithStats(masks_[colour], labels_, stats_, centroids_);
   std::vector<Blob> out;
   for (int l = 1; l < n; ++l) {
-    const int area = stats.at<int>(l, cv::CC_STAT_AREA);
+    const int area = stats_.at<int>(l, cv::CC_STAT_AREA);
     if (area < config_.min_area) continue;
-    out.push_back({to_field({float(centroids.at<double>(l, 0)), float(centroids.at<double>(l, 1))}), area});
+    out.push_back({to_field({float(centroids_.at<double>(l, 0)), float(centroids_.at<double>(l, 1))}), area});
   }
   return out;
 }

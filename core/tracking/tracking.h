@@ -262,7 +262,7 @@ class HatTracker {
     double seen = 0;   // s
   };
   void calibrate(const cv::Mat& bgr);
-  std::vector<Blob> blobs(size_t colour) const;
+  std::vector<Blob> blobs(size_t colour);
   // Moves the hats on; returns, per colour, the blobs none of them holds.
   std::vector<std::vector<Blob>> follow(cv::Size image, double dt);
   void arrive(const std::vector<std::vector<Blob>>& free, double dt);
@@ -278,6 +278,7 @@ class HatTracker {
   std::vector<Newcomer> newcomers_;
   std::vector<cv::Mat> masks_;  // per team colour: 255 where a pixel has it
   cv::Mat hsv_;
+  cv::Mat labels_, stats_, centroids_;  // blobs' scratch: a frame's labels are a megabyte, kept
   double last_t_ = 0;
 };
 
