@@ -4,6 +4,8 @@
 #include <cmath>
 #include <ostream>
 
+#include "quantum/narrow.h"
+
 namespace quantum::runtime {
 
 using Status = PlayerSource::Status;
@@ -133,8 +135,8 @@ void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) 
     }
     for (size_t k = 0; k < field_.bodies.size(); ++k) {
       if (field_.bodies[k].tracked_as() != p.id) continue;
-      bodies_[k].position = {float(std::clamp(p.x, double(field_.bounds_min.x - slack), double(field_.bounds_max.x + slack))),
-                             float(std::clamp(p.y, double(field_.bounds_min.y - slack), double(field_.bounds_max.y + slack)))};
+      bodies_[k].position = {std::clamp(to_float(p.x), field_.bounds_min.x - slack, field_.bounds_max.x + slack),
+                             std::clamp(to_float(p.y), field_.bounds_min.y - slack, field_.bounds_max.y + slack)};
       const double speed = std::hypot(p.vx, p.vy), most = 0.99 * field_.max_body_speed;
       const double scale = speed > most ? most / speed : 1.0;
       bodies_[k].velocity = {float(p.vx * scale), float(p.vy * scale)};

@@ -9,6 +9,7 @@
 #include <array>
 #include <climits>
 #include <cstdio>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <regex>
 
@@ -147,7 +148,6 @@ TEST(HostileValues, FactorsSetWhilePlayingAreCheckedWithTheirKeyNamed) {
   }
 }
 
-// A balance that multiplies handicaps without end would overflow a factor as surely.
 // Loading the sport fails with an error naming its file ("sport" for sport.lua) and `error`.
 void expect_refused(const std::string& sport, const std::string& file, const std::string& error) {
   try {
@@ -158,21 +158,29 @@ void expect_refused(const std::string& sport, const std::string& file, const std
   }
 }
 
+// A line of Lua added to air hockey's sport.lua, and the error (a pattern) that refuses it.
+struct SportLine {
+  const char* lua;
+  const char* error;
+};
+
+// Each line, added alone to the sport `name`, is refused when it loads.
+void expect_each_refused(const char* name, std::initializer_list<SportLine> lines) {
+  for (const SportLine& c : lines) {
+    SCOPED_TRACE(c.lua);
+    expect_refused(hostile_sport(name, "", c.lua), "sport", c.error);
+  }
+}
+
+// A balance that multiplies handicaps without end would overflow a factor as surely.
 TEST(HostileValues, FactorsOutOfBoundsAreRefusedWhenTheSportLoads) {
-  const struct {
-    const char* lua;
-    const char* error;
-  } cases[] = {
+  expect_each_refused("factor_load", {
       {"sport.factors.goal = math.huge", R"(factors\.goal: must be a number in \[0, 1e6\])"},
       {"sport.factors.goal = 1e7", R"(factors\.goal: must be a number in \[0, 1e6\])"},
       {"sport.factors.goal = 0/0", R"(factors\.goal: must be a number in \[0, 1e6\])"},
       {"sport.factors.own_goal = -1", R"(factors\.own_goal: must be a number in \[0, 1e6\])"},
       {"sport.balance = { per_goal = 1, most = 1e308 }", R"(balance\.most: must be in \[1, 1000\])"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.lua);
-    expect_refused(hostile_sport("factor_load", "", c.lua), "sport", c.error);
-  }
+  });
 }
 
 // An award that is no whole number in [-1000, 1000] is refused at the caller's line; the rest of
@@ -232,20 +240,13 @@ TEST(HostileValues, InvalidBytesSaidWhilePlayingKeepTheEventLogJson) {
 }
 
 TEST(HostileValues, AListenerOffTheFieldOrNotANumberIsRefusedWithItsKey) {
-  const struct {
-    const char* lua;
-    const char* error;
-  } cases[] = {
+  expect_each_refused("listener", {
       {"sport.audio.listener = { 0/0, 0 }", "audio.listener: must be within 10 m of the field's bounds"},
       {"sport.audio.listener = { 0, math.huge }", "audio.listener: must be within 10 m of the field's bounds"},
       {"sport.audio.listener = { 50, 0 }", "audio.listener: must be within 10 m of the field's bounds"},
       {"sport.audio.facing = { 0/0, 1 }", "audio.facing: must be a direction: finite and not \\{0, 0\\}"},
       {"sport.audio.facing = { 0, 0 }", "audio.facing: must be a direction: finite and not \\{0, 0\\}"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.lua);
-    expect_refused(hostile_sport("listener", "", c.lua), "sport", c.error);
-  }
+  });
   // Beside the field is a place to listen from: a commentator's box 5 m behind Blue's end.
   EXPECT_NO_THROW(lua::Sport(hostile_sport("listener", "", "sport.audio.listener = { -6, 0 }")));
 }
@@ -253,10 +254,7 @@ TEST(HostileValues, AListenerOffTheFieldOrNotANumberIsRefusedWithItsKey) {
 // The announcer's numbers become ints: one beyond an int's range (the fuzzer's 4.4e104) or not
 // whole is refused at load, naming the key and the range, rather than narrowed to nonsense.
 TEST(HostileValues, AudioNumbersThatAreNoWholeNumberInRangeAreRefusedWithTheirKey) {
-  const struct {
-    const char* lua;
-    const char* error;
-  } cases[] = {
+  expect_each_refused("audio_numbers", {
       {"sport.audio.rate = 4.4e104", R"(audio\.rate: expected a whole number from 80 to 450, got 4\.4e\+104)"},
       {"sport.audio.rate = 79", R"(audio\.rate: expected a whole number from 80 to 450, got 79)"},
       {"sport.audio.rate = 170.5", R"(audio\.rate: expected a whole number from 80 to 450, got 170\.5)"},
@@ -265,11 +263,7 @@ TEST(HostileValues, AudioNumbersThatAreNoWholeNumberInRangeAreRefusedWithTheirKe
       {"sport.audio.keep = 1e300", R"(audio\.keep: expected a whole number from 0 to 100, got 1e\+300)"},
       {"sport.audio.priorities = { goal = -2^63 }", R"(audio\.priorities\.goal: expected a whole number from 0 to 100)"},
       {"sport.audio.priorities = { shot = 2.5 }", R"(audio\.priorities\.shot: expected a whole number from 0 to 100)"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.lua);
-    expect_refused(hostile_sport("audio_numbers", "", c.lua), "sport", c.error);
-  }
+  });
   lua::Sport edges(hostile_sport("audio_numbers", "", "sport.audio.rate = 450; sport.audio.volume = 0; sport.audio.keep = 100"));
   EXPECT_EQ(edges.audio().rate, 450);
   EXPECT_EQ(edges.audio().volume, 0);
