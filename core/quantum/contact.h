@@ -236,13 +236,21 @@ constexpr float kSkin = 2e-6f;
 
 // Applies a contact found by a search to m, already moved to the contact time t. Inline: the
 // prediction resolves every particle's every contact, most of them walls.
+// A bounce off a vertical surface of restitution e (a wall, a backboard), normal (nx, ny) toward
+// the ball: the drift and the ball's own velocity are reflected alike, on a flat field or with
+// height (M is a Mover or a Mover3).
+template <class M>
+[[gnu::always_inline]] inline void reflect_off(M& m, float nx, float ny, float e) {
+  const float un = m.ux * nx + m.uy * ny, vn = m.vx * nx + m.vy * ny;
+  if (un < 0) m.ux -= (1 + e) * un * nx, m.uy -= (1 + e) * un * ny;
+  if (vn < 0) m.vx -= (1 + e) * vn * nx, m.vy -= (1 + e) * vn * ny;
+  m.x += kSkin * nx, m.y += kSkin * ny;
+}
+
 inline void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index, float nx, float ny, float t,
              Mover& m) {
   if (kind == HitKind::Wall) {
-    const float un = m.ux * nx + m.uy * ny, vn = m.vx * nx + m.vy * ny;
-    if (un < 0) m.ux -= (1 + g.e_wall) * un * nx, m.uy -= (1 + g.e_wall) * un * ny;
-    if (vn < 0) m.vx -= (1 + g.e_wall) * vn * nx, m.vy -= (1 + g.e_wall) * vn * ny;
-    m.x += kSkin * nx, m.y += kSkin * ny;
+    reflect_off(m, nx, ny, g.e_wall);
   } else if (kind == HitKind::Wormhole) {
     // Out of the other mouth at the same offset, a hair inside it so it is not entering it.
     const int to = index ^ 1;

@@ -109,7 +109,7 @@ class FastBackend final : public Backend {
 
 
   detail::Geometry geometry_;
-  detail::StepTracer tracer_{geometry_};
+  detail::StepTracer<detail::Flat> tracer_{detail::Flat{geometry_}};
   std::vector<detail::BodyPath> paths_;
   std::vector<Near> near_;
 };

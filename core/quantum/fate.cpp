@@ -5,9 +5,8 @@
 #include <algorithm>
 #include <atomic>
 #include <stdexcept>
+#include <type_traits>
 
-#include "height.h"
-#include "quantum/contact.h"
 #include "quantum/noise.h"
 #include "quantum/world.h"
 #include "world_internals.h"
@@ -62,75 +61,43 @@ NextStep next_step(uint64_t seed, uint64_t step, float brownian, float dt, float
   return {span, step_key(seed, step + 1), noise_amplitude(brownian, dt)};
 }
 
-// Particle i at the start of the prediction: moving with the next step's drift, as the step moves it.
-detail::Mover start_of(const Cloud& c, size_t i, const NextStep& next) {
-  if (next.dt <= 0) return {c.x[i], c.y[i], c.vx[i], c.vy[i], c.vx[i], c.vy[i]};
+// Particle i at the start of the prediction: moving with the next step's drift, as the step moves
+// it (the drift is horizontal only).
+template <class Space>
+typename Space::Mover start_of(const Cloud& c, size_t i, const NextStep& next) {
+  typename Space::Mover m = Space::ball(c, i);
+  if (next.dt <= 0) return m;
   float dx, dy;
   noise_offsets(noise_bits(uint32_t(i), next.key), next.amplitude, dx, dy);
   const float x1 = c.x[i] + c.vx[i] * next.dt + dx, y1 = c.y[i] + c.vy[i] * next.dt + dy;
-  return {c.x[i], c.y[i], (x1 - c.x[i]) / next.dt, (y1 - c.y[i]) / next.dt, c.vx[i], c.vy[i]};
+  m.ux = (x1 - c.x[i]) / next.dt, m.uy = (y1 - c.y[i]) / next.dt;
+  return m;
 }
 
-// Follows one particle from contact to contact; `visit` sees every point where the path turns.
-// Same searches and arithmetic as trace_fates, one particle at a time.
-template <class Visit>
-Fate trace_fate(const detail::Geometry& g, const detail::BodyPath* bodies, int nb, const Endings& ends,
-                detail::Mover m, float drift_end, float horizon, Visit&& visit) {
-  Fate f;
-  float t = 0, end = drift_end > 0 && drift_end < horizon ? drift_end : horizon;
-  visit(m.x, m.y);
-  for (int contact = 0; contact < kMaxFateContacts;) {
-    const detail::Hit hit = detail::next_hit(g, bodies, nb, m, t, end, true);
-    if (hit.kind == detail::HitKind::None) {
-      m.x += m.ux * (end - t), m.y += m.uy * (end - t);
-      t = end;
-      if (end == horizon) {
-        visit(m.x, m.y);
-        return f;
-      }
-      m.ux = m.vx, m.uy = m.vy, end = horizon;  // the drift is spent: on without noise
-      continue;
-    }
-    m.x += m.ux * hit.dt, m.y += m.uy * hit.dt;
-    t += hit.dt;
-    visit(m.x, m.y);
-    if (ends_at(f, hit.kind, hit.index, ends)) return f;
-    if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);  // a wormhole is no wall
-    detail::resolve(g, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m);
-    ++contact;
-  }
-  return f;
-}
-
-// With height: particle i at the start of the prediction (the drift is horizontal only).
-detail::Mover3 start_of3(const Cloud& c, size_t i, const NextStep& next) {
-  const detail::Mover m = start_of(c, i, next);
-  return {m.x, m.y, c.z[i], m.ux, m.uy, m.vx, m.vy, c.vz[i]};
-}
-
-// trace_fate on a field with height: `fly` sees every free flight (its start and length), so a
-// picture can draw the arcs between the contacts.
-template <class Fly>
-Fate trace_fate3(const detail::Geometry& g, const detail::Sky& sky, const detail::BodyPath* bodies, int nb,
-                 const Endings& ends, detail::Mover3 m, float drift_end, float horizon, Fly&& fly) {
+// Follows one particle from contact to contact; `fly` sees every free flight (its start and
+// length), so a picture can draw the path. Same searches and arithmetic as trace_fates, one
+// particle at a time.
+template <class Space, class Fly>
+Fate trace_fate(const Space& space, const detail::BodyPath* bodies, int nb, const Endings& ends,
+                typename Space::Mover m, float drift_end, float horizon, Fly&& fly) {
   Fate f;
   float t = 0, end = drift_end > 0 && drift_end < horizon ? drift_end : horizon;
   for (int contact = 0; contact < kMaxFateContacts;) {
-    const detail::Hit3 hit = detail::next_hit3(g, sky, bodies, nb, m, t, end, true);
+    const typename Space::Hit hit = space.next_hit(bodies, nb, m, t, end);
     if (hit.kind == detail::HitKind::None) {
       fly(m, end - t);
-      m = detail::advanced(sky, m, end - t);
+      m = space.advanced(m, end - t);
       t = end;
       if (end == horizon) return f;
       m.ux = m.vx, m.uy = m.vy, end = horizon;  // the drift is spent: on without noise
       continue;
     }
     fly(m, hit.dt);
-    m = detail::advanced(sky, m, hit.dt);
+    m = space.advanced(m, hit.dt);
     t += hit.dt;
     if (ends_at(f, hit.kind, hit.index, ends)) return f;
-    if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);
-    detail::resolve3(g, sky, bodies, hit, t, m);
+    if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);  // a wormhole is no wall
+    space.resolve(bodies, hit, t, m);
     ++contact;
   }
   return f;
@@ -162,10 +129,10 @@ bool meets_nothing(const detail::Geometry& g, const detail::BodyPath* bodies, in
 // share them out: each takes the next chunk from `next` until none is left, with its own pair of
 // scratch flights and its own ChunkGrouping. Which thread takes a chunk changes nothing in it,
 // so the report is the same on one thread or two.
-template <class FlightT>
+template <class Space>
 struct FateJob {
-  const detail::Geometry& g;
-  const detail::Sky& sky;
+  using FlightT = FlightOf<Space>;
+  const Space& space;
   const detail::BodyPath* bodies;
   int nb;
   const Endings& ends;
@@ -200,10 +167,10 @@ uint32_t add_to_tally(GroupIndex& index, std::vector<GroupTally>& tallies, size_
 
 // The fates of chunk [begin, end) into its groups, in order of first appearance: each particle's
 // place among them goes to group_of, the groups to the end of this thread's `found`.
-template <class FlightT>
-void group_chunk(FateJob<FlightT>& job, int thread, size_t begin, size_t end) {
+template <class Space>
+void group_chunk(FateJob<Space>& job, int thread, size_t begin, size_t end) {
   ChunkGrouping& mine = job.grouping[thread];
-  ChunkGroups& chunk = job.chunks[begin / FlightT::kChunk];
+  ChunkGroups& chunk = job.chunks[begin / FateJob<Space>::FlightT::kChunk];
   const size_t first = mine.found.size();
   mine.index.clear();
   const Cloud& c = job.c;
@@ -214,112 +181,69 @@ void group_chunk(FateJob<FlightT>& job, int thread, size_t begin, size_t end) {
   chunk = {uint32_t(thread), uint32_t(first), uint32_t(mine.found.size() - first)};
 }
 
-// Fates on a flat field: each round searches all still-flying particles of a chunk at once
-// (vectorized), then moves each to its contact. The first `drift_end` seconds run with the next
-// step's drift (see NextStep), the rest without.
-void trace_fates(FateJob<Flight>& job) {
-  constexpr size_t kChunk = Flight::kChunk;
+// Each round searches all still-flying particles of a chunk at once (vectorized), then moves each
+// to its contact. The first `drift_end` seconds run with the next step's drift (see NextStep), the
+// rest without.
+template <class Space>
+void trace_fates(FateJob<Space>& job) {
+  using FlightT = typename FateJob<Space>::FlightT;
+  using Mover = typename Space::Mover;
+  constexpr size_t kChunk = FlightT::kChunk;
   const int thread = job.threads.fetch_add(1);
-  Flight& flying = job.scratch[2 * thread];
-  Flight& later = job.scratch[2 * thread + 1];
+  FlightT* flying = &job.scratch[2 * thread];
+  FlightT* later = &job.scratch[2 * thread + 1];  // the drift's end, where the flight goes on without noise
   Fate* fates = job.grouping[thread].fates.data();
-  const detail::Geometry& g = job.g;
+  const Space& space = job.space;
   const detail::BodyPath* bodies = job.bodies;
   const int nb = job.nb;
   const Cloud& c = job.c;
-  const NextStep& next = job.next_step;
-  const float horizon = job.horizon, drift_end = next.dt > 0 && next.dt < horizon ? next.dt : horizon;
+  const float horizon = job.horizon, dt = job.next_step.dt, drift_end = dt > 0 && dt < horizon ? dt : horizon;
   for (size_t begin; (begin = job.next.fetch_add(kChunk)) < c.size();) {
     const size_t end_of_chunk = std::min(begin + kChunk, c.size());
-    flying.n = later.n = 0;
+    flying->n = later->n = 0;
     std::fill(fates, fates + (end_of_chunk - begin), Fate{});
     for (size_t i = begin; i < end_of_chunk; ++i) {
-      const detail::Mover m = start_of(c, i, next);
+      const Mover m = start_of<Space>(c, i, job.next_step);
       const uint32_t place = uint32_t(i - begin);
-      if (drift_end < horizon && meets_nothing(g, bodies, nb, m, drift_end))
-        later.push({m.x + m.ux * drift_end, m.y + m.uy * drift_end, m.vx, m.vy, m.vx, m.vy}, drift_end, place, 0);
-      else
-        flying.push(m, 0, place, 0);
+      // The flat safe box knows no floor, ceiling, hoop or board: with height every particle is searched.
+      if constexpr (!Space::kHeight) {
+        if (drift_end < horizon && meets_nothing(space.g, bodies, nb, m, drift_end)) {
+          Mover at = space.advanced(m, drift_end);
+          at.ux = at.vx, at.uy = at.vy;
+          later->push(at, drift_end, place, 0);
+          continue;
+        }
+      }
+      flying->push(m, 0, place, 0);
     }
     for (float end = drift_end;; end = horizon) {
-      while (flying.n > 0) {
-        detail::MoverBatch& b = flying.b;
-        detail::batch_next_hits(g, bodies, nb, b, flying.n, end);
-        const size_t n = flying.n;
-        flying.n = 0;  // compacted in place: slot j is read before anything is written to it
+      while (flying->n > 0) {
+        typename Space::Batch& b = flying->b;
+        space.search(bodies, nb, b, flying->n, end);
+        const size_t n = flying->n;
+        flying->n = 0;  // compacted in place: slot j is read before anything is written to it
         for (size_t j = 0; j < n; ++j) {
-          const detail::HitKind kind = detail::code_kind(b.code[j]);
-          if (kind == detail::HitKind::None) {
+          const typename Space::Hit hit = Space::hit(b, j);
+          if (hit.kind == detail::HitKind::None) {
             if (end == horizon) continue;  // stays in the field
-            const float rest = end - b.t[j];
-            later.push({b.x[j] + b.ux[j] * rest, b.y[j] + b.uy[j] * rest, b.vx[j], b.vy[j], b.vx[j], b.vy[j]}, end,
-                       flying.id[j], flying.contacts[j]);
+            Mover m = space.advanced(Space::mover(b, j), end - b.t[j]);
+            m.ux = m.vx, m.uy = m.vy;  // the drift is spent: on without noise
+            later->push(m, end, flying->id[j], flying->contacts[j]);
             continue;
           }
-          Fate& f = fates[flying.id[j]];
-          const int index = detail::code_index(b.code[j]);
-          if (ends_at(f, kind, index, job.ends)) continue;
-          if (kind == detail::HitKind::Wall) add_to_path(f, index);  // a wormhole is no wall
-          const uint8_t touched = uint8_t(flying.contacts[j] + 1);
+          Fate& f = fates[flying->id[j]];
+          if (ends_at(f, hit.kind, hit.index, job.ends)) continue;
+          if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);  // a wormhole is no wall
+          const uint8_t touched = uint8_t(flying->contacts[j] + 1);
           if (touched >= kMaxFateContacts) continue;
-          const float dt = b.when[j], t = b.t[j] + dt;
-          detail::Mover m{b.x[j] + b.ux[j] * dt, b.y[j] + b.uy[j] * dt, b.ux[j], b.uy[j], b.vx[j], b.vy[j]};
-          detail::resolve(g, bodies, kind, index, b.hnx[j], b.hny[j], t, m);
-          flying.push(m, t, flying.id[j], touched);
+          const float t = b.t[j] + hit.dt;
+          Mover m = space.advanced(Space::mover(b, j), hit.dt);
+          space.resolve(bodies, hit, t, m);
+          flying->push(m, t, flying->id[j], touched);
         }
       }
       if (end == horizon) break;
       std::swap(flying, later);
-    }
-    group_chunk(job, thread, begin, end_of_chunk);
-  }
-}
-
-// trace_fates on a field with height: the same rounds over a chunk, with the batched 3D search.
-void trace_fates3(FateJob<Flight3>& job) {
-  constexpr size_t kChunk = Flight3::kChunk;
-  const int thread = job.threads.fetch_add(1);
-  Flight3& flying = job.scratch[2 * thread];
-  Flight3& later = job.scratch[2 * thread + 1];
-  Fate* fates = job.grouping[thread].fates.data();
-  const detail::Sky& sky = job.sky;
-  const float horizon = job.horizon, dt = job.next_step.dt, drift_end = dt > 0 && dt < horizon ? dt : horizon;
-  for (size_t begin; (begin = job.next.fetch_add(kChunk)) < job.c.size();) {
-    const size_t end_of_chunk = std::min(begin + kChunk, job.c.size());
-    Flight3* fly = &flying;
-    Flight3* land = &later;  // the drift's end, where the flight goes on without noise
-    fly->n = land->n = 0;
-    std::fill(fates, fates + (end_of_chunk - begin), Fate{});
-    for (size_t i = begin; i < end_of_chunk; ++i)
-      fly->push(start_of3(job.c, i, job.next_step), 0, uint32_t(i - begin), 0);
-    for (float end = drift_end;; end = horizon) {
-      while (fly->n > 0) {
-        detail::Mover3Batch& b = fly->b;
-        detail::batch_next_hits3(job.g, sky, job.bodies, job.nb, b, fly->n, end, true);
-        const size_t n = fly->n;
-        fly->n = 0;  // compacted in place: slot j is read before anything is written to it
-        for (size_t j = 0; j < n; ++j) {
-          const detail::Hit3 hit = b.hit(j);
-          if (hit.kind == detail::HitKind::None) {
-            if (end == horizon) continue;  // stays in the field
-            detail::Mover3 m = detail::advanced(sky, b.mover(j), end - b.t[j]);
-            m.ux = m.vx, m.uy = m.vy;  // the drift is spent: on without noise
-            land->push(m, end, fly->id[j], fly->contacts[j]);
-            continue;
-          }
-          Fate& f = fates[fly->id[j]];
-          if (ends_at(f, hit.kind, hit.index, job.ends)) continue;
-          if (hit.kind == detail::HitKind::Wall) add_to_path(f, hit.index);
-          const uint8_t touched = uint8_t(fly->contacts[j] + 1);
-          if (touched >= kMaxFateContacts) continue;
-          const float t = b.t[j] + hit.dt;
-          detail::Mover3 m = detail::advanced(sky, b.mover(j), hit.dt);
-          detail::resolve3(job.g, sky, job.bodies, hit, t, m);
-          fly->push(m, t, fly->id[j], touched);
-        }
-      }
-      if (end == horizon) break;
-      std::swap(fly, land);
     }
     group_chunk(job, thread, begin, end_of_chunk);
   }
@@ -438,22 +362,18 @@ std::vector<Vec3> World::predict_path(size_t i, float horizon) const {
   std::vector<Vec3> path;
   const NextStep next = next_step(config_.seed, step_, field_.brownian, last_dt_, flight(last_dt_));
   const Endings ends{body_kind.data(), own.data()};
-  if (!cloud_.tall()) {
-    trace_fate(internals_->geometry, bodies.data(), int(bodies.size()), ends, start_of(cloud_, i, next), next.dt,
-               flight(horizon), [&](float px, float py) { path.push_back({px, py, 0}); });
-    return path;
-  }
-  // An arc is drawn as chords of at most this long in time: smooth at any picture's scale.
-  constexpr float kChord = 0.02f;
-  const detail::Sky& sky = internals_->sky;
-  trace_fate3(internals_->geometry, sky, bodies.data(), int(bodies.size()), ends, start_of3(cloud_, i, next), next.dt,
-              horizon, [&](const detail::Mover3& m, float seconds) {
-                const int pieces = std::max(1, int(std::ceil(seconds / kChord)));
-                for (int k = path.empty() ? 0 : 1; k <= pieces; ++k) {
-                  const detail::Mover3 at = detail::advanced(sky, m, seconds * float(k) / float(pieces));
-                  path.push_back({at.x, at.y, at.z});
-                }
-              });
+  internals_->on_space([&](const auto& space) {
+    using Space = std::decay_t<decltype(space)>;
+    // A flat flight is a straight line; an arc is drawn as chords of at most this long in time,
+    // smooth at any picture's scale.
+    constexpr float kChord = 0.02f;
+    trace_fate(space, bodies.data(), int(bodies.size()), ends, start_of<Space>(cloud_, i, next), next.dt,
+               flight(horizon), [&](const typename Space::Mover& m, float seconds) {
+                 const int pieces = Space::kHeight ? std::max(1, int(std::ceil(seconds / kChord))) : 1;
+                 for (int k = path.empty() ? 0 : 1; k <= pieces; ++k)
+                   path.push_back(Space::where(space.advanced(m, seconds * float(k) / float(pieces))));
+               });
+  });
   return path;
 }
 
@@ -483,15 +403,13 @@ void World::predict(FateReport& report, float horizon) const {
   const auto run = [&](auto& job, void (*trace)(void*)) { shared ? s.helper.together(trace, &job) : trace(&job); };
   const int nb = int(s.predicted_bodies.size());
   uint32_t* group_of = report.group_of.data();
-  if (cloud_.tall()) {
-    FateJob<Flight3> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, horizon,
-                         s.flights3.data(), s.grouping, s.chunks.data(), group_of};
-    run(job, [](void* j) { trace_fates3(*static_cast<FateJob<Flight3>*>(j)); });
-  } else {
-    FateJob<Flight> job{s.geometry, s.sky, s.predicted_bodies.data(), nb, ends, cloud_, next, flight(horizon),
-                        s.flights.data(), s.grouping, s.chunks.data(), group_of};
-    run(job, [](void* j) { trace_fates(*static_cast<FateJob<Flight>*>(j)); });
-  }
+  // A field with height has no friction: its flight time is the time itself.
+  internals_->on_space([&](const auto& space) {
+    using Space = std::decay_t<decltype(space)>;
+    FateJob<Space> job{space, s.predicted_bodies.data(), nb, ends, cloud_, next, flight(horizon),
+                       s.flights_for<Space>().data(), s.grouping, s.chunks.data(), group_of};
+    run(job, [](void* j) { trace_fates(*static_cast<FateJob<Space>*>(j)); });
+  });
   // The chunks' groups, merged in the cloud's order: the report's groups come in order of first
   // appearance and each keeps its first heaviest particle, as one pass over the cloud would give.
   // A group's mass is summed chunk by chunk, so it is the same whichever thread traced what.

@@ -425,12 +425,6 @@ Hit3 next_hit3(const Geometry& geo, const Sky& sky, const BodyPath* bodies, int 
 }
 
 void resolve3(const Geometry& geo, const Sky& s, const BodyPath* bodies, const Hit3& hit, float t, Mover3& m) {
-  auto reflect_flat = [&](float e) {
-    const float un = m.ux * hit.nx + m.uy * hit.ny, vn = m.vx * hit.nx + m.vy * hit.ny;
-    if (un < 0) m.ux -= (1 + e) * un * hit.nx, m.uy -= (1 + e) * un * hit.ny;
-    if (vn < 0) m.vx -= (1 + e) * vn * hit.nx, m.vy -= (1 + e) * vn * hit.ny;
-    m.x += kSkin * hit.nx, m.y += kSkin * hit.ny;
-  };
   switch (hit.surface) {
     case Surface::Floor:
     case Surface::Ceiling: {
@@ -443,7 +437,7 @@ void resolve3(const Geometry& geo, const Sky& s, const BodyPath* bodies, const H
       }
       break;
     }
-    case Surface::Board: reflect_flat(s.be[size_t(hit.item)]); break;
+    case Surface::Board: reflect_off(m, hit.nx, hit.ny, s.be[size_t(hit.item)]); break;
     case Surface::Rim: {
       const float e = s.he[size_t(hit.item)];
       const float vn = m.vx * hit.nx + m.vy * hit.ny + m.vz * hit.nz;

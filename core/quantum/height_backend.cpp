@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "height.h"
-#include "height_tracer.h"
+#include "step_tracer.h"
 #include "quantum/backend.h"
 #include "quantum/noise.h"
 
@@ -177,7 +177,7 @@ class HeightBackend final : public Backend {
       for (int q = 0; q < flagged; ++q) {
         const int j = slow[q], i = base + j;
         const detail::Mover3 mv{ox[j], oy[j], oz[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i], ovz[j]};
-        tracer_.add(uint32_t(i), mv, finish);
+        tracer_.add(uint32_t(i), mv, true, finish);
       }
     }
     tracer_.finish_all(finish);
@@ -208,7 +208,7 @@ class HeightBackend final : public Backend {
 
   detail::Geometry geometry_;
   detail::Sky sky_;
-  detail::StepTracer3 tracer_{geometry_, sky_};
+  detail::StepTracer<detail::Tall> tracer_{detail::Tall{geometry_, sky_}};
   std::vector<Rim> rims_;
   std::vector<Pane> boards_;
   std::vector<detail::BodyPath> paths_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <type_traits>
 
 #include "world_internals.h"
 
@@ -479,6 +480,34 @@ void World::remove_ball() {
   ++version_;
 }
 
+namespace {
+
+// The particles `body` touched in `slot`, carried forward `span` of flight time to now (slowed by
+// `slow`, friction's share) into `out`. They are the ball after this contact, so they meet walls
+// only; one that went in or out meanwhile is dropped, and one a body has since moved over is
+// lifted out of it. Bouncing off a wall meanwhile is part of the flight.
+template <class Space>
+void catch_up(detail::StepTracer<Space>& tracer, const detail::Geometry& g, const detail::BodyPath* now, int nb,
+              const PurgatorySlot& slot, int body, float span, float slow, Cloud& out) {
+  const Cloud& from = slot.touched;
+  auto keep = [&](uint32_t i, const typename Space::Mover& m, detail::Outcome outcome) {
+    if (outcome.kind != detail::HitKind::None && outcome.kind != detail::HitKind::Wall) return;
+    detail::Mover flat = Space::shadow(m);
+    if (detail::settle(g, now, nb, 0, flat, true).kind != detail::HitKind::None) return;
+    if constexpr (Space::kHeight) out.push(Vec3{flat.x, flat.y, m.z}, Vec3{m.vx, m.vy, m.vz}, from.w[i], from.w[i]);
+    else out.push(flat.x, flat.y, flat.vx * slow, flat.vy * slow, from.w[i], from.w[i]);
+  };
+  tracer.begin(nullptr, 0, span);
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (slot.body[i] != body) continue;
+    if (span == 0) keep(uint32_t(i), Space::ball(from, i), {detail::HitKind::None, -1});
+    else tracer.add(uint32_t(i), Space::ball(from, i), false, keep);
+  }
+  tracer.finish_all(keep);
+}
+
+}  // namespace
+
 void World::realize_body(int body, float dt) {
   // The shot is every particle this body touched within the purgatory window. Older ones are
   // carried forward to now (walls only: they are the ball after this contact) and lifted out of
@@ -491,45 +520,15 @@ void World::realize_body(int body, float dt) {
     now[k] = {p.x, p.y, 0, 0, 0, 0, 0, field_.bodies[k].radius, body_top_[k]};
   }
   scratch_.clear();
-  detail::StepTracer& tracer = internals_->tracer;
   for (uint32_t age = config_.purgatory_frames; age-- > 0;) {
     if (age >= step_) continue;
     const PurgatorySlot& slot = purgatory_[(step_ - age) % config_.purgatory_frames];
     if (slot.step != step_ - age) continue;
-    const Cloud& from = slot.touched;
-    if (from.tall()) {
-      auto keep = [&](uint32_t i, const detail::Mover3& m, detail::Outcome out) {
-        if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) return;
-        detail::Mover flat = m.flat();
-        if (detail::settle(g, now.data(), nb, 0, flat, true).kind != detail::HitKind::None) return;
-        scratch_.push(Vec3{flat.x, flat.y, m.z}, Vec3{m.vx, m.vy, m.vz}, from.w[i], from.w[i]);
-      };
-      detail::StepTracer3& tracer3 = internals_->tracer3;
-      tracer3.begin(nullptr, 0, float(age) * dt);
-      for (size_t i = 0; i < from.size(); ++i) {
-        if (slot.body[i] != body) continue;
-        const detail::Mover3 m{from.x[i], from.y[i], from.z[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i], from.vz[i]};
-        if (age == 0) keep(uint32_t(i), m, {detail::HitKind::None, -1});
-        else tracer3.add(uint32_t(i), m, keep);
-      }
-      tracer3.finish_all(keep);
-      continue;
-    }
-    const float slow = field_.friction > 0 ? std::exp(-field_.friction * float(age) * dt) : 1.0f;
-    auto keep = [&](uint32_t i, detail::Mover m, detail::Outcome out) {
-      // Went in, or out, while catching up; bouncing off a wall meanwhile is part of the flight.
-      if (out.kind != detail::HitKind::None && out.kind != detail::HitKind::Wall) return;
-      if (detail::settle(g, now.data(), nb, 0, m, true).kind != detail::HitKind::None) return;
-      scratch_.push(m.x, m.y, m.vx * slow, m.vy * slow, from.w[i], from.w[i]);
-    };
-    tracer.begin(nullptr, 0, flight(float(age) * dt));
-    for (size_t i = 0; i < from.size(); ++i) {
-      if (slot.body[i] != body) continue;
-      const detail::Mover m{from.x[i], from.y[i], from.vx[i], from.vy[i], from.vx[i], from.vy[i]};
-      if (age == 0) keep(uint32_t(i), m, {detail::HitKind::None, -1});
-      else tracer.add(uint32_t(i), m, false, keep);
-    }
-    tracer.finish_all(keep);
+    internals_->on_space([&](const auto& space) {
+      using Space = std::decay_t<decltype(space)>;
+      catch_up(internals_->tracer<Space>(), g, now.data(), nb, slot, body, flight(float(age) * dt),
+               field_.friction > 0 ? std::exp(-field_.friction * float(age) * dt) : 1.0f, scratch_);
+    });
   }
   std::swap(cloud_, scratch_);
   clear_purgatory();

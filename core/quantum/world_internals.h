@@ -4,13 +4,13 @@
 #pragma once
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "quantum/contact.h"
 #include "quantum/fate.h"
-#include "height.h"
-#include "height_tracer.h"
 #include "helper_thread.h"
+#include "space.h"
 #include "step_tracer.h"
 
 namespace quantum {
@@ -54,8 +54,9 @@ struct PurgatorySlot {
 
 // Particles being traced by the prediction: a batch for the vectorized search, plus who they are
 // (Flight on a flat field, Flight3 on one with height).
-template <class Batch, class Mover>
+template <class Space>
 struct FlightOf {
+  using Batch = typename Space::Batch;
   // The batched search's fixed cost per round (a loop per wall, end point, goal and body) is paid
   // again in every round of a chunk's last few flights; 4,096 particles (about 200 KiB of batch,
   // within L2) made the 1M fate report about 15 % faster than 1,024, and 16,384 no faster.
@@ -70,14 +71,14 @@ struct FlightOf {
     id.resize(kChunk);
     contacts.resize(kChunk);
   }
-  void push(const Mover& m, float t, uint32_t who, uint8_t touched) {
+  void push(const typename Space::Mover& m, float t, uint32_t who, uint8_t touched) {
     b.set(n, m, t);
     id[n] = who, contacts[n] = touched;
     ++n;
   }
 };
-using Flight = FlightOf<detail::MoverBatch, detail::Mover>;
-using Flight3 = FlightOf<detail::Mover3Batch, detail::Mover3>;
+using Flight = FlightOf<detail::Flat>;
+using Flight3 = FlightOf<detail::Tall>;
 
 // Fate groups by key: open addressing over a power-of-two table, grown (rarely: a frame with more
 // fates than any before) to stay at most half full.
@@ -119,13 +120,27 @@ struct ChunkGroups {
 
 struct WorldInternals {
   explicit WorldInternals(const Field& field)
-      : geometry(field), sky(field), tracer(geometry), tracer3(geometry, sky), flights(field.has_height() ? 0 : 4), flights3(field.has_height() ? 4 : 0) {
+      : geometry(field), sky(field), tall(field.has_height()), flights(tall ? 0 : 4), flights3(tall ? 4 : 0) {
     tallies.reserve(512);
+    if (tall) tall_tracer.emplace(detail::Tall{geometry, sky});
+    else flat_tracer.emplace(detail::Flat{geometry});
   }
   detail::Geometry geometry;
   detail::Sky sky;
-  detail::StepTracer tracer;              // carries purgatory particles forward at a realized hit
-  detail::StepTracer3 tracer3;            // the same on a field with height
+  bool tall;  // the field has height
+  // Calls fn with the field's space (space.h): the tracers' code is written once over it.
+  template <class Fn>
+  decltype(auto) on_space(Fn&& fn) const {
+    return tall ? fn(detail::Tall{geometry, sky}) : fn(detail::Flat{geometry});
+  }
+  // Carries purgatory particles forward at a realized hit: the one of the field's space.
+  std::optional<detail::StepTracer<detail::Flat>> flat_tracer;
+  std::optional<detail::StepTracer<detail::Tall>> tall_tracer;
+  template <class Space>
+  detail::StepTracer<Space>& tracer() {
+    if constexpr (Space::kHeight) return *tall_tracer;
+    else return *flat_tracer;
+  }
   std::vector<detail::BodyPath> resting;  // bodies held at their current positions
   std::vector<Tally> tally;               // per decision target, reused every step
   TargetSlots targets;
@@ -135,6 +150,11 @@ struct WorldInternals {
   // Flying and later, for each of two threads: flat fields use flights, fields with height flights3.
   std::vector<Flight> flights;
   std::vector<Flight3> flights3;
+  template <class Space>
+  std::vector<FlightOf<Space>>& flights_for() {
+    if constexpr (Space::kHeight) return flights3;
+    else return flights;
+  }
   ChunkGrouping grouping[2];          // one per thread
   std::vector<ChunkGroups> chunks;    // per chunk of the cloud
   detail::HelperThread helper;        // shares the prediction's chunks
