@@ -18,6 +18,18 @@ namespace {
 constexpr Limits kFieldLimits{64u << 20, 100'000'000, 1.0};
 
 // "3" of "walls[3]": an unnamed wall, spot or area is called by its number in the list.
+// The two corners { {x0, y0}, {x1, y1} } on top of the stack (bounds, a box area), popped.
+void read_corners(const Reader& r, const std::string& place, Vec2& low, Vec2& high) {
+  lua_State* L = r.L;
+  if (!lua_istable(L, -1) || lua_objlen(L, -1) != 2) r.fail(place, "expected two corners { {x0, y0}, {x1, y1} }");
+  const int corners = lua_gettop(L);
+  lua_rawgeti(L, corners, 1);
+  low = r.point(place + "[1]");
+  lua_rawgeti(L, corners, 2);
+  high = r.point(place + "[2]");
+  lua_pop(L, 1);
+}
+
 std::string number_of(const std::string& place) {
   const size_t open = place.find('[');
   return place.substr(open + 1, place.find(']') - open - 1);
@@ -28,12 +40,13 @@ Field read_field(Reader& r, int top) {
   Field f;
   r.only_keys(top, "field",
               {"name", "ball", "brownian", "max_body_speed", "walls", "goals", "spots", "bodies", "areas", "bounds",
-               "gravity", "ceiling", "hoops", "boards"});
+               "gravity", "ceiling", "hoops", "boards", "landings"});
   f.name = r.string(top, "name", "field", "unnamed field", false);
   f.brownian = r.number(top, "brownian", "field", f.brownian, false);
   f.max_body_speed = r.number(top, "max_body_speed", "field", f.max_body_speed, false);
   f.gravity = r.number(top, "gravity", "field", f.gravity, false);
   f.ceiling = r.number(top, "ceiling", "field", f.ceiling, false);
+  f.landings = r.boolean(top, "landings", "field", false);
   if (r.field(top, "ball")) {
     r.expect(LUA_TTABLE, "ball");
     const int b = lua_gettop(L);
@@ -126,10 +139,18 @@ Field read_field(Reader& r, int top) {
     f.bodies.push_back(body);
   });
   r.array(top, "areas", "", limits::kMaxAreas, [&](int a, const std::string& place) {
-    r.only_keys(a, place, {"name", "team", "from", "to", "at", "radius"});
+    r.only_keys(a, place, {"name", "team", "from", "to", "at", "radius", "box"});
     Area area;
     area.team = r.string(a, "team", place, "", false);
     area.name = r.string(a, "name", place, "area " + number_of(place), false);
+    if (r.field(a, "box")) {
+        if (r.field(a, "at") || r.field(a, "from") || r.field(a, "to") || r.field(a, "radius"))
+        r.fail(place, "give either 'box' (a rectangle) or 'at' / 'from' and 'to' with 'radius'");
+      read_corners(r, place + ".box", area.a, area.b);
+      area.box = true;
+      f.areas.push_back(area);
+      return;
+    }
     if (r.field(a, "at")) {
       area.a = area.b = r.point(place + ".at");
       if (r.field(a, "from") || r.field(a, "to")) r.fail(place, "give either 'at' (a circle) or 'from' and 'to'");
@@ -141,14 +162,8 @@ Field read_field(Reader& r, int top) {
     f.areas.push_back(area);
   });
   if (r.field(top, "bounds")) {
-    if (!lua_istable(L, -1) || lua_objlen(L, -1) != 2) r.fail("bounds", "expected two corners { {x0, y0}, {x1, y1} }");
-    const int b = lua_gettop(L);
-    lua_rawgeti(L, b, 1);
-    f.bounds_min = r.point("bounds[1]");
-    lua_rawgeti(L, b, 2);
-    f.bounds_max = r.point("bounds[2]");
+    read_corners(r, "bounds", f.bounds_min, f.bounds_max);
     f.has_bounds = true;
-    lua_pop(L, 1);
   }
   return f;
 }

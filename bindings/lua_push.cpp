@@ -131,6 +131,8 @@ void push_field(lua_State* L, const Field& f) {
   set_list(L, "areas", f.areas, [&](const Area& a) {
     set(L, "name", a.name), set(L, "team", a.team), set_point(L, "from", a.a), set_point(L, "to", a.b);
     set(L, "radius", a.radius);
+    lua_pushboolean(L, a.box);  // from and to are a rectangle's corners
+    raw_set(L, "box");
   });
   set_list(L, "players", f.bodies, [&](const BodySpec& b) {
     set(L, "name", b.name), set(L, "team", b.team), set(L, "role", b.role), set(L, "reach", b.radius);

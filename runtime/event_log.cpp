@@ -74,18 +74,10 @@ const char* kind_of(Target t) {
     case TargetKind::Goal: return "goal";
     case TargetKind::Out: return "out";
     case TargetKind::Wall: return "wall";
+    case TargetKind::Landing: return "landing";
     case TargetKind::Crushed: break;
   }
   return "crushed";
-}
-
-std::string_view name_of(Target t, const Field& f) {
-  switch (t.kind) {
-    case TargetKind::Body: return f.bodies[t.index].name;
-    case TargetKind::Goal: return f.goals[t.index].name;
-    case TargetKind::Wall: return f.wall_names[t.index];
-    default: return "out";
-  }
 }
 
 }  // namespace
@@ -94,17 +86,14 @@ void write_decision(std::ostream& out, const Decision& d, std::span<const FateGr
   JsonLine line(out);
   line.field("t", d.t).array("draw");
   for (const Decision::Option& o : d.options)
-    line.object().field("kind", kind_of(o.target)).field("actor", name_of(o.target, field)).field("p", o.chance)
+    line.object().field("kind", kind_of(o.target)).field("actor", target_name(o.target, field)).field("p", o.chance)
         .field("p_newtonian", o.chance_newtonian).field("particles", uint64_t(o.particles)).close();
-  line.close().field("outcome", d.realized < 0 ? std::string_view("none") : name_of(d.options[size_t(d.realized)].target, field));
+  line.close().field("outcome", d.realized < 0 ? std::string_view("none") : target_name(d.options[size_t(d.realized)].target, field));
   line.array("fates");
   for (const FateGroup& g : fates) {
     char via[256];
     const Fate& f = g.fate;
-    const std::string_view actor = at_body(f.kind)                                          ? field.bodies[f.target].name
-                                   : f.kind == FateKind::Goal || f.kind == FateKind::OwnGoal ? field.goals[f.target].name
-                                                                                             : std::string_view();
-    line.object().field("kind", to_string(f.kind)).field("actor", actor)
+    line.object().field("kind", to_string(f.kind)).field("actor", fate_actor(f, field))
         .field("via", std::string_view(via, write_via(f, field, via, sizeof via)))
         .field("mass", g.mass).field("tweaked", g.tweaked_mass).field("particles", uint64_t(g.count)).close();
   }

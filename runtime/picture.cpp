@@ -37,13 +37,9 @@ std::string describe_draw(const Decision& d, const Field& f) {
   std::string s = clock(d.t) + "  last draw:";
   double rest = 1;
   for (size_t k = 0; k < d.options.size(); ++k) {
-    const Target t = d.options[k].target;
-    const std::string& name = t.kind == TargetKind::Body   ? f.bodies[t.index].name
-                              : t.kind == TargetKind::Goal ? f.goals[t.index].name
-                              : t.kind == TargetKind::Wall ? f.wall_names[t.index]
-                                                           : std::string("out");
+    const std::string_view name = target_name(d.options[k].target, f);
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%s %s %.1f%%%s", k == 0 ? "" : ",", name.c_str(), 100 * d.options[k].chance,
+    std::snprintf(buf, sizeof buf, "%s %.*s %.1f%%%s", k == 0 ? "" : ",", int(name.size()), name.data(), 100 * d.options[k].chance,
                   int(k) == d.realized ? " (realized)" : "");
     s += buf;
     rest -= d.options[k].chance;
@@ -126,6 +122,7 @@ cv::Scalar Picture::fate_colour(const Fate& f, size_t rank) const {
     case FateKind::Intercept: c = team_colour(field_.bodies[f.target].team); break;
     case FateKind::Out: c = kOut; break;
     case FateKind::Field: c = kStays; break;
+    case FateKind::Landing: c = f.target >= 0 ? team_colour(field_.areas[f.target].team) : kOut; break;
   }
   return c * (1.0 - 0.12 * double(std::min<size_t>(rank, 4)));
 }
@@ -199,6 +196,10 @@ void Picture::draw_field(const World& world, const FateReport& report, cv::Mat& 
   // A court's lines are its bounds; its areas (goal areas) are outlined in their team's colour.
   if (field_.has_bounds) cv::rectangle(img, px(field_.bounds_min), px(field_.bounds_max), kDim, 1, cv::LINE_AA);
   for (const Area& a : field_.areas) {
+    if (a.box) {
+      cv::rectangle(img, px(a.a), px(a.b), team_colour(a.team) * 0.6, 1, cv::LINE_AA);
+      continue;
+    }
     std::vector<cv::Point> outline;
     const float heading = std::atan2(a.b.y - a.a.y, a.b.x - a.a.x);
     for (int end = 0; end < 2; ++end)
@@ -291,6 +292,7 @@ std::string outcome_summary(const FateReport& report, const Field& field) {
     if (f.kind == FateKind::Goal || f.kind == FateKind::OwnGoal) add(field.goals[size_t(f.target)].name, *g);
     else if (f.kind == FateKind::Out) add("out", *g);
     else if (f.kind == FateKind::Field) add("in play", *g);
+    else if (f.kind == FateKind::Landing) add(describe(f, field), *g);
     else if (bounced) add("rebound " + field.bodies[size_t(f.target)].name, *g);
     else if (f.kind == FateKind::Intercept) add("blocked by " + field.bodies[size_t(f.target)].name, *g);
     else add("caught by " + field.bodies[size_t(f.target)].name, *g);

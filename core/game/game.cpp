@@ -14,7 +14,7 @@ namespace {
 
 constexpr std::array<const char*, kEventKinds> kEventNames = {
     "drop", "shot", "intercept", "retouch", "bounce", "goal", "own_goal", "out", "dead", "time_up", "match_end",
-    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give"};
+    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "landing"};
 
 }  // namespace
 
@@ -371,6 +371,7 @@ void Match::handle(const Event& e) {
     case EventType::Goal: type = EventKind::Goal; break;
     case EventType::OwnGoal: type = EventKind::OwnGoal; break;
     case EventType::Out: type = EventKind::Out; break;
+    case EventType::Landing: type = EventKind::Landing; break;
   }
   if (type == EventKind::Drop) rally_contacts_ = 0, last_toucher_ = previous_toucher_ = -1, possession_ = {};
   GameEvent& g = new_event(type);
@@ -416,11 +417,13 @@ FateView Match::view(const FateGroup& group) const {
   FateView v;
   v.fate = fate;
   v.mass = group.mass, v.tweaked = group.tweaked_mass, v.count = group.count;
+  v.actor = fate_actor(fate, f);
   if (at_body(fate.kind)) {
-    v.actor = f.bodies[fate.target].name, v.team = v.favours = f.bodies[fate.target].team;
-  } else if (fate.kind == FateKind::Goal || fate.kind == FateKind::OwnGoal) {
-    v.actor = f.goals[fate.target].name, v.team = f.goals[fate.target].team;
-    // A goal is good for the other side; with more than two teams, for the shooter's.
+    v.team = v.favours = f.bodies[fate.target].team;
+  } else if (!v.actor.empty()) {
+    v.team = fate.kind == FateKind::Landing ? f.areas[fate.target].team : f.goals[fate.target].team;
+    // A goal, or a landing in a team's area, is good for the other side; with more than two
+    // teams, for the last toucher's.
     for (const std::string& t : teams_)
       if (t != v.team && (v.favours.empty() || (last_toucher_ >= 0 && f.bodies[last_toucher_].team == t))) v.favours = t;
   }

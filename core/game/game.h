@@ -26,11 +26,12 @@ namespace quantum::game {
 // With players who catch: Throw (the holder let go), Pass (a teammate of the thrower caught it),
 // Intercept (an opponent did: the same event as a mallet's intercept), Catch (anyone else: a
 // loose ball picked up, a throw caught again by the thrower), Give (the rules handed it over).
+// On a field of landings, Landing: the ball came down on the floor (actor: the area it is in).
 enum class EventKind : uint8_t {
   Drop, Shot, Intercept, Retouch, Bounce, Goal, OwnGoal, Out, Dead, TimeUp, MatchEnd, Powerup, PowerupEnd,
-  Paused, Resumed, Catch, Pass, Throw, Give,
+  Paused, Resumed, Catch, Pass, Throw, Give, Landing,
 };
-constexpr int kEventKinds = int(EventKind::Give) + 1;
+constexpr int kEventKinds = int(EventKind::Landing) + 1;
 const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "time_up", "powerup_end", ...
 // The kind named `name`, or none.
 std::optional<EventKind> event_kind(std::string_view name);
@@ -42,8 +43,8 @@ const std::vector<std::string>& event_names();
 struct GameEvent {
   double t = 0;
   EventKind type = EventKind::Drop;
-  std::string_view actor;     // the spot, the player, the wall, the goal, the winner ("" for out, dead, time_up)
-  std::string_view team;      // the actor's team (goal: the team defending it; "" for a wall)
+  std::string_view actor;     // the spot, the player, the wall, the goal, the area landed in, the winner ("" for out, dead, time_up)
+  std::string_view team;      // the actor's team (goal: the team defending it; an area's team; "" for a wall)
   std::string_view by;        // the last player to touch the ball (for a touch: the toucher itself)
   std::string_view by_team;
   std::string_view previous;  // the player who touched it before `by` this rally (who passed), "" for none
@@ -59,9 +60,11 @@ struct GameEvent {
 // A fate as the rules see it.
 struct FateView {
   Fate fate;                   // kind, target, and the walls on the way (fate.path)
-  std::string_view actor;      // the goal's or the body's name, "" otherwise
-  std::string_view team;       // the body's team, or the team defending the goal
-  std::string_view favours;    // the team this outcome is good for: the body's (a catcher's), or the one attacking the goal
+  std::string_view actor;      // the goal's, the body's or a landing's area's name, "" otherwise
+  std::string_view team;       // the body's team, the team defending the goal, or the area's team
+  // The team this outcome is good for: the body's (a catcher's), or the one attacking the goal or
+  // the area landed in.
+  std::string_view favours;
   double mass = 0;             // Newtonian probability
   double tweaked = 0;          // probability after the current factors
   uint32_t count = 0;

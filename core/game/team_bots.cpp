@@ -25,6 +25,17 @@ bool is_keeper(const BodySpec& b) { return b.role == "goalkeeper" || b.role == "
 // The point nearest p inside (shrink > 0) or outside (shrink < 0) the area's edge moved in by
 // `shrink`; p itself when it already is.
 Vec2 to_area_edge(const Area& a, Vec2 p, float shrink, bool inside) {
+  if (a.box) {
+    const Vec2 lo{a.a.x + shrink, a.a.y + shrink}, hi{a.b.x - shrink, a.b.y - shrink};
+    const Vec2 held{std::clamp(p.x, lo.x, std::max(lo.x, hi.x)), std::clamp(p.y, lo.y, std::max(lo.y, hi.y))};
+    if (inside || held.x != p.x || held.y != p.y) return inside ? held : p;
+    // Inside a box it must leave: out by its nearest side.
+    const float left = p.x - lo.x, right = hi.x - p.x, low = p.y - lo.y, high = hi.y - p.y;
+    const float least = std::min({left, right, low, high});
+    if (least == left) return {lo.x, p.y};
+    if (least == right) return {hi.x, p.y};
+    return least == low ? Vec2{p.x, lo.y} : Vec2{p.x, hi.y};
+  }
   const Vec2 on = nearest_on_segment(p, a.a, a.b);
   const float d = length(p - on), edge = a.radius - shrink;
   if (inside ? d <= edge : d >= edge) return p;
@@ -96,8 +107,8 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
 void TeamBots::hear(const GameEvent& e) {
   switch (e.type) {
     case EventKind::Drop: case EventKind::Give: case EventKind::Catch: case EventKind::Pass:
-    case EventKind::Intercept: case EventKind::Throw: case EventKind::Bounce: case EventKind::Goal:
-    case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
+    case EventKind::Intercept: case EventKind::Throw: case EventKind::Bounce: case EventKind::Landing:
+    case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
       for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity});
       return;
     default: return;  // nothing about the ball
@@ -121,9 +132,11 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
       return;
     case EventKind::Drop:
     case EventKind::Throw:
-    case EventKind::Bounce: {
+    case EventKind::Bounce:
+    case EventKind::Landing: {  // the ball bounces on from the floor
       const double err = b.skill.imagine_noise;
-      const int thrower = h.type == EventKind::Throw ? h.actor : h.type == EventKind::Bounce ? ball.thrower : -1;
+      const bool bounced = h.type == EventKind::Bounce || h.type == EventKind::Landing;
+      const int thrower = h.type == EventKind::Throw ? h.actor : bounced ? ball.thrower : -1;
       ball = {Ball::State::Flying, -1, thrower,
               h.where + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))},
               float(std::max(0.3, 1 + 0.1 * noise(b.rng))) * rotated(h.velocity, 0.05 * noise(b.rng))};

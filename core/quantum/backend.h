@@ -28,11 +28,12 @@ struct StepContext {
 };
 
 // Something a particle ran into during a step: a body, a goal line, the bounds (Out), a wall it
-// bounced off at an audible speed (and met nothing else), or no valid place left (Crushed).
-enum class TargetKind : uint8_t { Body, Goal, Out, Wall, Crushed };
+// bounced off at an audible speed (and met nothing else), no valid place left (Crushed), or on a
+// field of landings the floor, audibly (Landing).
+enum class TargetKind : uint8_t { Body, Goal, Out, Wall, Crushed, Landing };
 struct Target {
   TargetKind kind;
-  uint16_t index;  // the body, goal or wall; 0 for Out and Crushed
+  uint16_t index;  // the body, goal or wall; a landing's area + 1 (0: outside every area); 0 for Out and Crushed
 
   bool operator==(const Target&) const = default;
 };

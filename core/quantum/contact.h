@@ -198,7 +198,8 @@ inline SegmentParams goal_line(const Geometry& g, size_t k) {
 
 // --- Searches.
 
-enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed, Wormhole };
+// Landing: an audible touch of the floor on a field of landings (index: the area + 1, 0 for none).
+enum class HitKind : uint8_t { None, Wall, Body, Goal, Out, Crushed, Wormhole, Landing };
 
 struct Hit {
   float dt;  // from the search's start
@@ -271,7 +272,7 @@ inline void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int
 }
 
 struct Outcome {
-  HitKind kind;  // None, Body, Goal, Out or Crushed
+  HitKind kind;  // None, Body, Goal, Out, Crushed, or the first audible Wall or Landing
   int index;
 };
 
@@ -342,6 +343,7 @@ inline Target target_of(Outcome out) {
     case HitKind::Goal: return {TargetKind::Goal, uint16_t(out.index)};
     case HitKind::Out: return {TargetKind::Out, 0};
     case HitKind::Wall: return {TargetKind::Wall, uint16_t(out.index)};
+    case HitKind::Landing: return {TargetKind::Landing, uint16_t(out.index)};
     default: return {TargetKind::Crushed, 0};
   }
 }

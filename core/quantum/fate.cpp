@@ -39,6 +39,7 @@ bool ends_at(Fate& f, detail::HitKind kind, int index, const Endings& ends) {
       f.kind = ends.own_goal[index] ? FateKind::OwnGoal : FateKind::Goal, f.target = index;
       return true;
     case detail::HitKind::Out: f.kind = FateKind::Out; return true;
+    case detail::HitKind::Landing: f.kind = FateKind::Landing, f.target = index - 1; return true;
     default: return false;
   }
 }
@@ -223,7 +224,7 @@ void trace_fates(FateJob<Space>& job) {
         const size_t n = flying->n;
         flying->n = 0;  // compacted in place: slot j is read before anything is written to it
         for (size_t j = 0; j < n; ++j) {
-          const typename Space::Hit hit = Space::hit(b, j);
+          const typename Space::Hit hit = space.hit(b, j);
           if (hit.kind == detail::HitKind::None) {
             if (end == horizon) continue;  // stays in the field
             Mover m = space.advanced(Space::mover(b, j), end - b.t[j]);
@@ -266,14 +267,16 @@ const char* to_string(FateKind kind) {
     case FateKind::Catch: return "catch";
     case FateKind::Pass: return "pass";
     case FateKind::Intercept: return "intercept";
+    case FateKind::Landing: return "landing";
   }
   return "?";
 }
 
 uint64_t Fate::key() const {
-  uint64_t k = uint64_t(kind) | uint64_t(uint16_t(target + 1)) << 3 | uint64_t(path_len) << 19 |
-               uint64_t(path_more) << 22;
-  for (int i = 0; i < path_len; ++i) k |= uint64_t(path[i] & 0x3FF) << (23 + 10 * i);
+  static_assert(kFateKindCount <= 16 && kMaxPath * 10 + 24 <= 64, "a fate's key holds its kind in 4 bits");
+  uint64_t k = uint64_t(kind) | uint64_t(uint16_t(target + 1)) << 4 | uint64_t(path_len) << 20 |
+               uint64_t(path_more) << 23;
+  for (int i = 0; i < path_len; ++i) k |= uint64_t(path[i] & 0x3FF) << (24 + 10 * i);
   return k;
 }
 
@@ -304,10 +307,20 @@ std::string describe(const Fate& f, const Field& field) {
     case FateKind::Intercept: s = "intercepted by " + field.bodies[f.target].name; break;
     case FateKind::Out: s = "out"; break;
     case FateKind::Field: s = "stays in field"; break;
+    case FateKind::Landing:
+      s = f.target >= 0 ? "lands in " + field.areas[f.target].name : "lands outside every area";
+      break;
   }
   char via[256];
   if (const size_t n = write_via(f, field, via, sizeof via)) s += " " + std::string(via, n);
   return s;
+}
+
+std::string_view fate_actor(const Fate& f, const Field& field) {
+  if (at_body(f.kind)) return field.bodies[size_t(f.target)].name;
+  if (f.kind == FateKind::Goal || f.kind == FateKind::OwnGoal) return field.goals[size_t(f.target)].name;
+  if (f.kind == FateKind::Landing && f.target >= 0) return field.areas[size_t(f.target)].name;
+  return {};
 }
 
 std::vector<double> factors_by_kind(const FateReport& report, const KindFactors& k) {
@@ -317,7 +330,8 @@ std::vector<double> factors_by_kind(const FateReport& report, const KindFactors&
       case FateKind::Goal: out.push_back(k.goal); break;
       case FateKind::OwnGoal: out.push_back(k.own_goal); break;
       case FateKind::Body: out.push_back(k.body); break;
-      case FateKind::Out: out.push_back(k.out); break;
+      case FateKind::Out:
+      case FateKind::Landing: out.push_back(k.out); break;
       case FateKind::Field: out.push_back(k.field); break;
       case FateKind::Catch:
       case FateKind::Pass:

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "quantum/field.h"
@@ -12,11 +13,15 @@ namespace quantum {
 // Where a particle's flight ends. A body that strikes the ball is Body; one that catches it is
 // Pass when a teammate of the last player to touch the ball (the thrower) catches it, Intercept
 // when an opponent does, and Catch otherwise (nobody threw it, or the thrower catches it again).
-enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field, Catch, Pass, Intercept };
-constexpr FateKind kFateKinds[] = {FateKind::Goal,  FateKind::OwnGoal, FateKind::Body, FateKind::Out,
-                                   FateKind::Field, FateKind::Catch,   FateKind::Pass, FateKind::Intercept};
-constexpr int kFateKindCount = 8;
-const char* to_string(FateKind kind);  // "goal", "own_goal", "body", "out", "field", "catch", "pass", "intercept"
+// Landing: on a field of landings (Field::landings), the ball comes down on the floor; the target
+// is the area it lands in, -1 outside every area.
+enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field, Catch, Pass, Intercept, Landing };
+constexpr FateKind kFateKinds[] = {FateKind::Goal,  FateKind::OwnGoal, FateKind::Body,      FateKind::Out,
+                                   FateKind::Field, FateKind::Catch,   FateKind::Pass,      FateKind::Intercept,
+                                   FateKind::Landing};
+constexpr int kFateKindCount = 9;
+// "goal", "own_goal", "body", "out", "field", "catch", "pass", "intercept", "landing"
+const char* to_string(FateKind kind);
 std::vector<std::string> fate_kind_names();  // every kind's name, in order
 // Whether the fate ends at a body (Fate::target is a body index).
 constexpr bool at_body(FateKind k) {
@@ -30,7 +35,7 @@ constexpr int kMaxPath = 4;
 
 struct Fate {
   FateKind kind = FateKind::Field;
-  int target = -1;         // goal index (Goal, OwnGoal) or body index (at_body(kind))
+  int target = -1;         // goal index (Goal, OwnGoal), body index (at_body(kind)) or area index (Landing)
   uint8_t path_len = 0;    // walls touched before the end, in order, repeats folded
   bool path_more = false;  // more than kMaxPath walls
   uint16_t path[kMaxPath] = {};
@@ -53,13 +58,17 @@ struct FateReport {
   std::vector<uint32_t> group_of;   // group index of every live particle
 };
 
-// "goal (red goal) via left wall", "blue mallet", "stays in field", ...
+// "goal (red goal) via left wall", "blue mallet", "stays in field", "lands in blue court", ...
 std::string describe(const Fate& fate, const Field& field);
+// Who or what the fate ends at, by the field's names: the body, the goal, the area a landing is
+// in; "" for the rest (out, stays in the field, a landing outside every area).
+std::string_view fate_actor(const Fate& fate, const Field& field);
 // "via left wall, Red's end" ("" when direct) into `out`, cut to fit; returns its length. No
 // allocation: the rules read it every frame.
 size_t write_via(const Fate& fate, const Field& field, char* out, size_t size);
 
-// Per-kind fate factors, the paper's example as defaults (catches count as body contacts).
+// Per-kind fate factors, the paper's example as defaults (catches count as body contacts, and a
+// landing, which ends a flight as going out does, as out).
 struct KindFactors {
   double goal = 5, own_goal = 0.1, body = 5, out = 1, field = 1, catches = 5;
 };

@@ -85,6 +85,7 @@ bool Field::catching() const {
 }
 
 bool Area::contains(Vec2 p) const {
+  if (box) return p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y;
   const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
   const float t = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0f, 1.0f) : 0.0f;
   return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy)) <= radius;
@@ -146,6 +147,7 @@ void finish_height(Field& f) {
   }
   if (!tall) {
     if (f.ceiling != 0) throw FieldError("ceiling", "a ceiling needs height: give the field `gravity` (9.81)");
+    if (f.landings) throw FieldError("landings", "a ball lands only on a field with height: give the field `gravity` (9.81)");
     return;
   }
   // Friction is a flat field's slowing; an arc slowed alike in every direction would no longer be
@@ -222,6 +224,8 @@ void finish_field(Field& f) {
     check_point(f.areas[i].a, place);
     check_point(f.areas[i].b, place);
     check_range(f.areas[i].radius, 0.0f, kMaxCoordinate, place + ".radius");
+    if (f.areas[i].box && !(f.areas[i].a.x < f.areas[i].b.x && f.areas[i].a.y < f.areas[i].b.y))
+      throw FieldError(place + ".box", "the first corner must be below and left of the second ({x0, y0}, {x1, y1})");
   }
   if (f.wall_names.size() > limits::kMaxWalls)
     throw FieldError("walls", "more than " + std::to_string(limits::kMaxWalls) + " named walls");

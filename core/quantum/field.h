@@ -74,12 +74,14 @@ struct BodySpec {
 };
 
 // A named region of the floor: every point within `radius` of the segment a-b (a circle when a
-// and b are the same point). Rules and simulated players read it (a handball goal area); the
-// ball does not notice it.
+// and b are the same point), or with `box` the rectangle of corners a and b (a court). Rules and
+// simulated players read it (a handball goal area); the ball notices it only where it lands on a
+// field of landings.
 struct Area {
   std::string name, team;
   Vec2 a, b;
   float radius = 0;
+  bool box = false;  // a, b: the lowest and the highest corner
 
   bool contains(Vec2 p) const;
 };
@@ -109,6 +111,9 @@ struct Field {
   float gravity = 0.0f;
   float floor_restitution = 0.8f;
   float ceiling = 0.0f;
+  // With height: every audible touch of the floor is a landing, a fate and a decision of its own
+  // with the area it lands in (a volleyball court), not a bounce the flight goes on from.
+  bool landings = false;
   int floor_wall = -1, ceiling_wall = -1;  // set by finish_field()
   std::vector<Board> boards;
   std::vector<std::string> wall_names;

@@ -190,7 +190,7 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
 
 Sky::Sky(const Field& f)
     : g(f.gravity), e_floor(f.floor_restitution), r(f.ball_radius), floor_wall(f.floor_wall),
-      ceiling_wall(f.ceiling_wall) {
+      ceiling_wall(f.ceiling_wall), landings(f.landings), areas(f.landings ? f.areas : std::vector<Area>{}) {
   if (f.ceiling > 0) ceiling = f.ceiling - r;
   auto cover = [&](float x0, float y0, float z0, float x1, float y1, float z1) {
     const bool first = ox0 > ox1;
@@ -218,6 +218,12 @@ Sky::Sky(const Field& f)
     cover(std::min(b.a.x, b.b.x) - r, std::min(b.a.y, b.b.y) - r, b.bottom - r, std::max(b.a.x, b.b.x) + r,
           std::max(b.a.y, b.b.y) + r, b.top + r);
   }
+}
+
+int Sky::landing_at(float x, float y) const {
+  for (size_t k = 0; k < areas.size(); ++k)
+    if (areas[k].contains({x, y})) return int(k) + 1;
+  return 0;
 }
 
 Mover3 advanced(const Sky& sky, const Mover3& m, float dt) {

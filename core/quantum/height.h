@@ -48,6 +48,12 @@ struct Sky {
   // comes near it needs their search.
   float ox0 = 1, oy0 = 1, oz0 = 1, ox1 = 0, oy1 = 0, oz1 = 0;
 
+  // A field of landings (Field::landings): where the floor is touched matters, by its areas.
+  bool landings = false;
+  std::vector<Area> areas;
+  // A landing's index at (x, y): the first area there + 1, 0 outside every area.
+  int landing_at(float x, float y) const;
+
   bool grounded(const Mover3& m) const { return m.vz == 0 && m.z <= r + kGroundSkin; }
   float gravity_on(const Mover3& m) const { return grounded(m) ? 0.0f : g; }
 };

@@ -27,7 +27,7 @@ struct Flat {
   Hit next_hit(const BodyPath* bodies, int n_bodies, const Mover& m, float t0, float t1) const {
     return detail::next_hit(g, bodies, n_bodies, m, t0, t1, true);
   }
-  static Hit hit(const Batch& b, size_t j) {
+  Hit hit(const Batch& b, size_t j) const {
     const HitKind kind = code_kind(b.code[j]);
     return {b.when[j], kind, kind == HitKind::None ? -1 : code_index(b.code[j]), b.hnx[j], b.hny[j]};
   }
@@ -60,9 +60,17 @@ struct Tall {
     batch_next_hits3(g, sky, bodies, n_bodies, b, n, t1, n_bodies > 0);
   }
   Hit next_hit(const BodyPath* bodies, int n_bodies, const Mover& m, float t0, float t1) const {
-    return next_hit3(g, sky, bodies, n_bodies, m, t0, t1, true);
+    return landed(next_hit3(g, sky, bodies, n_bodies, m, t0, t1, true), m.x, m.y, m.ux, m.uy);
   }
-  static Hit hit(const Batch& b, size_t j) { return b.hit(j); }
+  Hit hit(const Batch& b, size_t j) const { return landed(b.hit(j), b.x[j], b.y[j], b.ux[j], b.uy[j]); }
+  // A touch of the floor on a field of landings is a Landing at the area where the ball's centre
+  // comes down (seen from above its flight is a straight line, so that is exact); it bounces as
+  // the floor does.
+  Hit landed(Hit h, float x, float y, float ux, float uy) const {
+    if (sky.landings && h.kind == HitKind::Wall && h.surface == Surface::Floor)
+      h.kind = HitKind::Landing, h.index = sky.landing_at(x + ux * h.dt, y + uy * h.dt);
+    return h;
+  }
   static Mover mover(const Batch& b, size_t j) { return b.mover(j); }
   static Mover ball(const Cloud& c, size_t i) {
     return {c.x[i], c.y[i], c.z[i], c.vx[i], c.vy[i], c.vx[i], c.vy[i], c.vz[i]};

@@ -6,7 +6,8 @@
 // to that body's purgatory and finishes the step against everything else, so its state stays a
 // valid ball state. Every particle ends with an Outcome: None, or the first body, goal or out it
 // met, Crushed when no valid place is left for it, or else the first wall it bounced off hard
-// enough to be heard (Geometry::audible_bounce), so the bounce can be decided and announced.
+// enough to be heard (Geometry::audible_bounce) or the first landing, so the bounce or the
+// landing can be decided and announced.
 #pragma once
 
 #include <cstdint>
@@ -27,7 +28,7 @@ class StepTracer {
       q->id.resize(kBatch);
       q->contacts.resize(kBatch);
       q->first_body.resize(kBatch);
-      q->first_wall.resize(kBatch);
+      q->first_sound.resize(kBatch);
     }
   }
 
@@ -58,15 +59,15 @@ class StepTracer {
     typename Space::Batch batch;
     std::vector<uint32_t> id;
     std::vector<uint8_t> contacts;
-    std::vector<int16_t> first_body;  // body met earlier this step, -1 for none
-    std::vector<int16_t> first_wall;  // wall bounced off audibly earlier this step, -1 for none
+    std::vector<int16_t> first_body;   // body met earlier this step, -1 for none
+    std::vector<int32_t> first_sound;  // wall bounced off audibly or landing earlier this step (hit_code), -1 for none
     size_t n = 0;
   };
 
   static void put(Queue& q, size_t j, uint32_t id, const Mover& m, float t, uint8_t contacts, int16_t first_body,
-                  int16_t first_wall) {
+                  int32_t first_sound) {
     q.batch.set(j, m, t);
-    q.id[j] = id, q.contacts[j] = contacts, q.first_body[j] = first_body, q.first_wall[j] = first_wall;
+    q.id[j] = id, q.contacts[j] = contacts, q.first_body[j] = first_body, q.first_sound[j] = first_sound;
   }
 
   // One round for every particle of q: find its next contact, move it there, resolve it.
@@ -78,12 +79,13 @@ class StepTracer {
     space_.search(bodies_, bodies_on ? n_bodies_ : 0, b, n, dt_);
     size_t kept = 0;
     for (size_t j = 0; j < n; ++j) {
-      const typename Space::Hit hit = Space::hit(b, j);
+      const typename Space::Hit hit = space_.hit(b, j);
       const uint32_t id = q.id[j];
-      int16_t first_body = q.first_body[j], first_wall = q.first_wall[j];
+      int16_t first_body = q.first_body[j];
+      int32_t first_sound = q.first_sound[j];
       if (hit.kind == HitKind::None) {
         Mover m = space_.advanced(Space::mover(b, j), dt_ - b.t[j]);
-        done(id, m, first_body, first_wall, false, finish);
+        done(id, m, first_body, first_sound, false, finish);
         continue;
       }
       Mover m = space_.advanced(Space::mover(b, j), hit.dt);
@@ -93,24 +95,25 @@ class StepTracer {
         continue;
       }
       // The ball's own velocity, not the Brownian drift: knowledge blurring into a wall makes no sound.
-      if (hit.kind == HitKind::Wall && first_wall < 0 && Space::impact_speed(hit, m) > space_.g.audible_bounce)
-        first_wall = int16_t(hit.index);
+      const bool sounds = hit.kind == HitKind::Wall || hit.kind == HitKind::Landing;
+      if (sounds && first_sound < 0 && Space::impact_speed(hit, m) > space_.g.audible_bounce)
+        first_sound = hit_code(hit.kind, hit.index);
       space_.resolve(bodies_, hit, t, m);
       if (hit.kind == HitKind::Body) first_body = int16_t(hit.index);
       const uint8_t contacts = uint8_t(q.contacts[j] + 1);
       if (contacts == kMaxContacts) {
-        done(id, m, first_body, first_wall, true, finish);
+        done(id, m, first_body, first_sound, true, finish);
         continue;
       }
       if (hit.kind == HitKind::Body) {
         // The rest of the step without bodies. The queue being traced is never the one pushed to
         // here, so flushing that one first is safe.
         while (without_.n == kBatch) trace(without_, finish);
-        put(without_, without_.n++, id, m, t, contacts, first_body, first_wall);
+        put(without_, without_.n++, id, m, t, contacts, first_body, first_sound);
         continue;
       }
       // Still flying: compact into the front of the same queue for the next round (slot j has been read).
-      put(q, kept++, id, m, t, contacts, first_body, first_wall);
+      put(q, kept++, id, m, t, contacts, first_body, first_sound);
     }
     q.n = kept;
   }
@@ -121,14 +124,14 @@ class StepTracer {
   // walls' shadows only, not the floor, boards and rims, and would move a ball the search had
   // kept clear of them.
   template <class Finish>
-  void done(uint32_t id, Mover& m, int16_t first_body, int16_t first_wall, bool rattled, Finish& finish) {
+  void done(uint32_t id, Mover& m, int16_t first_body, int32_t first_sound, bool rattled, Finish& finish) {
     Outcome out{HitKind::None, -1};
     if constexpr (!Space::kHeight) {
       const bool pushed = first_body >= 0 && !space_.g.safe.contains(m.x, m.y);
       if (pushed || rattled) out = settle(space_.g, bodies_, n_bodies_, dt_, m, first_body >= 0);
     }
     if (first_body >= 0) out = {HitKind::Body, first_body};
-    else if (out.kind == HitKind::None && first_wall >= 0) out = {HitKind::Wall, first_wall};
+    else if (out.kind == HitKind::None && first_sound >= 0) out = {code_kind(first_sound), code_index(first_sound)};
     finish(id, m, out);
   }
 

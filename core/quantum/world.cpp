@@ -20,8 +20,21 @@ const char* to_string(EventType type) {
     case EventType::Out: return "out";
     case EventType::Catch: return "catch";
     case EventType::Throw: return "throw";
+    case EventType::Landing: return "landing";
   }
   return "?";
+}
+
+std::string_view target_name(Target t, const Field& f) {
+  switch (t.kind) {
+    case TargetKind::Body: return f.bodies[t.index].name;
+    case TargetKind::Goal: return f.goals[t.index].name;
+    case TargetKind::Wall: return f.wall_names[t.index];
+    case TargetKind::Landing: return t.index > 0 ? std::string_view(f.areas[t.index - 1].name) : "floor";
+    case TargetKind::Out:
+    case TargetKind::Crushed: break;
+  }
+  return "out";
 }
 
 EventActor actor_of(const Event& e, const Field& f) {
@@ -33,6 +46,9 @@ EventActor actor_of(const Event& e, const Field& f) {
     case EventType::Bounce: return {f.wall_names[e.actor], ""};
     case EventType::Goal:
     case EventType::OwnGoal: return {f.goals[e.actor].name, f.goals[e.actor].team};
+    case EventType::Landing:
+      if (e.actor >= 0) return {f.areas[e.actor].name, f.areas[e.actor].team};
+      break;
     case EventType::Out: break;
   }
   return {};
@@ -49,7 +65,8 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
     throw std::invalid_argument("split jitter must be between 0 and 1.6 rad");
   if (!(config_.body_lookahead >= 0)) throw std::invalid_argument("body lookahead must be >= 0");
   internals_ = std::make_unique<WorldInternals>(field_);
-  internals_->targets = {int(field_.bodies.size()), int(field_.goals.size()), int(field_.wall_names.size())};
+  internals_->targets = {int(field_.bodies.size()), int(field_.goals.size()), int(field_.wall_names.size()),
+                         field_.landings ? int(field_.areas.size()) + 1 : 0};
   internals_->tally.resize(size_t(internals_->targets.size()));
   decision_.options.reserve(internals_->tally.size());
   internals_->resting.resize(field_.bodies.size());
@@ -447,10 +464,14 @@ void World::decide(float dt, std::vector<Event>& events) {
       }
       [[fallthrough]];
     case TargetKind::Wall:
+    case TargetKind::Landing:
       if (target.kind == TargetKind::Body) {
         realize_body(target.index, dt);
       } else {
-        e.type = EventType::Bounce;
+        // A landing is a bounce whose place matters: the ball goes on from the floor, and the
+        // rules say whether that ends anything.
+        e.type = target.kind == TargetKind::Landing ? EventType::Landing : EventType::Bounce;
+        if (target.kind == TargetKind::Landing) e.actor = int(target.index) - 1;
         realize_bounce(target);
       }
       for (size_t i = 0; i < cloud_.size(); ++i)

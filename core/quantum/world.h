@@ -33,14 +33,16 @@ struct WorldConfig {
   uint32_t threads = 2;
 };
 
-// Catch: a body that catches met the ball and holds it now. Throw: its holder let it go.
-enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out, Catch, Throw };
-const char* to_string(EventType type);  // "drop", "hit", "bounce", "goal", "own_goal", "out", "catch", "throw"
+// Catch: a body that catches met the ball and holds it now. Throw: its holder let it go. Landing:
+// on a field of landings, the ball came down on the floor (and bounced on).
+enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out, Catch, Throw, Landing };
+// "drop", "hit", "bounce", "goal", "own_goal", "out", "catch", "throw", "landing"
+const char* to_string(EventType type);
 
 struct Event {
   double t;
   EventType type;
-  int actor;            // spot (drop), body (hit, catch, throw), wall (bounce), goal (goal, own goal); -1 for out
+  int actor;            // spot (drop), body (hit, catch, throw), wall (bounce), goal (goal, own goal), area (landing; -1 outside every area); -1 for out
   double p;             // probability with which this outcome was drawn (fate factors applied)
   double p_newtonian;   // the same without fate factors
   uint32_t particles;   // particles that carried the outcome
@@ -71,11 +73,15 @@ struct Decision {
 };
 
 // Who an event is about, by the field's names: the spot (drop), the body (hit, catch, throw), the
-// wall (bounce) or the goal and the team defending it (goal, own goal); nothing for out.
+// wall (bounce), the goal and the team defending it (goal, own goal) or the area a landing is in
+// and its team; nothing for out or a landing outside every area.
 struct EventActor {
   std::string_view name, team;
 };
 EventActor actor_of(const Event& e, const Field& field);
+// What a draw's option is, by the field's names: the body, goal or wall; the area of a landing
+// ("floor" outside every area); "out" for the bounds.
+std::string_view target_name(Target target, const Field& field);
 
 struct BodyInput {
   Vec2 position, velocity;

@@ -20,17 +20,19 @@ struct Tally {
   uint32_t count = 0;
 };
 
-// The decision targets of a field in one flat list, one tally each: bodies, goals, out, walls.
+// The decision targets of a field in one flat list, one tally each: bodies, goals, out, walls,
+// and on a field of landings one landing outside every area and one per area.
 struct TargetSlots {
-  int bodies = 0, goals = 0, walls = 0;
+  int bodies = 0, goals = 0, walls = 0, landings = 0;
 
-  int size() const { return bodies + goals + 1 + walls; }
+  int size() const { return bodies + goals + 1 + walls + landings; }
   int slot(Target t) const {
     switch (t.kind) {
       case TargetKind::Body: return t.index;
       case TargetKind::Goal: return bodies + t.index;
       case TargetKind::Out: return bodies + goals;
       case TargetKind::Wall: return bodies + goals + 1 + t.index;
+      case TargetKind::Landing: return bodies + goals + 1 + walls + t.index;
       case TargetKind::Crushed: break;
     }
     return -1;
@@ -39,7 +41,8 @@ struct TargetSlots {
     if (slot < bodies) return {TargetKind::Body, uint16_t(slot)};
     if (slot < bodies + goals) return {TargetKind::Goal, uint16_t(slot - bodies)};
     if (slot == bodies + goals) return {TargetKind::Out, 0};
-    return {TargetKind::Wall, uint16_t(slot - bodies - goals - 1)};
+    if (slot < bodies + goals + 1 + walls) return {TargetKind::Wall, uint16_t(slot - bodies - goals - 1)};
+    return {TargetKind::Landing, uint16_t(slot - bodies - goals - 1 - walls)};
   }
 };
 

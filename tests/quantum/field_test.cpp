@@ -85,6 +85,28 @@ TEST_F(FieldFile, WrongTypeNamesThePlace) {
   EXPECT_NE(e.find("expected a number for y, got string"), std::string::npos) << e;
 }
 
+TEST_F(FieldFile, ABoxAreaIsARectangleAndLandingsNeedHeight) {
+  const Field f = lua::load_field(write(R"(return {
+    gravity = 9.81, landings = true, bounds = { {-5, -5}, {5, 5} }, spots = { { at = {0, 0} } },
+    areas = { { name = "court", team = "a", box = { {-2, -1}, {0, 1} } } },
+  })"));
+  ASSERT_EQ(f.areas.size(), 1u);
+  EXPECT_TRUE(f.landings);
+  EXPECT_TRUE(f.areas[0].box);
+  EXPECT_EQ(f.area_at({-1.9f, 0.9f}), 0) << "a box holds its corners, not a capsule's round ends";
+  EXPECT_EQ(f.area_at({0.1f, 0}), -1);
+  EXPECT_NE(error_for(R"(return { spots = { { at = {0, 0} } }, areas = { { name = "x", box = { {0, 0}, {1, 1} }, radius = 1 } } })")
+                .find("areas[1]: give either 'box' (a rectangle) or 'at' / 'from' and 'to' with 'radius'"),
+            std::string::npos);
+  EXPECT_NE(error_for(R"(return { spots = { { at = {0, 0} } }, areas = { { name = "x", box = { {0, 0} } } } })")
+                .find("areas[1].box: expected two corners"),
+            std::string::npos);
+  EXPECT_NE(error_for(R"(return { spots = { { at = {0, 0} } }, landings = "yes" })").find("landings"), std::string::npos);
+  EXPECT_NE(error_for(R"(return { spots = { { at = {0, 0} } }, landings = true })")
+                .find("a ball lands only on a field with height"),
+            std::string::npos);
+}
+
 TEST_F(FieldFile, UnknownKeyIsReported) {
   const std::string e = error_for(R"(return { wals = {}, spots = { { at = {0, 0} } } })");
   EXPECT_NE(e.find("unknown key 'wals'"), std::string::npos) << e;
