@@ -97,7 +97,7 @@ void TeamBots::hear(const GameEvent& e) {
   switch (e.type) {
     case EventKind::Drop: case EventKind::Give: case EventKind::Catch: case EventKind::Pass:
     case EventKind::Intercept: case EventKind::Throw: case EventKind::Bounce: case EventKind::Goal:
-    case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
+    case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead: case EventKind::Loose:
       for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity});
       return;
     default: return;  // nothing about the ball
@@ -121,7 +121,8 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
       return;
     case EventKind::Drop:
     case EventKind::Throw:
-    case EventKind::Bounce: {
+    case EventKind::Bounce:
+    case EventKind::Loose: {  // a loose ball is anyone's, its last thrower's too
       const double err = b.skill.imagine_noise;
       const int thrower = h.type == EventKind::Throw ? h.actor : h.type == EventKind::Bounce ? ball.thrower : -1;
       ball = {Ball::State::Flying, -1, thrower,
