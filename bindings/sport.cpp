@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 #include "confined_path.h"
 #include "field_loader.h"
@@ -288,14 +289,14 @@ void Sport::read_sport(int t) {
   }
 }
 
-// match = {seconds, start}, and whatever else the sport keeps there (first_to, ...): a key one
+// match = {seconds, start, stall}, and whatever else the sport keeps there (first_to, ...): a key one
 // slip away from the engine's own is taken for a typo.
 void Sport::read_match(const Reader& r, int t) {
   lua_State* L = sandbox_->L();
   if (!r.field(t, "match")) return;
   r.expect(LUA_TTABLE, "match");
   const int m = lua_gettop(L);
-  const std::vector<std::string> known = {"seconds", "start"};
+  const std::vector<std::string> known = {"seconds", "start", "stall"};
   r.map(m, "match", [&](const std::string& key, const std::string&) {
     if (std::find(known.begin(), known.end(), key) == known.end() && !nearest(key, known).empty())
       r.fail("match", unknown_key(key, known) + "; the sport's own settings are welcome here, but this one looks "
@@ -303,6 +304,10 @@ void Sport::read_match(const Reader& r, int t) {
   });
   seconds_ = r.number(m, "seconds", "match", seconds_, false);
   if (!(seconds_ > 0 && seconds_ <= 24 * 3600)) r.fail("match.seconds", "must be in (0, 86400]");
+  stall_ = r.number(m, "stall", "match", stall_, false);
+  if (!(stall_ >= 1 && stall_ <= 3600))
+    r.fail("match.stall", "must be a number of seconds in [1, 3600] (how long a match may go without play), got " +
+                              (std::ostringstream() << stall_).str());
   if (r.field(m, "start")) {
     r.expect(LUA_TSTRING, "match.start");
     const std::string where = lua_tostring(L, -1);

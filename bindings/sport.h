@@ -63,6 +63,7 @@ class Sport final : public game::Rules {
   const Field& field() const { return field_; }
   uint32_t particles() const { return particles_; }
   double seconds() const { return seconds_; }
+  double stall() const { return stall_; }  // match.stall: see game::MatchConfig::stall
   int first_spot() const { return first_spot_; }  // match.start: where the first ball drops...
   int first_holder() const { return first_holder_; }  // ...or who holds it (-1: nobody)
   // The sport's handicap for every body of the field (1 where it names none).
@@ -204,6 +205,7 @@ class Sport final : public game::Rules {
   Field field_;
   uint32_t particles_ = 1000;
   double seconds_ = 180;
+  double stall_ = game::MatchConfig{}.stall;
   int first_spot_ = 0;
   int first_holder_ = -1;
   std::vector<double> handicaps_;

@@ -69,6 +69,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   config.seed = settings.seed;
   config.threads = settings.threads;
   config.seconds = settings.seconds > 0 ? settings.seconds : sport_->seconds();
+  config.stall = sport_->stall();
   config.first_spot = sport_->first_spot();
   config.first_holder = sport_->first_holder();
   config.balance_per_goal = settings.auto_balance >= 0 ? settings.auto_balance : sport_->balance_per_goal();

@@ -107,6 +107,7 @@ BalanceResult balance(const runtime::SessionOptions& options, int matches, const
     for (const auto& [team, n] : p.score) r.wins.try_emplace(team, 0);
     rallies += p.stats.rallies, contacts += p.stats.contacts, goals += p.stats.goals, seconds += p.stats.seconds;
     passes += p.stats.passes, r.possessions += p.stats.possessions, scored += points(p);
+    r.stalls += p.stats.stalls, r.stalled_matches += p.stats.stalls > 0;
   }
   r.contacts_per_rally = rallies ? double(contacts) / rallies : 0;
   r.passes_per_possession = r.possessions ? double(passes) / r.possessions : 0;
@@ -121,7 +122,7 @@ void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std:
   if (header) {
     out << "seed,winner";
     for (const auto& [team, n] : r.wins) out << ",score_" << team;
-    out << ",rallies,contacts,goals,passes,possessions,seconds";
+    out << ",rallies,contacts,goals,passes,possessions,seconds,stalls";
     for (const std::string& name : extra_names) out << ',' << name;
     out << '\n';
   }
@@ -133,7 +134,7 @@ void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std:
       out << ',' << (it == p.score.end() ? 0 : it->second);
     }
     out << ',' << p.stats.rallies << ',' << p.stats.contacts << ',' << p.stats.goals << ',' << p.stats.passes << ','
-        << p.stats.possessions << ',' << p.stats.seconds;
+        << p.stats.possessions << ',' << p.stats.seconds << ',' << p.stats.stalls;
     for (double x : extra) out << ',' << x;
     out << '\n';
   }
@@ -277,6 +278,8 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
     std::snprintf(line, sizeof line, ", passes per possession %.1f", study.passes_per_possession);
     summary << line;
   }
+  std::snprintf(line, sizeof line, "; stalls %d, in %d of %d matches", study.stalls, study.stalled_matches, study.matches);
+  summary << line;
   summary << ".\n\n## " << first_name << " against its handicap\n\n![win rate](win_rate_vs_handicap.png)\n\n"
           << "Data: [handicap_sweep.csv](handicap_sweep.csv), every match in [handicap_matches.csv](handicap_matches.csv).\n\n"
           << "## Gameflow against the fate factors\n\n![contacts per rally](contacts_vs_factors.png)\n\n"

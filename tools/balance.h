@@ -23,6 +23,7 @@ struct BalanceResult {
   double points_per_minute = 0;     // the sport's own score (points, baskets' points, rallies won), all teams
   int possessions = 0;              // sports of catching: times a team gained the ball...
   double passes_per_possession = 0;  // ...and the passes it made, on average, before losing it
+  int stalls = 0, stalled_matches = 0;  // stalled events (the sport's bound without play), and matches with any
   std::vector<uint64_t> seeds;      // one per match, in order
   std::vector<PlayResult> results;
 };
@@ -34,7 +35,7 @@ BalanceResult balance(const runtime::SessionOptions& options, int matches,
                       const std::function<void(int done)>& progress = {});
 
 // One row per match: seed, winner, each team's score, rallies, contacts, goals, passes,
-// possessions, seconds, then `extra` columns (a sweep's value) named in `extra_names`; the
+// possessions, seconds, stalls, then `extra` columns (a sweep's value) named in `extra_names`; the
 // header first when `header` (a sweep's later points append to its first's).
 void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std::string>& extra_names = {},
                const std::vector<double>& extra = {}, bool header = true);

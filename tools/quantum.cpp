@@ -299,6 +299,9 @@ int main(int argc, char** argv) {
         std::snprintf(figure, sizeof figure, ", passes per possession %.2f", r.passes_per_possession);
         std::cout << figure;
       }
+      // A stall is play the match lost (docs/lua-api.md, match.stall): a study says how often.
+      std::snprintf(figure, sizeof figure, "\nstalls %d, in %d of %d matches", r.stalls, r.stalled_matches, r.matches);
+      std::cout << figure;
       std::cout << '\n';
       if (balance_csv == "-") quantum::tools::write_csv(std::cout, r);
       else if (!balance_csv.empty()) {

@@ -53,6 +53,7 @@ void Bots::hear(const GameEvent& e) {
   switch (e.type) {
     case EventKind::Drop: case EventKind::Shot: case EventKind::Intercept: case EventKind::Retouch:
     case EventKind::Bounce: case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
+    case EventKind::Loose:
       for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.at, e.velocity});
       return;
     default: return;  // nothing about the ball
@@ -67,7 +68,8 @@ void Bots::imagine(Bot& b, const Heard& e) {
     case EventKind::Shot:
     case EventKind::Intercept:
     case EventKind::Retouch:
-    case EventKind::Bounce: {
+    case EventKind::Bounce:
+    case EventKind::Loose: {
       const double err = b.skill.imagine_noise;
       b.knows_ball = true;
       b.ball = e.where + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))};

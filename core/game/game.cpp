@@ -5,8 +5,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <sstream>
 #include <utility>
 #include <stdexcept>
+
+#include "game/plane.h"
 
 namespace quantum::game {
 
@@ -14,7 +17,7 @@ namespace {
 
 constexpr std::array<const char*, kEventKinds> kEventNames = {
     "drop", "shot", "intercept", "retouch", "bounce", "goal", "own_goal", "out", "dead", "time_up", "match_end",
-    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "landing"};
+    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "stalled", "loose", "landing"};
 
 }  // namespace
 
@@ -31,7 +34,42 @@ const std::vector<std::string>& event_names() {
   return names;
 }
 
+bool counts_as_play(EventKind kind) {
+  switch (kind) {
+    case EventKind::Bounce: case EventKind::Powerup: case EventKind::PowerupEnd: case EventKind::Stalled:
+    case EventKind::Loose:
+      return false;
+    default: return true;
+  }
+}
+
 constexpr double kRetouch = 0.25;  // s
+
+namespace {
+
+// Where the ball in play is and how it moves: its particles' weighted centre, mean velocity and
+// mean speed (on a field with height, upward motion counts: a ball still bouncing is not at rest).
+struct BallMotion {
+  Vec2 centre, velocity;
+  double speed = 0;
+};
+
+BallMotion motion_of(const Cloud& c) {
+  const float *x = c.x.data(), *y = c.y.data(), *vx = c.vx.data(), *vy = c.vy.data(), *vz = c.vz.data();
+  const double* w = c.w.data();
+  const bool tall = c.tall();
+  double cx = 0, cy = 0, mvx = 0, mvy = 0, speed = 0, mass = 0;
+  for (size_t i = 0; i < c.size(); ++i) {
+    const double up = tall ? double(vz[i]) : 0.0;
+    cx += w[i] * x[i], cy += w[i] * y[i], mvx += w[i] * vx[i], mvy += w[i] * vy[i];
+    speed += w[i] * std::sqrt(double(vx[i]) * vx[i] + double(vy[i]) * vy[i] + up * up);
+    mass += w[i];
+  }
+  if (!(mass > 0)) return {};
+  return {{float(cx / mass), float(cy / mass)}, {float(mvx / mass), float(mvy / mass)}, speed / mass};
+}
+
+}  // namespace
 
 Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps)
     : world_(std::move(field),
@@ -44,6 +82,9 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
     throw std::invalid_argument("automatic balance: per goal must be in [0, 10] and the most >= 1");
   if (!(config.throw_speed > 0 && config.throw_speed <= 1000))
     throw std::invalid_argument("a throw's speed must be in (0, 1000] m/s");
+  if (!(config.stall >= 1 && config.stall <= 3600))
+    throw std::invalid_argument("a match's stall bound must be in [1, 3600] s, got " +
+                                (std::ostringstream() << config.stall).str());
   if (!(config.throw_spread.direction >= 0 && config.throw_spread.direction <= 1.6f && config.throw_spread.speed >= 0 &&
         config.throw_spread.speed <= 1))
     throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and [0, 1] of speed");
@@ -132,6 +173,7 @@ GameEvent& Match::new_event(EventKind type) {
   GameEvent& e = events_.emplace_back();
   e.t = time();
   e.type = type;
+  if (counts_as_play(type)) last_play_t_ = time(), ++plays_;
   if (world_.holder() >= 0) e.holder = players_[size_t(world_.holder())].name;
   return e;
 }
@@ -267,6 +309,8 @@ void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_to
   last_toucher_ = last_touch;
   previous_toucher_ = -1;
   last_touch_t_ = -kRetouch;  // a scene's last touch is no swing in progress
+  last_play_t_ = time();      // a scene starts play afresh
+  rolling_ = false;
   rally_contacts_ = 0;
   retweak();
 }
@@ -312,6 +356,9 @@ void Match::step(std::span<const BodyInput> input) {
   // A ball gone without an outcome that brings it back (crushed away, or a shot that left while its
   // contact was caught up): it comes back where it was dropped.
   if (!world_.in_play() && respawn_at_ < 0 && !finished_) respawn(respawn_spot_, 1.0);
+  watch_ball();
+  // A restart on its way (a drop or give after a delay) is play to come, not a stall.
+  if (!finished_ && respawn_at_ < 0 && time() - last_play_t_ >= config_.stall - 1e-9) stalled();
   if (!finished_ && !time_up_told_ && time() >= config_.seconds - 1e-9) {
     time_up_told_ = true;
     new_event(EventKind::TimeUp);
@@ -332,6 +379,54 @@ void Match::step(std::span<const BodyInput> input) {
   // distribution the rules asked for (measured: a handicap's 0.077 came out 0.185 with a
   // prediction every 0.5 s, 0.100 every frame; see rules/airhockey/spec).
   if (!finished_ && world_.live()) retweak();
+}
+
+void Match::watch_ball() {
+  if (!world_.live()) {
+    rolling_ = false;  // a dropped ball lies still, and is told as a drop
+    return;
+  }
+  const BallMotion m = motion_of(world_.cloud());
+  if (m.speed >= 2 * kLooseSpeed) rolling_ = true;
+  if (!rolling_ || m.speed >= kLooseSpeed) return;
+  rolling_ = false;
+  GameEvent& e = new_event(EventKind::Loose);
+  e.at = m.centre, e.velocity = m.velocity;
+  name_touchers(e);
+  tell_rules(events_.size() - 1);
+}
+
+void Match::stalled() {
+  ++stats_.stalls;
+  const uint64_t plays = plays_;
+  const int holder = world_.holder();
+  GameEvent& e = new_event(EventKind::Stalled);
+  if (holder >= 0) {
+    e.actor = players_[size_t(holder)].name, e.team = players_[size_t(holder)].team, e.actor_index = holder;
+    e.at = players_[size_t(holder)].position;
+  } else {
+    const BallMotion m = motion_of(world_.cloud());
+    e.at = m.centre, e.velocity = m.velocity;
+  }
+  name_touchers(e);
+  const Vec2 at = e.at;
+  tell_rules(events_.size() - 1);
+  // Rules that dropped, gave, threw or ended the ball told play of their own (their restart).
+  if (finished_ || plays_ != plays || respawn_at_ >= 0) return;
+  // The rules did nothing about it: the ball goes to the player who catches nearest it (not its
+  // holder, who kept it all this time), or else drops at the spot nearest it.
+  int nearest = -1;
+  float best = 1e30f;
+  for (size_t k = 0; k < players_.size(); ++k) {
+    const float d = length(players_[k].position - at);
+    if (field().bodies[k].catches && int(k) != holder && d < best) best = d, nearest = int(k);
+  }
+  if (nearest >= 0) return give(nearest);
+  int spot = 0;
+  best = 1e30f;
+  for (size_t s = 0; s < field().spots.size(); ++s)
+    if (const float d = length(field().spots[s].at - at); d < best) best = d, spot = int(s);
+  respawn(spot, 0);
 }
 
 void Match::handle(const Event& e) {

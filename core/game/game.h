@@ -26,10 +26,12 @@ namespace quantum::game {
 // With players who catch: Throw (the holder let go), Pass (a teammate of the thrower caught it),
 // Intercept (an opponent did: the same event as a mallet's intercept), Catch (anyone else: a
 // loose ball picked up, a throw caught again by the thrower), Give (the rules handed it over).
+// Stalled: nothing was played for the sport's bound (MatchConfig::stall; see counts_as_play);
+// Loose: the ball in play slowed below kLooseSpeed and lies loose where the event says.
 // On a field of landings, Landing: the ball came down on the floor (actor: the area it is in).
 enum class EventKind : uint8_t {
   Drop, Shot, Intercept, Retouch, Bounce, Goal, OwnGoal, Out, Dead, TimeUp, MatchEnd, Powerup, PowerupEnd,
-  Paused, Resumed, Catch, Pass, Throw, Give, Landing,
+  Paused, Resumed, Catch, Pass, Throw, Give, Stalled, Loose, Landing,
 };
 constexpr int kEventKinds = int(EventKind::Landing) + 1;
 const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "time_up", "powerup_end", ...
@@ -37,6 +39,15 @@ const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "tim
 std::optional<EventKind> event_kind(std::string_view name);
 // Every kind's name, in order: for error messages and the strict readers.
 const std::vector<std::string>& event_names();
+// Whether an event of this kind is play that keeps a match alive: a touch, a throw, an outcome or
+// a restart. A bounce is not (a ball rolling dead along a wall bounces on and on with nobody
+// playing it), nor a power-up, nor what the engine says about a ball nobody plays (stalled,
+// loose).
+bool counts_as_play(EventKind kind);
+
+// m/s: a ball in play whose particles' weighted mean speed falls below this lies loose (a
+// `loose` event); it must have been twice as fast since to be told loose again.
+inline constexpr double kLooseSpeed = 0.5;
 
 // Names are views into the field (or the match, for a winner): they stay valid while the match
 // lives, and events cost no allocation.
@@ -134,6 +145,9 @@ struct MatchConfig {
   // throw, an accelerometer's), and how every throw scatters.
   double throw_speed = 10;
   ThrowSpread throw_spread;
+  // Seconds a match may go without play (counts_as_play) before the rules hear `stalled`; when
+  // they do nothing about it, the match restarts play itself (see Match::step). In [1, 3600].
+  double stall = 20;
 };
 
 struct Said {
@@ -159,6 +173,7 @@ struct RallyStats {
   int goals = 0;
   int passes = 0;       // catches by a teammate of the thrower
   int possessions = 0;  // times a team gained the ball (a catch, intercept or give after the other team had it)
+  int stalls = 0;       // stalled events: times the match went the sport's bound without play
   double seconds = 0;   // match time played
 };
 
@@ -295,6 +310,8 @@ class Match {
   void gained(int k);                      // player k has the ball: a new possession if the other team had it
   void hand_over(int k);                   // the ball into k's hands now, told as `give`
   void check_catcher(int k) const;         // throws unless k is a player who catches
+  void stalled();                          // tells the rules, and restarts play when they do not
+  void watch_ball();                       // tells `loose` when the ball in play slows to a stop
   void tell_rules(size_t event);
   void retweak();
   FateView view(const FateGroup& g) const;
@@ -326,6 +343,9 @@ class Match {
   std::string_view possession_;  // the team that has had the ball since it last changed sides, "" for none
   std::vector<Event> thrown_;    // the throw a rule or a player makes between steps (room kept)
   double last_touch_t_ = 0;
+  double last_play_t_ = 0;     // when the last event that counts as play was told
+  uint64_t plays_ = 0;         // events told that count as play (did a stalled handler act?)
+  bool rolling_ = false;       // the ball in play has been fast since it was last told loose or dropped
   bool finished_ = false, time_up_told_ = false;
   std::string winner_;
   int handling_ = -1;          // the event the rules are handling

@@ -108,7 +108,7 @@ void TeamBots::hear(const GameEvent& e) {
   switch (e.type) {
     case EventKind::Drop: case EventKind::Give: case EventKind::Catch: case EventKind::Pass:
     case EventKind::Intercept: case EventKind::Throw: case EventKind::Bounce: case EventKind::Landing:
-    case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
+    case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead: case EventKind::Loose:
       for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity});
       return;
     default: return;  // nothing about the ball
@@ -133,7 +133,8 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
     case EventKind::Drop:
     case EventKind::Throw:
     case EventKind::Bounce:
-    case EventKind::Landing: {  // the ball bounces on from the floor
+    case EventKind::Landing:  // the ball bounces on from the floor
+    case EventKind::Loose: {  // a loose ball is anyone's, its last thrower's too
       const double err = b.skill.imagine_noise;
       const bool bounced = h.type == EventKind::Bounce || h.type == EventKind::Landing;
       const int thrower = h.type == EventKind::Throw ? h.actor : bounced ? ball.thrower : -1;

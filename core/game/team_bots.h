@@ -10,7 +10,7 @@
 // opponents' goal area and call for the ball when nobody marks them. The other team marks them
 // man to man between them and the goal and presses the holder. Goalkeepers keep to their goal
 // area, between the ball and the goal. A flying ball draws whoever of each team can reach its
-// path first; a loose one, the nearest of each team. Field players stay out of goal areas;
+// path first; a loose one (the announcer's `loose`: where it lies), the nearest of each team. Field players stay out of goal areas;
 // goalkeepers stay in their own.
 #pragma once
 

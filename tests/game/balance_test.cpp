@@ -116,7 +116,7 @@ TEST(Balance, APlottedStudyWritesEveryMatchItsPlotsAndASummary) {
   tools::plot_study(o, study, 2, dir.string(), false, log);
   const std::vector<std::string> matches = lines_of(dir / "matches.csv");
   ASSERT_EQ(matches.size(), 5u);  // a header and four matches
-  EXPECT_EQ(matches[0], "seed,winner,score_blue,score_red,rallies,contacts,goals,passes,possessions,seconds");
+  EXPECT_EQ(matches[0], "seed,winner,score_blue,score_red,rallies,contacts,goals,passes,possessions,seconds,stalls");
   EXPECT_EQ(matches[1].rfind("1,", 0), 0u) << matches[1];
   EXPECT_EQ(lines_of(dir / "handicap_sweep.csv").size(), 6u);   // five handicaps
   EXPECT_EQ(lines_of(dir / "handicap_matches.csv").size(), 11u);  // two matches each
