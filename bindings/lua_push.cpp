@@ -136,6 +136,8 @@ void push_field(lua_State* L, const Field& f) {
   });
   set_list(L, "players", f.bodies, [&](const BodySpec& b) {
     set(L, "name", b.name), set(L, "team", b.team), set(L, "role", b.role), set(L, "reach", b.radius);
+    // `reach` is the radius (how far the hands get); with height, how high they get standing.
+    if (f.has_height()) set(L, "reach_height", f.reach_of(int(&b - f.bodies.data())));
     lua_pushboolean(L, b.catches);
     raw_set(L, "catches");
   });
@@ -183,6 +185,13 @@ void fill_player(lua_State* L, const game::Match& match, size_t k) {
   set(L, "x", p.position.x), set(L, "y", p.position.y), set(L, "vx", p.velocity.x), set(L, "vy", p.velocity.y);
   set(L, "speed", std::hypot(p.velocity.x, p.velocity.y));
   set(L, "handicap", match.handicap_now(int(k)));
+  // A pooled table may hold another player's: what this player lacks is cleared, not left.
+  if (p.skill) lua_pushnumber(L, *p.skill);
+  else lua_pushnil(L);
+  raw_set(L, "skill");
+  if (match.field().has_height()) lua_pushnumber(L, match.world().reach(int(k)));
+  else lua_pushnil(L);
+  raw_set(L, "reach_height");
   lua_pushboolean(L, p.turn);
   raw_set(L, "turn");
   const BodySpec& body = match.field().bodies[k];

@@ -58,8 +58,9 @@ class TablePool {
 // Fill the table at the top of the stack (fields it had before are overwritten).
 // {kind, actor, team, favours, via, path = {walls...}, mass, tweaked, count}
 void fill_fate(lua_State* L, const game::FateView& f, const Field& field);
-// {name, team, role, area, holds, x, y, vx, vy, speed, handicap, turn, powerups = {names}} of
-// player k of the match
+// {name, team, role, area, holds, x, y, vx, vy, speed, handicap, skill, reach_height, turn,
+// powerups = {names}} of player k of the match (skill nil for a person, reach_height nil on a
+// flat field)
 void fill_player(lua_State* L, const game::Match& match, size_t k);
 // A fresh list of every player's table, in the field's order (game.players()).
 void push_players(lua_State* L, const game::Match& match);

@@ -287,7 +287,8 @@ int throw_ball(lua_State* L) {
 // m higher (0.5 by default) for `seconds` (0.5): a block, a rebound.
 int jump(lua_State* L) {
   game::Match& m = acting(L);
-  m.jump(player_index(m, check_string(L, 1)), opt_number(L, 2, 0.5), opt_number(L, 3, 0.5));
+  m.jump(player_index(m, check_string(L, 1)), opt_number(L, 2, game::Match::kJumpHeight),
+         opt_number(L, 3, game::Match::kJumpSeconds));
   return 0;
 }
 
@@ -325,6 +326,13 @@ int time(lua_State* L) {
   return 1;
 }
 
+// game.length(): the match's time limit as it runs: --seconds (or a scenario's `seconds`) when
+// given, else the sport's match.seconds, which stays what the sport asked for.
+int length(lua_State* L) {
+  lua_pushnumber(L, reading(L).config().seconds);
+  return 1;
+}
+
 int teams(lua_State* L) {
   push_strings(L, reading(L).teams());
   return 1;
@@ -337,8 +345,8 @@ int team_name(lua_State* L) {
   return 1;
 }
 
-// game.players(): {name, team, role, area, holds, x, y, vx, vy, speed, handicap, turn, powerups}
-// for each player, in the field's order.
+// game.players(): {name, team, role, area, holds, x, y, vx, vy, speed, handicap, skill,
+// reach_height, turn, powerups} for each player, in the field's order.
 int players(lua_State* L) {
   push_players(L, reading(L));
   return 1;
@@ -380,7 +388,7 @@ void push_game_api(lua_State* L, Sport* sport) {
                {"dead_ball", guard<dead_ball>}, {"finish", guard<finish>},   {"grant", guard<grant>},
                {"handicap", guard<handicap>}, {"wormhole", guard<wormhole>}, {"after", guard<after>},
                {"cancel", guard<cancel>},     {"turn", guard<turn>},         {"aim", guard<aim>},
-               {"score", guard<score>},       {"time", guard<time>},         {"teams", guard<teams>},
+               {"score", guard<score>},       {"time", guard<time>},         {"length", guard<length>},         {"teams", guard<teams>},
                {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
                {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>}, {"jump", guard<jump>},
                {"holder", guard<holder>},     {"area", guard<area>},         {"field", guard<field>}},

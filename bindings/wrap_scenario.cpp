@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -22,6 +23,7 @@ namespace quantum::lua {
 namespace {
 
 constexpr const char* kType = "scenario";
+constexpr double kMostVerticalSpeed = 1000;  // m/s: as fast as a throw may be (throw_fault)
 
 // Bodies moved by the spec: each holds still, or moves in a straight line at constant speed
 // toward a target until a given time.
@@ -122,15 +124,19 @@ double option(lua_State* L, int index, const char* key, double fallback) {
   return v;
 }
 
+// A number as an error message shows it: 2.5, 1e+300, nan; a field's float with `digits` 6.
+std::string number_text(double v, int digits = 14) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, v);
+  return text;
+}
+
 // A whole-number option in [lo, hi), which `range` says in words: a spec's -1 or 1e300 fails
 // naming the option instead of becoming some other seed or count.
 double whole_option(lua_State* L, int index, const char* key, double fallback, double lo, double hi, const char* range) {
   const double v = option(L, index, key, fallback);
-  if (!(v >= lo && v < hi && v == std::floor(v))) {
-    char got[32];
-    std::snprintf(got, sizeof got, "%.14g", v);
-    throw ArgError(std::string(key) + ": expected a whole number from " + range + ", got " + got);
-  }
+  if (!(v >= lo && v < hi && v == std::floor(v)))
+    throw ArgError(std::string(key) + ": expected a whole number from " + range + ", got " + number_text(v));
   return v;
 }
 
@@ -160,11 +166,31 @@ std::vector<std::string> params_of(lua_State* L, int index) {
   return out;
 }
 
+// Sets what a table {[player] = number} of the options at `index` gives under `key`, player by
+// player, with set(player, value).
+template <class Set>
+void per_player_option(lua_State* L, int index, Scenario& s, const char* key, const char* what, Set set) {
+  if (!lua_istable(L, index)) return;
+  lua_getfield(L, index, key);
+  if (!lua_isnil(L, -1)) {
+    if (!lua_istable(L, -1)) throw ArgError(std::string(key) + ": expected a table {[player] = " + what + "}");
+    lua_pushnil(L);
+    while (lua_next(L, -2)) {
+      if (lua_type(L, -2) != LUA_TSTRING) throw ArgError(std::string(key) + ": expected player names as keys");
+      const int k = body_index(s, lua_tostring(L, -2));
+      if (!lua_isnumber(L, -1)) throw ArgError(std::string(key) + ": expected a number for each player");
+      set(k, lua_tonumber(L, -1));
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+}
+
 // quantum.scenario(sport_folder [, {seed =, particles =, seconds = (time limit), handicaps = {...},
-//                                   params = {name = value} (as --param)}])
+//                                   skills = {...}, params = {name = value} (as --param)}])
 int scenario(lua_State* L) {
   const std::string folder = check_string(L, 1);
-  check_options(L, 2, {"seed", "particles", "seconds", "handicaps", "params"}, "quantum.scenario's options");
+  check_options(L, 2, {"seed", "particles", "seconds", "handicaps", "skills", "params"}, "quantum.scenario's options");
   auto s = std::make_unique<Scenario>();
   runtime::SessionOptions o;
   o.sport = folder;
@@ -177,22 +203,11 @@ int scenario(lua_State* L) {
   s->bodies = bodies.get();
   s->session = std::make_unique<runtime::Session>(o, nullptr, s->warnings, std::move(bodies));
   s->bodies->start(s->match().field());
-  // Handicaps by player name, over the sport's.
-  if (lua_istable(L, 2)) {
-    lua_getfield(L, 2, "handicaps");
-    if (!lua_isnil(L, -1)) {
-      if (!lua_istable(L, -1)) throw ArgError("handicaps: expected a table {[player] = handicap}");
-      lua_pushnil(L);
-      while (lua_next(L, -2)) {
-        if (lua_type(L, -2) != LUA_TSTRING) throw ArgError("handicaps: expected player names as keys");
-        const int k = body_index(*s, lua_tostring(L, -2));
-        if (!lua_isnumber(L, -1)) throw ArgError("handicaps: expected a number for each player");
-        s->match().set_handicap(k, lua_tonumber(L, -1));
-        lua_pop(L, 1);
-      }
-    }
-    lua_pop(L, 1);
-  }
+  // Handicaps by player name, over the sport's; the spec's players are people (no skill) unless
+  // it plays some as simulated players of a skill, for the rules to read.
+  game::Match& m = s->match();
+  per_player_option(L, 2, *s, "handicaps", "handicap", [&](int k, double h) { m.set_handicap(k, h); });
+  per_player_option(L, 2, *s, "skills", "skill in [0, 1]", [&](int k, double skill) { m.set_skill(k, skill); });
   Scenario* raw = s.get();
   s->session->watch([raw](const runtime::News& news) { raw->hear(news); });
   auto** box = static_cast<Scenario**>(lua_newuserdata(L, sizeof(Scenario*)));
@@ -259,26 +274,58 @@ int grant(lua_State* L) {
   return 0;
 }
 
-// s:ball{x =, y =, vx =, vy =, spread = 0.01 (m), turn = 0.05 (rad), count = 400, by = player}:
-// the ball is a bundle of that many particles around (x, y), heading (vx, vy) give or take
-// `turn`, last touched by `by` (nobody when absent).
+// The ball's height and vertical speed a spec gives on a field with height: z from the floor
+// (the ball resting on it, by default) up to the ceiling, vz within what a throw may be.
+struct BallHeight {
+  float z = 0, vz = 0;
+};
+
+BallHeight ball_height(lua_State* L, int index, const Field& f) {
+  lua_getfield(L, index, "z");
+  lua_getfield(L, index, "vz");
+  const bool given = !lua_isnil(L, -2) || !lua_isnil(L, -1);
+  lua_pop(L, 2);
+  if (!f.has_height()) {
+    if (given) throw ArgError("z, vz: " + f.name + " is flat (no gravity): a ball has no height there");
+    return {};
+  }
+  const double z = option(L, index, "z", f.ball_radius), vz = option(L, index, "vz", 0);
+  const double top = f.ceiling > 0 ? f.ceiling - f.ball_radius : std::numeric_limits<float>::max();
+  if (!(z >= f.ball_radius && z <= top))
+    throw ArgError("z: expected a height from " + number_text(f.ball_radius, 6) + " m (the ball on the floor)" +
+                   (f.ceiling > 0 ? " to " + number_text(top, 6) + " m (under the ceiling)" : std::string(" up")) +
+                   ", got " + number_text(z));
+  if (!(std::abs(vz) <= kMostVerticalSpeed))
+    throw ArgError("vz: expected a vertical speed in [-1000, 1000] m/s, got " + number_text(vz));
+  return {float(z), float(vz)};
+}
+
+// s:ball{x =, y =, z =, vx =, vy =, vz =, spread = 0.01 (m), turn = 0.05 (rad), count = 400,
+// by = player}: the ball is a bundle of that many particles around (x, y), heading (vx, vy)
+// give or take `turn`, last touched by `by` (nobody when absent); on a field with height at
+// height z moving up at vz (the floor and at rest by default).
 int ball(lua_State* L) {
   Scenario& s = self(L);
-  check_options(L, 2, {"x", "y", "vx", "vy", "spread", "turn", "count", "by"}, "the ball");
+  check_options(L, 2, {"x", "y", "z", "vx", "vy", "vz", "spread", "turn", "count", "by"}, "the ball");
   check_table(L, 2);
+  const Field& f = s.match().field();
   const double x = option(L, 2, "x", 0), y = option(L, 2, "y", 0);
   const double vx = option(L, 2, "vx", 0), vy = option(L, 2, "vy", 0);
+  const BallHeight height = ball_height(L, 2, f);
   const double spread = option(L, 2, "spread", 0.01), turn = option(L, 2, "turn", 0.05);
   const int n = int(whole_option(L, 2, "count", 400, 1, 10'000'001, "1 to 10000000"));
   Cloud c;
+  c.reserve(size_t(n), f.has_height());
   const double speed = std::hypot(vx, vy), heading = std::atan2(vy, vx);
   // A deterministic lattice: spread and turn cover their ranges evenly, so specs need no seed.
   for (int i = 0; i < n; ++i) {
     const double u = n > 1 ? double(i) / (n - 1) - 0.5 : 0;
     const double a = heading + 2 * turn * u;
     const double side = spread * std::sin(2 * M_PI * 7.3 * u);
-    c.push(to_float(x - side * std::sin(heading)), to_float(y + side * std::cos(heading)), to_float(speed * std::cos(a)),
-           to_float(speed * std::sin(a)), 1.0 / n, 1.0 / n);
+    const Vec3 at{to_float(x - side * std::sin(heading)), to_float(y + side * std::cos(heading)), height.z};
+    const Vec3 v{to_float(speed * std::cos(a)), to_float(speed * std::sin(a)), height.vz};
+    if (f.has_height()) c.push(at, v, 1.0 / n, 1.0 / n);
+    else c.push(at.x, at.y, v.x, v.y, 1.0 / n, 1.0 / n);
   }
   int by = -1;
   lua_getfield(L, 2, "by");
@@ -305,6 +352,14 @@ int throw_ball(lua_State* L) {
   if (s.match().holder() != k) throw ArgError(check_string(L, 2) + " does not hold the ball");
   s.match().throw_ball(k, {to_float(check_number(L, 3)), to_float(check_number(L, 4)), to_float(opt_number(L, 5, 0))});
   s.session->tell();
+  return 0;
+}
+
+// s:jump(player [, height [, seconds]]): as game.jump, from the spec (a field with height).
+int jump(lua_State* L) {
+  Scenario& s = self(L);
+  s.match().jump(body_index(s, check_string(L, 2)), opt_number(L, 3, game::Match::kJumpHeight),
+                 opt_number(L, 4, game::Match::kJumpSeconds));
   return 0;
 }
 
@@ -408,7 +463,8 @@ void open_scenario(lua_State* L) {
                  {"run", guard<run>},       {"grant", guard<grant>},   {"events", guard<events>},
                  {"said", guard<said>},     {"errors", guard<errors>}, {"fates", guard<fates>},
                  {"players", guard<players>}, {"score", guard<score>}, {"time", guard<time>},
-                 {"give", guard<give>},     {"throw", guard<throw_ball>}, {"holder", guard<holder>}},
+                 {"give", guard<give>},     {"throw", guard<throw_ball>}, {"holder", guard<holder>},
+                 {"jump", guard<jump>}},
                 gc);
   push_module(L, "quantum", {{"scenario", guard<scenario>}, {"chi_square_p", guard<chi_square_p>}}, nullptr);
   lua_setglobal(L, "quantum");

@@ -34,6 +34,8 @@ class PlayerSource {
   virtual std::span<const BodyInput> bodies() const = 0;
   // The throws made since the last frame.
   virtual std::span<const game::Throw> throws() const { return {}; }
+  // Who moves body k: a simulated player of that skill in [0, 1], or a person (none).
+  virtual std::optional<double> skill(size_t /*body*/) const { return std::nullopt; }
   // What the announcer just told everyone.
   virtual void hear(std::span<const game::GameEvent>) {}
   // A live source (a camera, a tracker): the match runs in real time with it.
@@ -77,18 +79,20 @@ class DroppedValues {
 class BotPlayers final : public PlayerSource {
  public:
   BotPlayers(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed)
-      : bots_(game::make_bots(field, std::move(skills), seed, throw_speed)) {}
+      : skills_(skills), bots_(game::make_bots(field, std::move(skills), seed, throw_speed)) {}
   Status advance(double t, const game::Match& match, bool) override {
     moves_ = bots_->move(t, 1.0 / match.fps(), match.players());
     return Status::Ready;
   }
   std::span<const BodyInput> bodies() const override { return moves_; }
   std::span<const game::Throw> throws() const override { return bots_->throws(); }
+  std::optional<double> skill(size_t body) const override { return skills_.at(body); }
   void hear(std::span<const game::GameEvent> events) override {
     for (const game::GameEvent& e : events) bots_->hear(e);
   }
 
  private:
+  std::vector<double> skills_;
   std::unique_ptr<game::SimulatedPlayers> bots_;
   std::span<const BodyInput> moves_;
 };
@@ -114,6 +118,10 @@ class HandPlayers final : public PlayerSource {
   Status advance(double t, const game::Match& match, bool waiting) override;
   std::span<const BodyInput> bodies() const override { return bodies_; }
   std::span<const game::Throw> throws() const override { return throws_; }
+  // The hand's player is the person at the desk.
+  std::optional<double> skill(size_t body) const override {
+    return int(body) == body_ ? std::nullopt : bots_.skill(body);
+  }
   void hear(std::span<const game::GameEvent> events) override { bots_.hear(events); }
 
  private:

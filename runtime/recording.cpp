@@ -83,7 +83,9 @@ void write_json(const fs::path& file, const nlohmann::json& j) {
 
 }  // namespace
 
-Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Sport& sport) : dir_(dir) {
+Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Sport& sport,
+                   std::span<const game::Player> players)
+    : dir_(dir) {
   if (fs::exists(dir) && !(fs::is_directory(dir) && fs::is_empty(dir)))
     throw std::runtime_error("--record " + dir.string() + ": exists already (a recording goes into a new folder)");
   make_output_folder("--record", dir);
@@ -98,6 +100,8 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
     for (const auto& [from, to] : copy_tree(original, copy))
       files.push_back({{"copy", fs::relative(to, dir).string()}, {"original", from.string()}, {"fnv1a", fingerprint(from)}});
   nlohmann::json handicaps = o.handicaps, factors = o.factors, params = sport.params().pairs();
+  nlohmann::json skills = nlohmann::json::array();
+  for (const game::Player& p : players) skills.push_back(p.skill ? nlohmann::json(*p.skill) : nlohmann::json());
   write_json(dir / "recording.json",
              {{"engine", engine_version()},
               {"command", o.command},
@@ -110,6 +114,7 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
               {"auto_balance", o.auto_balance},
               {"factors", factors},
               {"params", params},
+              {"skills", skills},
               {"files", files},
               {"frames", 0}});
   frames_.open(dir / "frames.bin", std::ios::binary);
@@ -212,6 +217,12 @@ Replay open_replay(const fs::path& dir) {
     r.auto_balance = number(j, "auto_balance", -1, 10, file, " (below 0: the sport's own)");
     r.factors = j.at("factors").get<std::map<std::string, double>>();
     r.params = j.value("params", std::vector<std::string>());
+    for (const nlohmann::json& skill : j.value("skills", nlohmann::json::array())) {
+      if (!skill.is_null() && !(skill.is_number() && skill.get<double>() >= 0 && skill.get<double>() <= 1))
+        throw std::runtime_error(file.string() + ": \"skills\" must each be a number in [0, 1] (null: a person), got " +
+                                 skill.dump());
+      r.skills.push_back(skill.is_null() ? std::nullopt : std::optional<double>(skill.get<double>()));
+    }
     r.version = j.at("engine");
     for (const nlohmann::json& f : j.at("files")) {
       const fs::path original = f.at("original").get<std::string>();

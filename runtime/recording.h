@@ -3,7 +3,7 @@
 //
 // A recording is a folder:
 //   recording.json   the engine's version, the command line, the options that shape the match (seed, particles,
-//                    time limit, handicaps, balance, factors, parameters), the sport's path and a hash of
+//                    time limit, handicaps, balance, factors, parameters, each player's skill), the sport's path and a hash of
 //                    every file copied below, and how many frames were played
 //   sport/<name>/    the sport's folder as it was (Lua, field, sounds; not its specs)
 //   sport/powerups/  the power-ups beside it, if any
@@ -20,6 +20,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -41,8 +42,10 @@ const char* engine_version();
 class Recorder {
  public:
   // Creates `dir` (it must not exist, or be empty), copies the sport's files and writes
-  // recording.json. Throws std::runtime_error naming the folder when it cannot.
-  Recorder(const std::filesystem::path& dir, const SessionOptions& options, const lua::Sport& sport);
+  // recording.json with the players' skills (what the rules read). Throws std::runtime_error
+  // naming the folder when it cannot.
+  Recorder(const std::filesystem::path& dir, const SessionOptions& options, const lua::Sport& sport,
+           std::span<const game::Player> players);
   ~Recorder();
   // The players a frame was played with (nothing stepped when the source was lost).
   void frame(PlayerSource::Status status, std::span<const BodyInput> bodies, std::span<const game::Throw> throws);
@@ -89,6 +92,7 @@ struct Replay {
   double auto_balance = -1;
   std::map<std::string, double> factors;
   std::vector<std::string> params;
+  std::vector<std::optional<double>> skills;  // per player, none for a person (and in older recordings)
   std::string version;           // the engine that recorded it
   // What differs now from when it was recorded: the engine, and the sport's files at their
   // original places ("rules/airhockey/sport.lua changed", "... is gone").

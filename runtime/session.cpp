@@ -89,6 +89,10 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
                                                   &errors_, o.field_size, o.setup);
     }
   }
+  // A replay's rules read the skills its recording's did (none in a recording made before rules
+  // could read them, which is what those rules got).
+  for (size_t k = 0; k < match_->players().size(); ++k)
+    match_->set_skill(int(k), !replay ? players_->skill(k) : k < replay->skills.size() ? replay->skills[k] : std::nullopt);
   // A replay reloads what its recording reloaded, when it did, and nothing else.
   if (o.watch || replay) reloader_ = std::make_unique<lua::Reloader>(*sport_, settings.factors, !replay);
   log_ = std::make_unique<LineFile>("--events", o.events);
@@ -98,7 +102,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
                (o.pacing == SessionOptions::Pacing::Automatic && (audio_->on_device() || players_->live() || o.watched));
   // Last: a recording is made only once everything else has opened.
-  if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_);
+  if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_, match_->players());
   kept_from_ = wall_start_ = clock_seconds();
   if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << config.seed << '\n';
 }

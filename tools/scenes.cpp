@@ -1,5 +1,6 @@
 #include "scenes.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "quantum/noise.h"
@@ -10,19 +11,27 @@ std::vector<BodyInput> scripted_mallets(const Field& field, double t) {
   std::vector<BodyInput> out;
   const float cx = 0.5f * (field.bounds_min.x + field.bounds_max.x);
   const float half_width = 0.5f * (field.bounds_max.y - field.bounds_min.y);
+  // The sweep and the lunge each stay under this, so a body stays under half the field's limit:
+  // a scripted player is never mistaken for a tracking fault.
+  const double fastest = 0.5 * field.max_body_speed / std::sqrt(2.0);
+  const double lunge_peak = 2 / std::sqrt(3.0);  // the fastest of sin^3, per unit of reach and rate
   for (size_t k = 0; k < field.bodies.size(); ++k) {
     const BodySpec& b = field.bodies[k];
     const float toward_middle = b.start.x < cx ? 1.0f : -1.0f;
     const double phase = 1.7 * double(k);
-    // Sideways sweep over most of the width, forward lunge of up to 45 cm.
-    const double sweep_w = 2.1 + 0.3 * double(k), lunge_w = 1.3 + 0.2 * double(k);
-    const float sweep = 0.6f * (half_width - b.radius);
+    // Sideways sweep over most of the width, forward lunge of up to 45 cm; a player who catches
+    // lunges all the way to the middle, where a ball is dropped, as slowly as that takes.
+    const double reach = b.catches ? std::abs(cx - b.start.x) : 0.45;
+    const double sweep_w = 2.1 + 0.3 * double(k), lunge_w = std::min(1.3 + 0.2 * double(k), fastest / (lunge_peak * reach));
+    // A body that starts off the middle sweeps only as far as its nearer side line allows.
+    const float room = std::min(b.start.y - field.bounds_min.y, field.bounds_max.y - b.start.y) - b.radius;
+    const double sweep = std::min(double(std::max(0.0f, std::min(0.6f * (half_width - b.radius), room))), fastest / sweep_w);
     const double s = std::sin(sweep_w * t + phase), ds = sweep_w * std::cos(sweep_w * t + phase);
     const double l = std::sin(lunge_w * t + phase), dl = lunge_w * std::cos(lunge_w * t + phase);
     const double lunge = l > 0 ? l * l * l : 0, dlunge = l > 0 ? 3 * l * l * dl : 0;
     BodyInput in;
-    in.position = {float(b.start.x + toward_middle * 0.45 * lunge), float(b.start.y + sweep * s)};
-    in.velocity = {float(toward_middle * 0.45 * dlunge), float(sweep * ds)};
+    in.position = {float(b.start.x + toward_middle * reach * lunge), float(b.start.y + sweep * s)};
+    in.velocity = {float(toward_middle * reach * dlunge), float(sweep * ds)};
     out.push_back(in);
   }
   return out;

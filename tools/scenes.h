@@ -10,8 +10,10 @@
 namespace quantum::tools {
 
 // Each body sweeps across in front of its home (its start position) and now and then lunges
-// toward the middle of the field, like a defending player who strikes at a guess. Positions and
-// velocities are exact derivatives of one smooth curve per body.
+// toward the middle of the field, like a defending player who strikes at a guess (a player who
+// catches: to the middle, where balls drop). Positions and velocities are exact derivatives of
+// one smooth curve per body. Every body stays within the field's bounds and under half its
+// max_body_speed, on any field (a mallet on a table, a player in a hall).
 std::vector<BodyInput> scripted_mallets(const Field& field, double t);
 
 // n particles of equal weight, uniform over the field's safe interior, moving in random

@@ -72,6 +72,42 @@ void shoot(World& world, int shooter, std::vector<Event>& events) {
   world.release(shooter, v, kShotSpread, events);
 }
 
+// A team player's throw: from where it stands, at kPassSpeed, toward the middle of the first
+// goal its team does not defend, else to the next teammate in the field's order, else to the
+// next player (keep-away's lone catcher), else along the field. On a field with height, the
+// flattest arc to chest height there.
+constexpr float kPassSpeed = 10;     // m/s: a sport's throws.speed when it gives none
+constexpr double kHoldSeconds = 0.6;  // how long a scripted player holds a ball it caught
+
+void pass_on(World& world, int thrower, std::vector<Event>& events) {
+  const Field& f = world.field();
+  const std::vector<Vec2>& at = world.body_positions();
+  const std::string& team = f.bodies[size_t(thrower)].team;
+  const Vec2 from = at[size_t(thrower)];
+  Vec2 to{from.x + 1, from.y};
+  const size_t n = f.bodies.size();
+  auto next = [&](bool teammate) {
+    for (size_t step = 1; step < n; ++step) {
+      const size_t k = (size_t(thrower) + step) % n;
+      if (!teammate || f.bodies[k].team == team) return int(k);
+    }
+    return -1;
+  };
+  const auto goal = std::find_if(f.goals.begin(), f.goals.end(), [&](const Goal& g) { return g.team != team; });
+  if (goal != f.goals.end()) to = {0.5f * (goal->a.x + goal->b.x), 0.5f * (goal->a.y + goal->b.y)};
+  else if (const int mate = next(true); mate >= 0) to = at[size_t(mate)];
+  else if (const int anyone = next(false); anyone >= 0) to = at[size_t(anyone)];
+  const float dx = to.x - from.x, dy = to.y - from.y, d = std::hypot(dx, dy);
+  // A teammate standing where the thrower stands: a throw along the field instead.
+  const Vec2 way = d > 0 ? Vec2{dx / d, dy / d} : Vec2{1, 0};
+  Vec3 v{kPassSpeed * way.x, kPassSpeed * way.y, 0};
+  if (f.has_height()) {
+    const Vec2 arm = f.release_point(thrower, from, to);
+    v = f.throw_at({arm.x, arm.y, world.reach(thrower)}, {to.x, to.y, kChestShare * f.reach_of(thrower)}, kPassSpeed);
+  }
+  world.release(thrower, v, ThrowSpread{}, events);
+}
+
 }  // namespace
 
 void write_event(std::ostream& out, const Event& e, const Field& f) {
@@ -102,6 +138,9 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   // With height and a hoop the scene is a shooting practice: the players stand where the field
   // puts them, and the shooter shoots again a second after each shot ends (the paper's Figure 4).
   const int shooter = shooter_of(world.field(), o.shooter);
+  // Without a hoop, players who catch play on: each holds a ball it catches for a moment, then
+  // throws it on (pass_on); mallets strike it.
+  const bool catching = world.field().catching(), team = catching && shooter < 0;
   std::vector<BodyInput> standing;
   for (const BodySpec& b : world.field().bodies) standing.push_back({b.start, {0, 0}});
 
@@ -114,6 +153,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   std::map<std::string, int> counts, conceded;
   double respawn_at = 0.0;  // negative: no respawn pending
   int respawn_to = 0;
+  double throw_at = -1;     // team players: when the holder throws; negative: none pending
+  int thrower = -1;
   double next_tweak = 0;
   bool have_snapshot_moment = false;
   auto flush = [&]() {
@@ -126,6 +167,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
         respawn_at = world.time() + kRespawnDelay;
         respawn_to = respawn_spot(world.field(), e);
       }
+      if (team && e.type == EventType::Catch) throw_at = world.time() + kHoldSeconds, thrower = e.actor;
     }
   };
 
@@ -138,6 +180,11 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       if (shooter >= 0) shoot(world, shooter, events), shot = true;
       else world.drop(respawn_to, events);
       respawn_at = -1;
+    }
+    if (throw_at >= 0 && world.time() >= throw_at - 1e-9) {
+      // A ball gone from the thrower's hands meanwhile (a goal, a restart) is not thrown.
+      if (world.holder() == thrower) pass_on(world, thrower, events), shot = true;
+      throw_at = -1;
     }
     if (shot) retweak(world, o.factors, report);
     // The picture of a shot is taken as it leaves the hand.
@@ -153,7 +200,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
     flush();
     log.say_failure(std::cerr);
     decisions.say_failure(std::cerr);
-    if (!world.live() && respawn_at < 0) {  // every particle crushed: the ball is lost, restart it
+    // Every particle crushed, and nobody holds the ball: it is lost, restart it.
+    if (!world.in_play() && respawn_at < 0) {
       respawn_at = world.time() + kRespawnDelay;
       respawn_to = 0;
     }
@@ -179,7 +227,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
           << o.particles << " particles, seed " << o.seed << ")\n";
   summary << "events:";
   for (const char* type : {"drop", "hit", "goal", "own_goal", "out"}) summary << ' ' << type << ' ' << counts[type];
-  if (shooter >= 0)
+  if (catching)
     for (const char* type : {"throw", "bounce", "catch"}) summary << ' ' << type << ' ' << counts[type];
   summary << '\n';
   if (!conceded.empty()) {

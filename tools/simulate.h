@@ -1,6 +1,7 @@
-// `quantum simulate`: a field, a cloud and two scripted mallets, with decisions, fate factors
-// and respawns, written out as JSON-lines events and a short summary. On a field with a hoop,
-// a shooting practice instead: one player shoots at it again and again.
+// `quantum simulate`: a field, a cloud and scripted bodies (tools/scenes.h), with decisions,
+// fate factors and respawns, written out as JSON-lines events and a short summary. Players who
+// catch hold the ball a moment and throw it on; on a field with a hoop, a shooting practice
+// instead: one player shoots at it again and again.
 #pragma once
 
 #include <cstdint>

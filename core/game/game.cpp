@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -96,7 +97,7 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
     const double h = handicaps.empty() ? 1.0 : handicaps[k];
     if (!handicap_ok(h))
       throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be in (0, 1000]");
-    players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}});
+    players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}, {}});
   }
   teams_ = f.teams();
   for (const std::string& team : teams_) score_[team] = 0;
@@ -276,6 +277,16 @@ void Match::set_aim(int k, Aim aim) {
   if (aim.kind == Aim::Kind::Point && !(std::isfinite(aim.point.x) && std::isfinite(aim.point.y)))
     throw std::invalid_argument("a point to aim at must be finite");
   players_[size_t(k)].aim = aim;
+}
+
+void Match::set_skill(int k, std::optional<double> skill) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  if (skill && !(*skill >= 0 && *skill <= 1)) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", *skill);
+    throw std::invalid_argument(players_[size_t(k)].name + "'s skill must be in [0, 1], got " + got);
+  }
+  players_[size_t(k)].skill = skill;
 }
 
 void Match::set_wormholes(std::vector<Wormhole> wormholes) {

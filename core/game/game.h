@@ -193,6 +193,8 @@ struct Player {
   // the ball, and where to send it.
   bool turn = true;
   Aim aim;
+  // A simulated player's skill in [0, 1]; none for a person (tracked, at the desk, a spec's script).
+  std::optional<double> skill;
 };
 
 class Match {
@@ -233,10 +235,16 @@ class Match {
   // Hints to simulated players: whether it is player k's turn, and where player k aims.
   void set_turn(int k, bool turn);
   void set_aim(int k, Aim aim);
+  // Who plays player k: a simulated player of that skill, in [0, 1], or a person (none). The
+  // session tells it once its players are known; the rules read it. Throws
+  // std::invalid_argument for an unknown player or a skill outside [0, 1].
+  void set_skill(int k, std::optional<double> skill);
   // Fields with height: player k jumps, reaching `height` m higher for `seconds` (a block, a
   // rebound). Throws std::invalid_argument for an unknown player, a height outside (0, 3] m or
-  // seconds outside (0, 2], and std::logic_error on a flat field.
+  // seconds outside (0, 2], and std::logic_error on a flat field. A rule or a spec that does not
+  // say jumps kJumpHeight for kJumpSeconds.
   void jump(int k, double height, double seconds);
+  static constexpr double kJumpHeight = 0.5, kJumpSeconds = 0.5;
 
   // Opens these wormholes on the field, replacing any (an empty list closes them). Throws
   // std::invalid_argument for wormholes the core refuses.

@@ -4,13 +4,16 @@
 // and hints that make simulated players take turns and aim where the sport says.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <memory>
 
 #include <nlohmann/json.hpp>
 
+#include "recording.h"
 #include "session.h"
 #include "sport.h"
 
@@ -19,13 +22,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A sport folder holding the air hockey table, the given sport.lua and any other files.
+// A sport folder holding the air hockey table (or the field of `field_of`, a sport's folder),
+// the given sport.lua and any other files.
 std::string sport_with(const std::string& name, const std::string& sport,
-                       const std::map<std::string, std::string>& files = {}) {
+                       const std::map<std::string, std::string>& files = {},
+                       const std::string& field_of = QUANTUM_SOURCE_DIR "/rules/airhockey") {
   const fs::path dir = fs::temp_directory_path() / ("quantum_rules_api_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
-  fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", dir / "field.lua");
+  fs::copy_file(fs::path(field_of) / "field.lua", dir / "field.lua");
   std::ofstream(dir / "sport.lua") << sport;
   for (const auto& [file, text] : files) {
     fs::create_directories((dir / file).parent_path());
@@ -227,6 +232,101 @@ TEST(EventLog, EachEventKeepsItsOwnPhrases) {
   EXPECT_EQ(lines[0]["said"], nlohmann::json({"Dropped", "After the end"}));
   EXPECT_EQ(lines[1]["type"], "match_end");
   EXPECT_EQ(lines[1]["said"], nlohmann::json({"Over"}));
+}
+
+// A sport of 600 s whose rules say, when the first ball drops, what they read: the match's length
+// beside the sport's own match.seconds, and each player's skill and reach height.
+const char* const kReader = R"(local sport = { match = { seconds = 600 } }
+sport.on = {
+  drop = function(game, e)
+    game.say(string.format("length %g of %g", game.length(), sport.match.seconds))
+    for _, p in ipairs(game.players()) do
+      game.say(string.format("%s: skill %s, reach height %s", p.name, tostring(p.skill), tostring(p.reach_height)))
+    end
+  end,
+}
+return sport)";
+
+// What the rules said in the first `frames` frames of a session.
+std::vector<std::string> said(const runtime::SessionOptions& o, std::unique_ptr<runtime::PlayerSource> players = nullptr,
+                              int frames = 2) {
+  std::ostringstream errors;
+  runtime::Session session(o, nullptr, errors, std::move(players));
+  std::vector<std::string> out;
+  session.watch([&](const runtime::News& news) {
+    for (const game::Said& s : news.said) out.push_back(s.text);
+  });
+  for (int f = 0; f < frames && session.frame(); ++f) {
+  }
+  session.finish();
+  EXPECT_EQ(errors.str(), "");
+  return out;
+}
+
+#define EXPECT_SAID(list, text) EXPECT_NE(std::find((list).begin(), (list).end(), text), (list).end()) << ::testing::PrintToString(list)
+
+TEST(RulesRead, TheMatchLengthIsTheOneItRuns) {
+  runtime::SessionOptions o;
+  o.sport = sport_with("length", kReader);
+  EXPECT_SAID(said(o), "length 600 of 600");
+  // --seconds (play and balance) and a scenario's seconds win; match.seconds stays the sport's.
+  o.seconds = 7;
+  EXPECT_SAID(said(o), "length 7 of 600");
+}
+
+TEST(RulesRead, ASimulatedPlayerHasItsSkillAndAPersonNone) {
+  runtime::SessionOptions o;
+  o.sport = sport_with("skill", kReader);
+  o.skills = {0.25, 0.75};
+  std::vector<std::string> text = said(o);
+  // A flat table has no heights.
+  EXPECT_SAID(text, "Blue's mallet: skill 0.25, reach height nil");
+  EXPECT_SAID(text, "Red's mallet: skill 0.75, reach height nil");
+  // At the desk, the mouse's player is a person.
+  runtime::Hand hand;
+  const Field field = lua::Sport(o.sport).field();
+  text = said(o, std::make_unique<runtime::HandPlayers>(field, o.skills, 1, 10.0, 0, hand));
+  EXPECT_SAID(text, "Blue's mallet: skill nil, reach height nil");
+  EXPECT_SAID(text, "Red's mallet: skill 0.75, reach height nil");
+}
+
+TEST(RulesRead, AReplayReadsTheSkillsItsRecordingRead) {
+  runtime::SessionOptions o;
+  o.sport = sport_with("skill_replay", kReader);
+  o.skills = {0.25, 0.75};
+  const fs::path recording = fs::temp_directory_path() / "quantum_rules_api_skill_recording";
+  fs::remove_all(recording);
+  o.record = recording.string();
+  const std::vector<std::string> played = said(o);
+  EXPECT_SAID(played, "Blue's mallet: skill 0.25, reach height nil");
+  runtime::SessionOptions again;
+  again.replay = recording.string();
+  EXPECT_EQ(said(again), played);
+}
+
+TEST(RulesRead, AJumpRaisesThePlayersReachHeightUntilItLands) {
+  // Maya reaches 2.4 m standing (rules/basketball/field.lua); she jumps 0.4 m for half a second.
+  const std::string folder = sport_with("reach_height", R"(
+local function heights(game, when)
+  game.say(string.format("%s: field %g, now %g", when, game.field().players[1].reach_height,
+                         game.players()[1].reach_height))
+end
+return {
+  on = {
+    drop = function(game, e)
+      heights(game, "standing")
+      game.jump("Maya", 0.4, 0.5)
+      heights(game, "jumping")
+      game.after(1, function(game) heights(game, "landed") end)
+    end,
+  },
+})", {}, QUANTUM_SOURCE_DIR "/rules/basketball");
+  runtime::SessionOptions o;
+  o.sport = folder;
+  const std::vector<std::string> text = said(o, nullptr, 70);
+  EXPECT_SAID(text, "standing: field 2.4, now 2.4");
+  EXPECT_SAID(text, "jumping: field 2.4, now 2.8");
+  EXPECT_SAID(text, "landed: field 2.4, now 2.4");
 }
 
 // Two proportions differ: z of the difference under the pooled proportion.

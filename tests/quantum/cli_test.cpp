@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
+#include <map>
 #include <cstdio>
 #include <algorithm>
 #include <cstdlib>
@@ -13,6 +15,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "field_loader.h"
+#include "scenes.h"
 #include "synthetic.h"
 
 namespace {
@@ -102,6 +106,69 @@ TEST(Cli, SameSeedSameLogWhateverTheThreads) {
   EXPECT_EQ(one.out, two.out);
   EXPECT_NE(one.out.find("\"type\":\"shot\""), std::string::npos) << "the players met the ball";
   EXPECT_NE(quantum(match + "--threads 3").status, 0);
+}
+
+// Every shipped sport: mallets strike, team players catch and throw on, a shooter shoots at
+// the hoop. The match runs to its end, its events lie on the field, and a team sport's ball is
+// played on after a catch (each catch is followed by a throw, bar one still in hand at the end).
+TEST(Cli, SimulateRunsEveryShippedSport) {
+  for (const char* sport : {"airhockey", "handball", "basketball", "keepaway", "practice"}) {
+    SCOPED_TRACE(sport);
+    const std::string folder = std::string(QUANTUM_SOURCE_DIR "/rules/") + sport;
+    quantum::Field field = quantum::lua::load_field(folder);
+    quantum::finish_field(field);
+    const std::string events = std::filesystem::temp_directory_path() / ("quantum_cli_simulate_" + std::string(sport));
+    const Outcome r = quantum("simulate " + folder + " --seconds 30 --seed 5 --events " + events);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(r.out.find("simulated 30 s of " + field.name), std::string::npos) << r.out;
+    std::istringstream lines(slurp(events));
+    std::string line;
+    std::map<std::string, int> count;
+    while (std::getline(lines, line)) {
+      const nlohmann::json j = nlohmann::json::parse(line);
+      ++count[j["type"].get<std::string>()];
+      if (j["type"] == "out") continue;  // the ball left the bounds: that is where it was
+      EXPECT_GE(j["x"].get<double>(), field.bounds_min.x) << line;
+      EXPECT_LE(j["x"].get<double>(), field.bounds_max.x) << line;
+      EXPECT_GE(j["y"].get<double>(), field.bounds_min.y) << line;
+      EXPECT_LE(j["y"].get<double>(), field.bounds_max.y) << line;
+    }
+    EXPECT_GT(count["drop"] + count["throw"], 0) << "the ball was put in play";
+    EXPECT_GT(count["hit"] + count["catch"], 0) << "the players met the ball";
+    if (field.catching()) {
+      EXPECT_NE(r.out.find(" catch " + std::to_string(count["catch"])), std::string::npos) << r.out;
+      EXPECT_GE(count["throw"], count["catch"] - 1) << "a caught ball is thrown on";
+    }
+  }
+}
+
+// The scripted players of `quantum simulate` keep to the field and under its speed limit, with
+// the velocity each reports the derivative of its path: checked every frame of a minute.
+TEST(SimulateScene, ScriptedPlayersStayOnEveryShippedFieldAndWithinItsSpeed) {
+  for (const char* sport : {"airhockey", "handball", "basketball", "keepaway", "practice"}) {
+    SCOPED_TRACE(sport);
+    quantum::Field field = quantum::lua::load_field(std::string(QUANTUM_SOURCE_DIR "/rules/") + sport);
+    quantum::finish_field(field);
+    const double dt = 1.0 / 600;
+    std::vector<quantum::BodyInput> before = quantum::tools::scripted_mallets(field, 0);
+    for (double t = dt; t < 60; t += dt) {
+      const std::vector<quantum::BodyInput> now = quantum::tools::scripted_mallets(field, t);
+      for (size_t k = 0; k < now.size(); ++k) {
+        const quantum::BodySpec& b = field.bodies[k];
+        const quantum::BodyInput& in = now[k];
+        ASSERT_GE(in.position.x - b.radius, field.bounds_min.x - 1e-4) << b.name << " at " << t;
+        ASSERT_LE(in.position.x + b.radius, field.bounds_max.x + 1e-4) << b.name << " at " << t;
+        ASSERT_GE(in.position.y - b.radius, field.bounds_min.y - 1e-4) << b.name << " at " << t;
+        ASSERT_LE(in.position.y + b.radius, field.bounds_max.y + 1e-4) << b.name << " at " << t;
+        ASSERT_LE(std::hypot(in.velocity.x, in.velocity.y), 0.5 * field.max_body_speed + 1e-4) << b.name << " at " << t;
+        const double vx = (in.position.x - before[k].position.x) / dt, vy = (in.position.y - before[k].position.y) / dt;
+        ASSERT_NEAR(vx, 0.5 * (in.velocity.x + before[k].velocity.x), 0.02) << b.name << " at " << t;
+        ASSERT_NEAR(vy, 0.5 * (in.velocity.y + before[k].velocity.y), 0.02) << b.name << " at " << t;
+      }
+      before = now;
+    }
+  }
 }
 
 TEST(Cli, SnapshotIsAPicture) {

@@ -65,10 +65,77 @@ describe("The scenario API", function()
     assert.are.same({ "Blue to serve" }, events[1].said)
   end)
 
+  it("reads each player's skill: none for the spec's own, the one its options give", function()
+    local s = quantum.scenario(SPORT)
+    assert.is_nil(s:players()[1].skill)
+    s = quantum.scenario(SPORT, { skills = { Red = 0.3 } })
+    assert.is_nil(s:players()[1].skill)
+    assert.are.equal(0.3, s:players()[2].skill)
+    has(error_of(function() quantum.scenario(SPORT, { skills = { Red = 1.5 } }) end), "Red's skill must be in [0, 1], got 1.5")
+    has(error_of(function() quantum.scenario(SPORT, { skills = { Redd = 0.5 } }) end), "did you mean 'Red'?")
+  end)
+
+  it("refuses a height, a vertical speed or a jump on a flat field", function()
+    local s = quantum.scenario(SPORT)
+    has(error_of(function() s:ball { x = 0, y = 0, z = 1 } end), "z, vz: ")
+    has(error_of(function() s:ball { x = 0, y = 0, vz = 1 } end), "is flat (no gravity): a ball has no height there")
+    has(error_of(function() s:jump("Red") end), "jumping needs a field with height")
+    assert.is_nil(s:players()[2].reach_height)
+  end)
+
   it("says which way to call a method or a function", function()
     local s = quantum.scenario(SPORT)
     has(error_of(function() s.run(1) end), "call it with a colon")
     has(error_of(function() quantum:scenario(SPORT) end), "call it with a dot")
     has(error_of(function() s:place("Green", 0, 0) end), "unknown player 'Green'")
+  end)
+end)
+
+describe("A ball and a jump with height", function()
+  local COURT = "rules/basketball"
+
+  it("drops a ball set above the floor, and leaves one on the floor at rest", function()
+    -- Far from every player (they stand around the basket), 3 m up: it falls and bounces.
+    local s = quantum.scenario(COURT)
+    s:ball { x = 6, y = 12, z = 3, count = 50 }
+    local bounce = s:run(1.0, "bounce")
+    assert.are.equal("bounce", bounce[#bounce].type)
+    assert.are.equal("floor", bounce[#bounce].actor)
+    -- By default the ball rests on the floor: nothing to hear.
+    s = quantum.scenario(COURT)
+    s:ball { x = 6, y = 12, count = 50 }
+    for _, e in ipairs(s:run(1.0)) do assert.are_not.equal("bounce", e.type) end
+  end)
+
+  it("throws a ball up with vz", function()
+    local s = quantum.scenario(COURT)
+    s:ball { x = 6, y = 12, z = 0.5, vz = 6, count = 50 }
+    -- Up 1.8 m and down again: the floor is met only after about 1.3 s.
+    for _, e in ipairs(s:run(1.0)) do assert.are_not.equal("bounce", e.type) end
+    local later = s:run(1.0, "bounce")
+    assert.are.equal("floor", later[#later].actor)
+  end)
+
+  it("refuses a height or a vertical speed out of range, naming it", function()
+    local s = quantum.scenario(COURT)
+    has(error_of(function() s:ball { x = 6, y = 12, z = -1 } end), "z: expected a height from 0.12 m (the ball on the floor) up, got -1")
+    has(error_of(function() s:ball { x = 6, y = 12, z = 0 / 0 } end), "nan")
+    has(error_of(function() s:ball { x = 6, y = 12, z = math.huge } end), "got inf")
+    has(error_of(function() s:ball { x = 6, y = 12, vz = 1e4 } end), "vz: expected a vertical speed in [-1000, 1000] m/s, got 10000")
+    has(error_of(function() s:ball { x = 6, y = 12, vz = 0 / 0 } end), "vz: ")
+    has(error_of(function() s:ball { x = 6, y = 12, z = "high" } end), "z: expected a number, got string")
+  end)
+
+  it("makes a player jump: its reach height rises, and falls back when it lands", function()
+    local s = quantum.scenario(COURT)
+    local standing = s:players()[1].reach_height
+    assert.are.equal(2.4, math.floor(standing * 100 + 0.5) / 100)   -- rules/basketball/field.lua
+    s:jump("Maya", 0.6, 0.5)
+    assert.is_true(math.abs(s:players()[1].reach_height - standing - 0.6) < 1e-5)
+    s:run(0.6)
+    assert.are.equal(standing, s:players()[1].reach_height)
+    has(error_of(function() s:jump("Maya", 4) end), "a jump's height must be in (0, 3] m")
+    has(error_of(function() s:jump("Maya", 0.5, 0 / 0) end), "a jump must last (0, 2] s")
+    has(error_of(function() s:jump("Mya") end), "did you mean 'Maya'?")
   end)
 end)
