@@ -269,9 +269,12 @@ void* Sandbox::alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
   // it (a concatenation, a table's rehash) pays the kernel to fault its fresh pages in, work no
   // hook sees (2.8 ms a megabyte on this project's virtual machines). Out of budget, or of time,
   // it fails, so a library function building something big (string.rep, table.concat) stops
-  // there instead of finishing. Small ones go on: the error message needs one.
+  // there instead of finishing; a block whose faults would take it past the budget is the budget
+  // spent. Its whole size counts: realloc may move it to fresh pages. Small ones go on: the error
+  // message needs one.
   if (new_size > old_size + kSmallAllocation && s->depth_ > 0) {
     s->instructions_ += int64_t((new_size - old_size) / kFaultedBytesPerInstruction);
+    if (!s->out_of_budget() && !s->in_time_for(new_size)) s->time_up();
     if (s->out_of_budget()) return nullptr;
   }
   ++memory.calls;
@@ -341,6 +344,12 @@ void Sandbox::time_up() { time_up_.store(true, std::memory_order_relaxed); }
 
 bool Sandbox::out_of_budget() const {
   return time_up_.load(std::memory_order_relaxed) || instructions_ >= limits_.instructions;
+}
+
+bool Sandbox::in_time_for(size_t bytes) const {
+  if (limits_.cpu_seconds <= 0) return true;
+  const double spent = period_cpu_ + seconds(thread_cpu_now()) - seconds(armed_at_);
+  return spent + double(bytes) * kFaultSecondsPerByte < limits_.cpu_seconds;
 }
 
 bool Sandbox::abandoned() const { return lane_state_.load(std::memory_order_acquire) == kAbandoned; }

@@ -233,8 +233,12 @@ class Sandbox {
   void set_hook_period(int period);
   bool arm(std::string* refused);  // false (and why) when the period's budget is spent
   void disarm();
-  void time_up();  // the watchdog's call, from its thread: raises the flag, nothing more
+  void time_up();  // raises the flag, nothing more: the watchdog's call (from its thread), and the allocator's
   bool out_of_budget() const;  // the time is up or the instructions counted (the hook raises it next)
+  // The period's CPU so far and the time to fault `bytes` in fit its budget (or it has no CPU
+  // limit): the instruction that fills a block cannot be interrupted, so one that would end past
+  // the budget is refused before it starts, never abandoned halfway.
+  bool in_time_for(size_t bytes) const;
   void new_environment(int cache);  // pushes a copy of the template, its module cache `cache`
 
   Limits limits_;
@@ -251,6 +255,10 @@ class Sandbox {
   // A large block's new bytes cost an instruction each, as whole-string functions' bytes do: an
   // instruction takes 1 to 2 ns, faulting a fresh byte in up to 2.8 ns.
   static constexpr size_t kFaultedBytesPerInstruction = 1;
+  // That count alone lets an 8 MB block through early in a frame, and its page faults (23 ms
+  // alone, 35 with a second process busy on the other core) run past the budget by the stuck
+  // window inside one instruction: so a block is also made only in time (in_time_for).
+  static constexpr double kFaultSecondsPerByte = 2.8e-9;
   int hook_count_ = kHookEvery;
   int64_t instructions_ = 0;
   int printed_ = 0;  // print lines this period
