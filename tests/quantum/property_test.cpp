@@ -132,6 +132,7 @@ TEST(Property, RealizedOutcomesFollowTheTweakedProbabilities) {
       case FateKind::OwnGoal: return "goal " + f.goals[fate.target].name + first;
       case FateKind::Out: return "out" + first;
       case FateKind::Field: return "none" + first;
+      case FateKind::Landing: return "landing" + first;  // none on a flat table
     }
     return "";
   };
