@@ -17,7 +17,6 @@ namespace {
 // for its array alone, and is refused by its count, not the budget).
 constexpr Limits kFieldLimits{64u << 20, 100'000'000, 1.0};
 
-// "3" of "walls[3]": an unnamed wall, spot or area is called by its number in the list.
 // The two corners { {x0, y0}, {x1, y1} } on top of the stack (bounds, a box area), popped.
 void read_corners(const Reader& r, const std::string& place, Vec2& low, Vec2& high) {
   lua_State* L = r.L;
@@ -30,6 +29,7 @@ void read_corners(const Reader& r, const std::string& place, Vec2& low, Vec2& hi
   lua_pop(L, 1);
 }
 
+// "3" of "walls[3]": an unnamed wall, spot or area is called by its number in the list.
 std::string number_of(const std::string& place) {
   const size_t open = place.find('[');
   return place.substr(open + 1, place.find(']') - open - 1);
@@ -144,7 +144,7 @@ Field read_field(Reader& r, int top) {
     area.team = r.string(a, "team", place, "", false);
     area.name = r.string(a, "name", place, "area " + number_of(place), false);
     if (r.field(a, "box")) {
-        if (r.field(a, "at") || r.field(a, "from") || r.field(a, "to") || r.field(a, "radius"))
+      if (r.field(a, "at") || r.field(a, "from") || r.field(a, "to") || r.field(a, "radius"))
         r.fail(place, "give either 'box' (a rectangle) or 'at' / 'from' and 'to' with 'radius'");
       read_corners(r, place + ".box", area.a, area.b);
       area.box = true;

@@ -305,7 +305,7 @@ void Sport::read_match(const Reader& r, int t) {
   seconds_ = r.number(m, "seconds", "match", seconds_, false);
   if (!(seconds_ > 0 && seconds_ <= 24 * 3600)) r.fail("match.seconds", "must be in (0, 86400]");
   stall_ = r.number(m, "stall", "match", stall_, false);
-  if (!(stall_ >= 1 && stall_ <= 3600))
+  if (!(stall_ >= game::kLeastStall && stall_ <= game::kMostStall))
     r.fail("match.stall", "must be a number of seconds in [1, 3600] (how long a match may go without play), got " +
                               (std::ostringstream() << stall_).str());
   if (r.field(m, "start")) {

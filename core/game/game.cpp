@@ -83,7 +83,7 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
     throw std::invalid_argument("automatic balance: per goal must be in [0, 10] and the most >= 1");
   if (!(config.throw_speed > 0 && config.throw_speed <= 1000))
     throw std::invalid_argument("a throw's speed must be in (0, 1000] m/s");
-  if (!(config.stall >= 1 && config.stall <= 3600))
+  if (!(config.stall >= kLeastStall && config.stall <= kMostStall))
     throw std::invalid_argument("a match's stall bound must be in [1, 3600] s, got " +
                                 (std::ostringstream() << config.stall).str());
   if (!(config.throw_spread.direction >= 0 && config.throw_spread.direction <= 1.6f && config.throw_spread.speed >= 0 &&

@@ -129,6 +129,9 @@ inline BoundedFactor bounded_factor(double v) {
 // What one award may add to a score (or take from it, below 0).
 inline constexpr double kMostAward = 1000;
 
+// The stall bound (MatchConfig::stall, a sport's match.stall): at least a second, at most an hour.
+inline constexpr double kLeastStall = 1, kMostStall = 3600;
+
 struct MatchConfig {
   uint32_t particles = 1000;
   uint64_t seed = 1;
@@ -146,7 +149,8 @@ struct MatchConfig {
   double throw_speed = 10;
   ThrowSpread throw_spread;
   // Seconds a match may go without play (counts_as_play) before the rules hear `stalled`; when
-  // they do nothing about it, the match restarts play itself (see Match::step). In [1, 3600].
+  // they do nothing about it, the match restarts play itself (see Match::step). In
+  // [kLeastStall, kMostStall].
   double stall = 20;
 };
 
