@@ -40,13 +40,14 @@ Field read_field(Reader& r, int top) {
   Field f;
   r.only_keys(top, "field",
               {"name", "ball", "brownian", "max_body_speed", "walls", "goals", "spots", "bodies", "areas", "bounds",
-               "gravity", "ceiling", "hoops", "boards", "landings"});
+               "gravity", "ceiling", "hoops", "boards", "landings", "rehit"});
   f.name = r.string(top, "name", "field", "unnamed field", false);
   f.brownian = r.number(top, "brownian", "field", f.brownian, false);
   f.max_body_speed = r.number(top, "max_body_speed", "field", f.max_body_speed, false);
   f.gravity = r.number(top, "gravity", "field", f.gravity, false);
   f.ceiling = r.number(top, "ceiling", "field", f.ceiling, false);
   f.landings = r.boolean(top, "landings", "field", false);
+  f.rehit = to_float(r.number(top, "rehit", "field", f.rehit, false));
   if (r.field(top, "ball")) {
     r.expect(LUA_TTABLE, "ball");
     const int b = lua_gettop(L);
@@ -126,13 +127,14 @@ Field read_field(Reader& r, int top) {
     f.spots.push_back(spot);
   });
   r.array(top, "bodies", "", limits::kMaxBodies, [&](int b, const std::string& place) {
-    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "role", "track", "reach"});
+    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "hits", "role", "track", "reach"});
     BodySpec body;
     body.team = r.string(b, "team", place, "", true);
     body.name = r.string(b, "name", place, body.team + " body", false);
     body.radius = r.number(b, "radius", place, 0, true);
     body.start = r.point_at(b, "at", place);
     body.catches = r.boolean(b, "catches", place, false);
+    body.hits = r.boolean(b, "hits", place, false);
     body.role = r.string(b, "role", place, "", false);
     body.track = r.string(b, "track", place, "", false);
     body.reach = to_float(r.number(b, "reach", place, 0, false));

@@ -140,6 +140,8 @@ void push_field(lua_State* L, const Field& f) {
     if (f.has_height()) set(L, "reach_height", f.reach_of(int(&b - f.bodies.data())));
     lua_pushboolean(L, b.catches);
     raw_set(L, "catches");
+    lua_pushboolean(L, b.hits);
+    raw_set(L, "hits");
   });
   push_strings(L, f.wall_names);
   raw_set(L, "walls");

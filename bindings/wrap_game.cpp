@@ -227,6 +227,38 @@ ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to
   throw ArgError(unknown_key(name, names, "player, goal or spot"));
 }
 
+// A throw's or a hit's options (argument `arg`, a table or nil): speed (the sport's throw speed by
+// default), spread and speed_spread (the sport's `throws`), elevation (NaN: none given) and
+// elevation_spread.
+struct Launch {
+  double speed, elevation;
+  ThrowSpread spread;
+};
+
+Launch launch_options(lua_State* L, const game::Match& m, int arg) {
+  if (!lua_isnoneornil(L, arg)) check_table(L, arg);
+  const game::MatchConfig& c = m.config();
+  double speed = c.throw_speed, degrees = c.throw_spread.direction / kRadiansPerDegree, share = c.throw_spread.speed;
+  double up_spread = c.throw_spread.elevation / kRadiansPerDegree, elevation = NAN;
+  if (lua_istable(L, arg)) {
+    const Reader r(L);
+    const std::string place = "argument " + std::to_string(script_arg(L, arg));
+    r.only_keys(arg, place, {"speed", "spread", "speed_spread", "elevation", "elevation_spread"});
+    speed = r.number(arg, "speed", place, speed, false);
+    degrees = r.number(arg, "spread", place, degrees, false);
+    share = r.number(arg, "speed_spread", place, share, false);
+    elevation = r.number(arg, "elevation", place, elevation, false);
+    up_spread = r.number(arg, "elevation_spread", place, up_spread, false);
+  }
+  if (!(speed > 0 && speed <= 1000)) throw ArgError("speed must be in (0, 1000] m/s");
+  if (!(degrees >= 0 && degrees <= 90)) throw ArgError("spread must be in [0, 90] degrees");
+  if (!(share >= 0 && share <= 1)) throw ArgError("speed_spread must be in [0, 1]");
+  if (!(up_spread >= 0 && up_spread <= 90)) throw ArgError("elevation_spread must be in [0, 90] degrees");
+  if (!std::isnan(elevation) && !(elevation > 0 && elevation < 90)) throw ArgError("elevation must be in (0, 90) degrees");
+  if (!std::isnan(elevation) && !m.field().has_height()) throw ArgError("elevation needs a field with height (gravity)");
+  return {speed, elevation, {float(degrees * kRadiansPerDegree), float(share), float(up_spread * kRadiansPerDegree)}};
+}
+
 // game.throw(player, to [, {speed =, spread =, speed_spread =, elevation =, elevation_spread =}]):
 // the player, who holds the ball, throws it at `to` (see throw_target) at `speed` m/s (the
 // sport's by default; a velocity gives its own), scattered by `spread` degrees of direction and
@@ -238,28 +270,11 @@ int throw_ball(lua_State* L) {
   game::Match& m = acting(L);
   const Field& f = m.field();
   const int player = player_index(m, check_string(L, 1));
-  if (!lua_isnoneornil(L, 3)) check_table(L, 3);
-  const game::MatchConfig& c = m.config();
-  double speed = c.throw_speed, degrees = c.throw_spread.direction / kRadiansPerDegree, share = c.throw_spread.speed;
-  double up_spread = c.throw_spread.elevation / kRadiansPerDegree, elevation = NAN;
-  if (lua_istable(L, 3)) {
-    const Reader r(L);
-    r.only_keys(3, "argument 3", {"speed", "spread", "speed_spread", "elevation", "elevation_spread"});
-    speed = r.number(3, "speed", "argument 3", speed, false);
-    degrees = r.number(3, "spread", "argument 3", degrees, false);
-    share = r.number(3, "speed_spread", "argument 3", share, false);
-    elevation = r.number(3, "elevation", "argument 3", elevation, false);
-    up_spread = r.number(3, "elevation_spread", "argument 3", up_spread, false);
-  }
-  if (!(speed > 0 && speed <= 1000)) throw ArgError("speed must be in (0, 1000] m/s");
-  if (!(degrees >= 0 && degrees <= 90)) throw ArgError("spread must be in [0, 90] degrees");
-  if (!(share >= 0 && share <= 1)) throw ArgError("speed_spread must be in [0, 1]");
-  if (!(up_spread >= 0 && up_spread <= 90)) throw ArgError("elevation_spread must be in [0, 90] degrees");
-  if (!std::isnan(elevation) && !(elevation > 0 && elevation < 90)) throw ArgError("elevation must be in (0, 90) degrees");
-  if (!std::isnan(elevation) && !f.has_height()) throw ArgError("elevation needs a field with height (gravity)");
+  Launch launch = launch_options(L, m, 3);
+  double& elevation = launch.elevation;
+  const double speed = launch.speed;
   if (lua_isnoneornil(L, 2)) throw ArgError("argument 2: expected where to throw");
   const ThrowTarget to = throw_target(L, m, player, 2, speed);
-  const ThrowSpread spread{float(degrees * kRadiansPerDegree), float(share), float(up_spread * kRadiansPerDegree)};
   Vec3 velocity = to.v;
   if (!to.velocity) {
     const Vec2 p = m.players()[size_t(player)].position;
@@ -279,7 +294,27 @@ int throw_ball(lua_State* L) {
         throw ArgError("no throw at " + std::to_string(elevation) + " degrees reaches that point: throw higher");
     }
   }
-  m.throw_ball(player, velocity, spread);
+  m.throw_ball(player, velocity, launch.spread);
+  return 0;
+}
+
+// game.hit(player [, to [, {speed =, spread =, ...}]]): the player, who hits (field.lua: hits =
+// true), sends the ball it next meets toward `to` (a velocity {vx, vy [, vz]}, a point, a
+// player's hands, a goal or a spot, as game.throw's), from wherever it meets it, with game.throw's
+// options; without `to`, off its own motion (a swing nobody planned). One touch uses the plan up.
+int hit(lua_State* L) {
+  game::Match& m = acting(L);
+  const int player = player_index(m, check_string(L, 1));
+  const Launch launch = launch_options(L, m, 3);
+  HitPlan plan;
+  plan.spread = launch.spread;
+  if (!lua_isnoneornil(L, 2)) {
+    const ThrowTarget to = throw_target(L, m, player, 2, launch.speed);
+    plan.kind = to.velocity ? HitPlan::Kind::Velocity : HitPlan::Kind::Point;
+    plan.velocity = to.v, plan.point = to.point, plan.speed = float(launch.speed);
+    plan.elevation = std::isnan(launch.elevation) ? 0 : float(launch.elevation * kRadiansPerDegree);
+  }
+  m.plan_hit(player, plan);
   return 0;
 }
 
@@ -390,7 +425,7 @@ void push_game_api(lua_State* L, Sport* sport) {
                {"cancel", guard<cancel>},     {"turn", guard<turn>},         {"aim", guard<aim>},
                {"score", guard<score>},       {"time", guard<time>},         {"length", guard<length>},         {"teams", guard<teams>},
                {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
-               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>}, {"jump", guard<jump>},
+               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>}, {"hit", guard<hit>}, {"jump", guard<jump>},
                {"holder", guard<holder>},     {"area", guard<area>},         {"field", guard<field>}},
               sport);
 }

@@ -355,6 +355,22 @@ int throw_ball(lua_State* L) {
   return 0;
 }
 
+// s:hit(player, vx, vy [, vz]): the player, who hits, sends the ball it next meets at that
+// velocity, as a swing its accelerometer felt (the sport's spread scatters it); s:hit(player)
+// sends it off the player's motion.
+int hit(lua_State* L) {
+  Scenario& s = self(L);
+  const int k = body_index(s, check_string(L, 2));
+  HitPlan plan;
+  plan.spread = s.match().config().throw_spread;
+  if (!lua_isnoneornil(L, 3)) {
+    plan.kind = HitPlan::Kind::Velocity;
+    plan.velocity = {to_float(check_number(L, 3)), to_float(check_number(L, 4)), to_float(opt_number(L, 5, 0))};
+  }
+  s.match().plan_hit(k, plan);
+  return 0;
+}
+
 // s:jump(player [, height [, seconds]]): as game.jump, from the spec (a field with height).
 int jump(lua_State* L) {
   Scenario& s = self(L);
@@ -463,7 +479,8 @@ void open_scenario(lua_State* L) {
                  {"run", guard<run>},       {"grant", guard<grant>},   {"events", guard<events>},
                  {"said", guard<said>},     {"errors", guard<errors>}, {"fates", guard<fates>},
                  {"players", guard<players>}, {"score", guard<score>}, {"time", guard<time>},
-                 {"give", guard<give>},     {"throw", guard<throw_ball>}, {"holder", guard<holder>},
+                 {"give", guard<give>},     {"throw", guard<throw_ball>}, {"hit", guard<hit>},
+                 {"holder", guard<holder>},
                  {"jump", guard<jump>}},
                 gc);
   push_module(L, "quantum", {{"scenario", guard<scenario>}, {"chi_square_p", guard<chi_square_p>}}, nullptr);

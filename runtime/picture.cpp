@@ -119,7 +119,8 @@ cv::Scalar Picture::fate_colour(const Fate& f, size_t rank) const {
     case FateKind::Body:
     case FateKind::Catch:
     case FateKind::Pass:
-    case FateKind::Intercept: c = team_colour(field_.bodies[f.target].team); break;
+    case FateKind::Intercept:
+    case FateKind::Hit: c = team_colour(field_.bodies[f.target].team); break;
     case FateKind::Out: c = kOut; break;
     case FateKind::Field: c = kStays; break;
     case FateKind::Landing: c = f.target >= 0 ? team_colour(field_.areas[f.target].team) : kOut; break;

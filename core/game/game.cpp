@@ -18,7 +18,7 @@ namespace {
 
 constexpr std::array<const char*, kEventKinds> kEventNames = {
     "drop", "shot", "intercept", "retouch", "bounce", "goal", "own_goal", "out", "dead", "time_up", "match_end",
-    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "stalled", "loose", "landing"};
+    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "stalled", "loose", "landing", "hit"};
 
 }  // namespace
 
@@ -214,6 +214,11 @@ void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread) 
   handle(e);
   // The new flight's fates, so the next draw is already tweaked.
   if (world_.live()) retweak();
+}
+
+void Match::plan_hit(int k, const HitPlan& plan) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  world_.plan_hit(k, plan);
 }
 
 void Match::gained(int k) {
@@ -446,6 +451,15 @@ void Match::handle(const Event& e) {
   switch (e.type) {
     case EventType::Drop: type = EventKind::Drop; break;
     case EventType::Hit: {
+      if (f.bodies[e.actor].hits) {  // one touch, sent on at once: no swing to fold into it
+        type = EventKind::Hit;
+        previous_toucher_ = last_toucher_;
+        last_toucher_ = e.actor;
+        last_touch_t_ = e.t;
+        ++rally_contacts_;
+        gained(e.actor);
+        break;
+      }
       const bool other_team = last_toucher_ >= 0 && f.bodies[last_toucher_].team != f.bodies[e.actor].team;
       // A swing goes on through the puck and may meet it again a few frames later: that is the
       // same touch, not a new shot.

@@ -29,11 +29,12 @@ namespace quantum::game {
 // Stalled: nothing was played for the sport's bound (MatchConfig::stall; see counts_as_play);
 // Loose: the ball in play slowed below kLooseSpeed and lies loose where the event says.
 // On a field of landings, Landing: the ball came down on the floor (actor: the area it is in).
+// Hit: a player who hits (field.lua: hits = true) touched the ball and sent it on.
 enum class EventKind : uint8_t {
   Drop, Shot, Intercept, Retouch, Bounce, Goal, OwnGoal, Out, Dead, TimeUp, MatchEnd, Powerup, PowerupEnd,
-  Paused, Resumed, Catch, Pass, Throw, Give, Stalled, Loose, Landing,
+  Paused, Resumed, Catch, Pass, Throw, Give, Stalled, Loose, Landing, Hit,
 };
-constexpr int kEventKinds = int(EventKind::Landing) + 1;
+constexpr int kEventKinds = int(EventKind::Hit) + 1;
 const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "time_up", "powerup_end", ...
 // The kind named `name`, or none.
 std::optional<EventKind> event_kind(std::string_view name);
@@ -173,7 +174,7 @@ struct ActivePowerup {
 
 struct RallyStats {
   int rallies = 0;      // balls dropped that ended (goal, own goal, out or dead)
-  int contacts = 0;     // shots, intercepts and catches within those rallies
+  int contacts = 0;     // shots, intercepts, catches and hits within those rallies
   int goals = 0;
   int passes = 0;       // catches by a teammate of the thrower
   int possessions = 0;  // times a team gained the ball (a catch, intercept or give after the other team had it)
@@ -233,6 +234,10 @@ class Match {
   // sport's when none): a `throw` event is told. Throws std::invalid_argument when k does not
   // hold the ball, or for a bad velocity or spread.
   void throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread = std::nullopt);
+  // How player k, who hits (field.lua: hits = true), sends on the ball it next meets (see
+  // World::plan_hit): a rule's aim, a simulated player's choice. Throws std::invalid_argument
+  // for what the world refuses.
+  void plan_hit(int k, const HitPlan& plan);
   void finish(const std::string& winner);  // "" for a draw
   // Sets player k's own handicap (> 0) from now on: a sport's rules may change it during a match.
   void set_handicap(int k, double handicap);

@@ -17,6 +17,7 @@ struct BodyMotion {
   Vec2 velocity;  // the tracked velocity, handed to the ball on contact
   float radius;
   float top = 0;  // fields with height: how high the body reaches (its reach, raised by a jump)
+  bool passes = false;  // the ball passes through it this step (a hitter right after its hit)
 };
 
 struct StepContext {

@@ -321,6 +321,7 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
   if (!with_bodies) return best;
   for (int k = 0; k < n_bodies; ++k) {
     const BodyPath& b = bodies[k];
+    if (b.passes) continue;
     // Cull by the box the body sweeps over the interval, grown by its radius.
     const float cx0 = body_x(b, t0), cx1 = body_x(b, t1), cy0 = body_y(b, t0), cy1 = body_y(b, t1);
     if (std::max(cx0, cx1) + b.radius < bx0 || std::min(cx0, cx1) - b.radius > bx1 ||
@@ -460,6 +461,7 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
   }
   for (int k = 0; k < n_bodies; ++k) {
     const BodyPath body = bodies[k];
+    if (body.passes) continue;
     const int32_t c = hit_code(HitKind::Body, k);
     // As for end points: the pre-pass marks the paths that can come within reach of the body
     // while it moves or once it rests, and only those take body_time's two exact tests.
@@ -484,6 +486,7 @@ Outcome settle(const Geometry& g, const BodyPath* bodies, int n_bodies, float t,
     bool moved = false;
     if (push_from_bodies) {
       for (int k = 0; k < n_bodies; ++k) {
+        if (bodies[k].passes) continue;
         const Vec2 c = body_position(bodies[k], t);
         const float hx = m.x - c.x, hy = m.y - c.y, l = norm(hx, hy), reach = bodies[k].radius + r;
         if (l >= reach - kTolerance) continue;
@@ -506,6 +509,7 @@ Outcome settle(const Geometry& g, const BodyPath* bodies, int n_bodies, float t,
     }
     if (!moved) {
       for (int k = 0; k < n_bodies; ++k) {
+        if (bodies[k].passes) continue;
         const Vec2 c = body_position(bodies[k], t);
         if (norm(m.x - c.x, m.y - c.y) < bodies[k].radius + r - kTolerance)
           return push_from_bodies ? Outcome{HitKind::Crushed, k} : Outcome{HitKind::Body, k};

@@ -83,6 +83,7 @@ struct BodyPath {
   float vx, vy;  // velocity given to the ball on contact while moving
   float radius;
   float top = kInf;  // fields with height: how high the body reaches
+  bool passes = false;  // the ball passes through it (BodyMotion::passes): searches skip it
 };
 
 [[gnu::always_inline]] inline float body_x(const BodyPath& b, float t) { return b.x + b.ux * std::min(t, b.stop); }

@@ -28,7 +28,7 @@ class FastBackend final : public Backend {
     for (int k = 0; k < nb; ++k) {
       const BodyMotion& b = ctx.bodies[k];
       const float ux = (b.to.x - b.from.x) / ctx.dt, uy = (b.to.y - b.from.y) / ctx.dt;
-      paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius};
+      paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius, detail::kInf, b.passes};
       // Anything a particle can do within a step stays within its own travel of where it started:
       // beyond this distance of the body's sweep (plus that travel) no bounce can bring it in.
       const float sweep = std::hypot(b.to.x - b.from.x, b.to.y - b.from.y);

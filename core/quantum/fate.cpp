@@ -268,6 +268,7 @@ const char* to_string(FateKind kind) {
     case FateKind::Pass: return "pass";
     case FateKind::Intercept: return "intercept";
     case FateKind::Landing: return "landing";
+    case FateKind::Hit: return "hit";
   }
   return "?";
 }
@@ -305,6 +306,7 @@ std::string describe(const Fate& f, const Field& field) {
     case FateKind::Catch: s = "caught by " + field.bodies[f.target].name; break;
     case FateKind::Pass: s = "pass to " + field.bodies[f.target].name; break;
     case FateKind::Intercept: s = "intercepted by " + field.bodies[f.target].name; break;
+    case FateKind::Hit: s = "hit by " + field.bodies[f.target].name; break;
     case FateKind::Out: s = "out"; break;
     case FateKind::Field: s = "stays in field"; break;
     case FateKind::Landing:
@@ -336,6 +338,7 @@ std::vector<double> factors_by_kind(const FateReport& report, const KindFactors&
       case FateKind::Catch:
       case FateKind::Pass:
       case FateKind::Intercept: out.push_back(k.catches); break;
+      case FateKind::Hit: out.push_back(k.hits); break;
     }
   }
   return out;
@@ -355,7 +358,10 @@ void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
   const float sweep = stop > 0 ? config_.body_lookahead / stop : 1.0f;
   for (size_t k = 0; k < bodies.size(); ++k) {
     const Vec2 p = body_pos_[k], v = body_vel_[k];
-    bodies[k] = {p.x, p.y, v.x * sweep, v.y * sweep, stop, v.x, v.y, field_.bodies[k].radius, body_top_[k]};
+    // A hitter the ball passes through now is taken to let it pass all the horizon: the window is
+    // a fraction of a second, and the next frames' predictions see it close.
+    bodies[k] = {p.x, p.y, v.x * sweep, v.y * sweep, stop, v.x, v.y, field_.bodies[k].radius, body_top_[k],
+                 passes_now(int(k))};
   }
 }
 
@@ -363,7 +369,9 @@ void World::endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) 
   own_goals(own);
   body_kind.resize(field_.bodies.size());
   for (size_t k = 0; k < body_kind.size(); ++k)
-    body_kind[k] = uint8_t(field_.bodies[k].catches ? catch_kind(field_, last_touch_, int(k)) : FateKind::Body);
+    body_kind[k] = uint8_t(field_.bodies[k].catches ? catch_kind(field_, last_touch_, int(k))
+                           : field_.bodies[k].hits ? FateKind::Hit
+                                                   : FateKind::Body);
 }
 
 std::vector<Vec3> World::predict_path(size_t i, float horizon) const {

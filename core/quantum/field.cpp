@@ -84,6 +84,10 @@ bool Field::catching() const {
   return std::any_of(bodies.begin(), bodies.end(), [](const BodySpec& b) { return b.catches; });
 }
 
+bool Field::hitting() const {
+  return std::any_of(bodies.begin(), bodies.end(), [](const BodySpec& b) { return b.hits; });
+}
+
 bool Area::contains(Vec2 p) const {
   if (box) return p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y;
   const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
@@ -212,7 +216,10 @@ void finish_field(Field& f) {
     const std::string place = "bodies[" + std::to_string(i + 1) + "] (" + f.bodies[i].name + ")";
     check_point(f.bodies[i].start, place);
     check_range(f.bodies[i].radius, 1e-3f, 10.0f, place + ".radius");
+    if (f.bodies[i].catches && f.bodies[i].hits)
+      throw FieldError(place, "a body either catches or hits the ball, not both (one touch holds it, the other sends it on)");
   }
+  check_range(f.rehit, 0.0f, 10.0f, "rehit");
   for (size_t i = 0; i < f.bodies.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if ((!f.bodies[i].track.empty() || !f.bodies[j].track.empty()) && f.bodies[i].tracked_as() == f.bodies[j].tracked_as())

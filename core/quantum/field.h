@@ -58,12 +58,16 @@ struct Spot {
 };
 
 // A circle moved every frame from input: a mallet, or a player seen from above. A body that
-// catches holds the ball it meets (its radius is the player's reach) instead of striking it.
+// catches holds the ball it meets (its radius is the player's reach) instead of striking it. A
+// body that hits redirects it at once without holding it (a dig, a header): the ball leaves as
+// the body's planned hit says (World::plan_hit) or else off its motion as off a mallet, and the
+// ball passes through the hitter for Field::rehit seconds afterwards.
 struct BodySpec {
   std::string name, team;
   float radius = 0;
   Vec2 start;
   bool catches = false;
+  bool hits = false;  // never both: a touch either holds the ball or sends it on
   std::string role;   // the sport's word for the player's part ("goalkeeper"); the core ignores it
   std::string track;  // the tracking id that moves this body ("blue 1" for a hat); "" for its name
   // Fields with height: the body is a vertical cylinder up to this height (m), the highest its
@@ -114,6 +118,9 @@ struct Field {
   // With height: every audible touch of the floor is a landing, a fate and a decision of its own
   // with the area it lands in (a volleyball court), not a bounce the flight goes on from.
   bool landings = false;
+  // s: after a body that hits has hit the ball, the ball passes through it this long (one
+  // swing is one touch; the hitter may touch the ball again once it is gone).
+  float rehit = 0.3f;
   int floor_wall = -1, ceiling_wall = -1;  // set by finish_field()
   std::vector<Board> boards;
   std::vector<std::string> wall_names;
@@ -132,6 +139,8 @@ struct Field {
   std::vector<std::string> teams() const;
   // Whether any body catches: a sport of holding, throwing and catching.
   bool catching() const;
+  // Whether any body hits: a sport of touches that send the ball on (volleyball).
+  bool hitting() const;
   // The first area containing p, or -1.
   int area_at(Vec2 p) const;
   bool has_height() const { return gravity > 0; }

@@ -380,6 +380,7 @@ bodies:
   if (!with_bodies) return;
   for (int k = 0; k < n_bodies; ++k) {
     const BodyPath body = bodies[k];
+    if (body.passes) continue;
     const float reach = body.radius + r, over = body.top + r;
     const int32_t c = hit_code(HitKind::Body, k);
     // Cull by the box the body sweeps, grown by its radius, as the flat search does; a body clear

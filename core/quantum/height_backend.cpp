@@ -68,7 +68,7 @@ class HeightBackend final : public Backend {
     for (int k = 0; k < nb; ++k) {
       const BodyMotion& b = ctx.bodies[k];
       const float ux = (b.to.x - b.from.x) / ctx.dt, uy = (b.to.y - b.from.y) / ctx.dt;
-      paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius, b.top};
+      paths_[k] = {b.from.x, b.from.y, ux, uy, ctx.dt, b.velocity.x, b.velocity.y, b.radius, b.top, b.passes};
       const float reach = b.radius + g.r + kMargin;
       near_[k] = {detail::body_sweep(b, g.r),
                   {std::min(b.from.x, b.to.x) - reach, std::min(b.from.y, b.to.y) - reach, -kInf,

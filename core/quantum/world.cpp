@@ -76,6 +76,8 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
   for (const BodySpec& b : field_.bodies) body_pos_.push_back(b.start), body_vel_.push_back({0, 0});
   for (size_t k = 0; k < nb; ++k) body_top_.push_back(tall ? field_.reach_of(int(k)) : detail::kInf);
   motion_.resize(nb);
+  pass_until_.assign(nb, -1);
+  planned_.resize(nb);
   purgatory_.resize(config_.purgatory_frames);
   for (PurgatorySlot& slot : purgatory_)
     slot.touched.reserve(config_.particles, tall), slot.body.reserve(config_.particles);
@@ -165,9 +167,7 @@ void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Eve
   const bool tall = field_.has_height();
   if (const std::string fault = throw_fault(velocity, tall); !fault.empty()) throw std::invalid_argument(fault);
   const float flat = std::hypot(velocity.x, velocity.y);
-  if (!(spread.direction >= 0 && spread.direction <= 1.6f && spread.speed >= 0 && spread.speed <= 1 &&
-        spread.elevation >= 0 && spread.elevation <= 1.6f))
-    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and elevation and [0, 1] of speed");
+  check_spread(spread);
   // Straight up, the ball leaves the hand on the side facing the field's middle.
   const Vec2 middle{0.5f * (field_.bounds_min.x + field_.bounds_max.x), 0.5f * (field_.bounds_min.y + field_.bounds_max.y)};
   const Vec2 p = body_pos_[size_t(body)];
@@ -177,12 +177,8 @@ void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Eve
                                          : Vec2{1, 0};
   const Vec2 at = release_point(body, direction);
   cloud_.clear();
-  if (tall) {
-    const float hand = std::min(body_top_[size_t(body)], internals_->sky.ceiling - 1e-3f);
-    release_arc({at.x, at.y, hand}, velocity, spread);
-  } else {
-    release_flat(at, {velocity.x, velocity.y}, spread);
-  }
+  const float hand = tall ? std::min(body_top_[size_t(body)], internals_->sky.ceiling - 1e-3f) : 0;
+  release_at({at.x, at.y, hand}, velocity, spread);
   cloud_.normalize();
   clear_purgatory();
   live_ = true;
@@ -192,32 +188,37 @@ void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Eve
   events.push_back({time_, EventType::Throw, body, 1, 1, config_.particles, at, {velocity.x, velocity.y}});
 }
 
-void World::release_flat(Vec2 at, Vec2 velocity, ThrowSpread spread) {
-  const float speed = std::hypot(velocity.x, velocity.y), heading = std::atan2(velocity.y, velocity.x);
-  for (uint32_t i = 0; i < config_.particles; ++i) {
-    // Box-Muller: two standard normal numbers from two uniform ones.
-    const double radius = std::sqrt(-2 * std::log(1 - rng_.uniform())), angle = 2 * std::numbers::pi * rng_.uniform();
-    const float a = heading + spread.direction * float(radius * std::cos(angle));
-    // A throw never turns back on itself: the slowest particles keep a twentieth of its speed.
-    const float s = speed * std::max(0.05f, 1 + spread.speed * float(radius * std::sin(angle)));
-    cloud_.push(at.x, at.y, s * std::cos(a), s * std::sin(a), 1, 1);
-  }
+World::Launch World::launch_of(Vec3 velocity) {
+  const float flat = std::hypot(velocity.x, velocity.y);
+  return {std::hypot(flat, velocity.z), std::atan2(velocity.y, velocity.x), std::atan2(velocity.z, flat)};
 }
 
-void World::release_arc(Vec3 at, Vec3 velocity, ThrowSpread spread) {
-  const float flat = std::hypot(velocity.x, velocity.y), speed = std::hypot(flat, velocity.z);
-  const float heading = std::atan2(velocity.y, velocity.x), elevation = std::atan2(velocity.z, flat);
+// Box-Muller: two standard normal numbers from two uniform ones. A flat launch scatters by one
+// pair (direction, speed), one with height by two (and elevation).
+Vec3 World::scattered(const Launch& l, ThrowSpread spread) {
   auto normal_pair = [&](float& a, float& b) {
     const double radius = std::sqrt(-2 * std::log(1 - rng_.uniform())), angle = 2 * std::numbers::pi * rng_.uniform();
     a = float(radius * std::cos(angle)), b = float(radius * std::sin(angle));
   };
+  float n1, n2;
+  normal_pair(n1, n2);
+  const float h = l.heading + spread.direction * n1;
+  // A launch never turns back on itself: the slowest particles keep a twentieth of its speed.
+  const float s = l.speed * std::max(0.05f, 1 + spread.speed * n2);
+  if (!field_.has_height()) return {s * std::cos(h), s * std::sin(h), 0};
+  float n3, unused;
+  normal_pair(n3, unused);
+  const float e = l.elevation + spread.elevation * n3;
+  return {s * std::cos(e) * std::cos(h), s * std::cos(e) * std::sin(h), s * std::sin(e)};
+}
+
+void World::release_at(Vec3 at, Vec3 velocity, ThrowSpread spread) {
+  const Launch l = launch_of(velocity);
+  const bool tall = field_.has_height();
   for (uint32_t i = 0; i < config_.particles; ++i) {
-    float n1, n2, n3, unused;
-    normal_pair(n1, n2);
-    normal_pair(n3, unused);
-    const float h = heading + spread.direction * n1, e = elevation + spread.elevation * n3;
-    const float s = speed * std::max(0.05f, 1 + spread.speed * n2);
-    cloud_.push(at, {s * std::cos(e) * std::cos(h), s * std::cos(e) * std::sin(h), s * std::sin(e)}, 1, 1);
+    const Vec3 v = scattered(l, spread);
+    if (tall) cloud_.push(at, v, 1, 1);
+    else cloud_.push(at.x, at.y, v.x, v.y, 1, 1);
   }
 }
 
@@ -268,6 +269,12 @@ BodyFault body_fault(const Field& field, const BodyInput& in) {
   return BodyFault::None;
 }
 
+void check_spread(ThrowSpread spread) {
+  if (!(spread.direction >= 0 && spread.direction <= 1.6f && spread.speed >= 0 && spread.speed <= 1 &&
+        spread.elevation >= 0 && spread.elevation <= 1.6f))
+    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and elevation and [0, 1] of speed");
+}
+
 std::string throw_fault(Vec3 velocity, bool tall) {
   const float flat = std::hypot(velocity.x, velocity.y), speed = std::hypot(flat, velocity.z);
   if (!(std::isfinite(speed) && speed > 0 && speed <= 1000))
@@ -303,7 +310,7 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   check_input(dt, input);
   const int nb = int(field_.bodies.size());
   for (int k = 0; k < nb; ++k)
-    motion_[k] = {body_pos_[k], input[k].position, input[k].velocity, field_.bodies[k].radius, body_top_[k]};
+    motion_[k] = {body_pos_[k], input[k].position, input[k].velocity, field_.bodies[k].radius, body_top_[k], passes_now(k)};
   ++step_;
   time_ += dt;
   last_dt_ = dt;
@@ -367,6 +374,63 @@ void World::set_reach(int body, float height) {
   if (!(height > 0 && height <= 100)) throw std::invalid_argument("a reach must be in (0, 100] m");
   body_top_[size_t(body)] = height;
   ++version_;
+}
+
+void World::plan_hit(int body, const HitPlan& plan) {
+  if (body < 0 || body >= int(field_.bodies.size()))
+    throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
+                                std::to_string(field_.bodies.size()) + ")");
+  const std::string who = field_.bodies[body].name;
+  if (!field_.bodies[body].hits) throw std::invalid_argument(who + " does not hit the ball: its field body does not hit");
+  const bool tall = field_.has_height();
+  switch (plan.kind) {
+    case HitPlan::Kind::Motion: break;
+    case HitPlan::Kind::Velocity:
+      if (const std::string fault = throw_fault(plan.velocity, tall); !fault.empty())
+        throw std::invalid_argument(who + "'s hit: " + fault);
+      break;
+    case HitPlan::Kind::Point:
+      for (float c : {plan.point.x, plan.point.y, plan.point.z})
+        if (!std::isfinite(c)) throw std::invalid_argument(who + "'s hit: the point it aims at must be finite");
+      if (!(plan.speed > 0 && plan.speed <= 1000)) throw std::invalid_argument(who + "'s hit: speed must be in (0, 1000] m/s");
+      if (!(plan.elevation >= 0 && plan.elevation < 1.5708f))
+        throw std::invalid_argument(who + "'s hit: elevation must be in [0, 90) degrees");
+      if (plan.elevation > 0 && !tall) throw std::invalid_argument(who + "'s hit: an elevation needs a field with height");
+      break;
+  }
+  check_spread(plan.spread);
+  planned_[size_t(body)] = plan;
+}
+
+Vec3 World::hit_velocity(const HitPlan& plan) const {
+  if (plan.kind == HitPlan::Kind::Velocity) return plan.velocity;
+  Vec3 from;
+  for (size_t i = 0; i < cloud_.size(); ++i) {
+    const float w = float(cloud_.weight(i));
+    from.x += w * cloud_.x[i], from.y += w * cloud_.y[i], from.z += cloud_.tall() ? w * cloud_.z[i] : 0;
+  }
+  const float dx = plan.point.x - from.x, dy = plan.point.y - from.y, d = std::hypot(dx, dy);
+  if (!field_.has_height()) return d > 0 ? Vec3{plan.speed * dx / d, plan.speed * dy / d, 0} : Vec3{};
+  const Vec3 to{plan.point.x, plan.point.y, std::max(plan.point.z, field_.ball_radius)};
+  const Vec3 arc = plan.elevation > 0 ? field_.arc_velocity(from, to, plan.elevation) : Vec3{};
+  return arc.x != 0 || arc.y != 0 || arc.z != 0 ? arc : field_.throw_at(from, to, plan.speed);
+}
+
+void World::aim_hit(int body) {
+  pass_until_[size_t(body)] = time_ + field_.rehit;
+  HitPlan& plan = planned_[size_t(body)];
+  const Vec3 velocity = plan.kind == HitPlan::Kind::Motion ? Vec3{} : hit_velocity(plan);
+  const ThrowSpread spread = plan.spread;
+  plan = {};  // a plan is for one touch
+  // Off the hitter's motion, as off a mallet; and a point the ball is met on is no aim.
+  if (!throw_fault(velocity, field_.has_height()).empty()) return;
+  const Launch l = launch_of(velocity);
+  const bool tall = field_.has_height();
+  for (size_t i = 0; i < cloud_.size(); ++i) {
+    const Vec3 v = scattered(l, spread);
+    cloud_.vx[i] = v.x, cloud_.vy[i] = v.y;
+    if (tall) cloud_.vz[i] = v.z;
+  }
 }
 
 void World::set_last_touch(int body) {
@@ -561,8 +625,11 @@ void World::realize_body(int body, float dt) {
   }
   cloud_.normalize();
   // Particles split at the moment of collision leave in slightly different directions (a mallet's
-  // rough surface), so the shot fans out instead of repeating one path.
-  refill(true);
+  // rough surface), so the shot fans out instead of repeating one path. A planned hit scatters
+  // every particle afresh instead.
+  const bool hitter = field_.bodies[body].hits;
+  refill(!(hitter && planned_[size_t(body)].kind != HitPlan::Kind::Motion));
+  if (hitter) aim_hit(body);
 }
 
 void World::realize_bounce(Target wall) {

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -97,6 +98,22 @@ struct InputError : std::invalid_argument {
 enum class BodyFault { None, Position, Velocity, FarOut, TooFast };
 BodyFault body_fault(const Field& field, const BodyInput& in);
 
+// Where a body that hits sends the ball it next meets (World::plan_hit). Motion: off the body's
+// motion, as off a mallet (a person's swing nobody measured). Velocity: at `velocity`. Point:
+// through `point` from wherever the ball is met, at `speed` m/s (with height the flattest arc
+// at that speed, or the arc leaving at `elevation` rad when that is > 0). The plan's velocity is
+// scattered by `spread`, as a throw's is.
+struct HitPlan {
+  enum class Kind : uint8_t { Motion, Velocity, Point } kind = Kind::Motion;
+  Vec3 velocity, point;
+  float speed = 10, elevation = 0;
+  ThrowSpread spread;
+};
+
+// Throws std::invalid_argument for a spread outside [0, 1.6] rad of direction and elevation and
+// [0, 1] of speed.
+void check_spread(ThrowSpread spread);
+
 // Why World::release() refuses a throw at `velocity` on a field with (`tall`) or without height;
 // "" when it takes it.
 std::string throw_fault(Vec3 velocity, bool tall);
@@ -126,6 +143,16 @@ class World {
   // On a field with height the ball leaves the hand at the body's reach (Field::reach_of) with
   // the vertical velocity velocity.z; on a flat field velocity.z must be 0.
   void release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Event>& events);
+
+  // How a body that hits (BodySpec::hits) sends on the ball it next meets (a simulated player's
+  // choice, a rule's aim, a swing an accelerometer felt). A plan is for one touch: the hit uses
+  // it up, and the next goes off the body's motion unless planned again. Throws
+  // std::invalid_argument for an unknown body, one that does not hit, or a velocity, point,
+  // speed, elevation or spread that a throw would not take.
+  void plan_hit(int body, const HitPlan& plan);
+  const HitPlan& planned_hit(int body) const { return planned_.at(size_t(body)); }
+  // Whether the ball passes through `body` now: it hit it less than Field::rehit seconds ago.
+  bool passes_now(int body) const { return time_ < pass_until_[size_t(body)]; }
 
   // Fields with height: how high `body` reaches from now on (m; its field reach when standing,
   // more while it jumps). Throws std::invalid_argument for an unknown body or a height outside
@@ -198,8 +225,14 @@ class World {
   void realize_body(int body, float dt);
   void realize_catch(int body);
   Vec2 release_point(int body, Vec2 direction) const;
-  void release_flat(Vec2 at, Vec2 velocity, ThrowSpread spread);
-  void release_arc(Vec3 at, Vec3 velocity, ThrowSpread spread);
+  struct Launch {
+    float speed, heading, elevation;  // a velocity as a spread scatters it
+  };
+  static Launch launch_of(Vec3 velocity);
+  Vec3 scattered(const Launch& launch, ThrowSpread spread);  // one particle's velocity; draws from the rng
+  void release_at(Vec3 at, Vec3 velocity, ThrowSpread spread);  // config.particles particles (z ignored when flat)
+  void aim_hit(int body);  // a realized hit: the plan's velocities, and the ball passes through the hitter a while
+  Vec3 hit_velocity(const HitPlan& plan) const;  // the plan's velocity from where the cloud is now
   float flight(float seconds) const;  // Field::flight_time
   void realize_bounce(Target wall);
   void refill(bool jitter);
@@ -220,6 +253,8 @@ class World {
   std::vector<Wormhole> wormholes_;
   std::vector<Vec2> body_pos_, body_vel_;
   std::vector<float> body_top_;  // fields with height: each body's reach now
+  std::vector<HitPlan> planned_;     // per body: its next hit's plan
+  std::vector<double> pass_until_;   // per body: the ball passes through it until then (after its hit)
   std::vector<BodyMotion> motion_;
   std::vector<Contact> contacts_;
   std::vector<uint32_t> removed_;

@@ -113,6 +113,7 @@ class Box2DBackend final : public Backend {
       const BodyMotion& m = ctx.bodies[k];
       bodies_[k]->SetTransform(b2Vec2(m.from.x, m.from.y), 0);
       bodies_[k]->SetLinearVelocity(b2Vec2((m.to.x - m.from.x) / ctx.dt, (m.to.y - m.from.y) / ctx.dt));
+      if (bodies_[k]->IsEnabled() == m.passes) bodies_[k]->SetEnabled(!m.passes);
     }
     start_.resize(n);
     for (size_t i = 0; i < n; ++i) {

@@ -78,6 +78,8 @@ TEST(TeamRules, MisusedCallsAreErrorsThatNameTheMistake) {
              "spread must be in [0, 90] degrees");
   EXPECT_HAS(play(court_with("bad_key", "game.throw('Ann', 'Bo', { sped = 9 })")).errors, "sped");
   EXPECT_HAS(play(court_with("nobody", "game.give('Nobody')")).errors, "unknown player 'Nobody'");
+  EXPECT_HAS(play(court_with("not_hitter", "game.hit('Bo', 'Ann')")).errors, "Bo does not hit the ball");
+  EXPECT_HAS(play(court_with("hit_key", "game.hit('Bo', 'Ann', { sped = 9 })")).errors, "sped");
   EXPECT_HAS(play(court_with("late", "game.give('Bo', 100)")).errors, "delay must be in [0, 60] s");
   EXPECT_HAS(play(court_with("flat_jump", "game.jump('Ann')")).errors, "jumping needs a field with height");
   EXPECT_HAS(play(court_with("flat_lob", "game.throw('Ann', 'Bo', { elevation = 40 })")).errors,

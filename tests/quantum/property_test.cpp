@@ -127,7 +127,8 @@ TEST(Property, RealizedOutcomesFollowTheTweakedProbabilities) {
       case FateKind::Body:
       case FateKind::Catch:
       case FateKind::Pass:
-      case FateKind::Intercept: return "hit " + f.bodies[fate.target].name + first;
+      case FateKind::Intercept:
+      case FateKind::Hit: return "hit " + f.bodies[fate.target].name + first;
       case FateKind::Goal:
       case FateKind::OwnGoal: return "goal " + f.goals[fate.target].name + first;
       case FateKind::Out: return "out" + first;
