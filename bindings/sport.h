@@ -73,6 +73,7 @@ class Sport final : public game::Rules {
   double balance_most() const { return balance_most_; }
   // How players throw (sport.lua's `throws`): a throw's speed when none is given, and its spread.
   double throw_speed() const { return throw_speed_; }
+  double tackle_rate() const { return tackle_rate_; }  // tackles.rate: see game::MatchConfig::tackle_rate
   ThrowSpread throw_spread() const { return throw_spread_; }
   const SportAudio& audio() const { return audio_; }
   // Where power-up scripts are looked for, in order: the sport's own powerups/, the one beside
@@ -211,6 +212,7 @@ class Sport final : public game::Rules {
   std::vector<double> handicaps_;
   double balance_per_goal_ = 0, balance_most_ = 2;
   double throw_speed_ = 10;
+  double tackle_rate_ = 0;
   ThrowSpread throw_spread_;
   Phrases phrases_;
   std::map<std::string, std::string> team_names_;

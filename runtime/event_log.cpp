@@ -75,6 +75,7 @@ const char* kind_of(Target t) {
     case TargetKind::Out: return "out";
     case TargetKind::Wall: return "wall";
     case TargetKind::Landing: return "landing";
+    case TargetKind::Tackle: return "tackle";
     case TargetKind::Crushed: break;
   }
   return "crushed";

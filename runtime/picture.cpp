@@ -120,6 +120,8 @@ cv::Scalar Picture::fate_colour(const Fate& f, size_t rank) const {
     case FateKind::Catch:
     case FateKind::Pass:
     case FateKind::Intercept:
+    case FateKind::Pickup:
+    case FateKind::Tackle:
     case FateKind::Hit: c = team_colour(field_.bodies[f.target].team); break;
     case FateKind::Out: c = kOut; break;
     case FateKind::Field: c = kStays; break;

@@ -76,6 +76,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   config.balance_most = sport_->balance_most();
   config.throw_speed = sport_->throw_speed();
   config.throw_spread = sport_->throw_spread();
+  config.tackle_rate = sport_->tackle_rate();
   match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
   if (!players_ && replay)
     players_ = std::make_unique<RecordedPlayers>(o.replay, std::move(replay->work), match_->field(), &errors_);

@@ -18,7 +18,7 @@ namespace {
 
 constexpr std::array<const char*, kEventKinds> kEventNames = {
     "drop", "shot", "intercept", "retouch", "bounce", "goal", "own_goal", "out", "dead", "time_up", "match_end",
-    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "stalled", "loose", "landing", "hit"};
+    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "stalled", "loose", "landing", "hit", "pickup", "tackle"};
 
 }  // namespace
 
@@ -46,38 +46,14 @@ bool counts_as_play(EventKind kind) {
 
 constexpr double kRetouch = 0.25;  // s
 
-namespace {
-
-// Where the ball in play is and how it moves: its particles' weighted centre, mean velocity and
-// mean speed (on a field with height, upward motion counts: a ball still bouncing is not at rest).
-struct BallMotion {
-  Vec2 centre, velocity;
-  double speed = 0;
-};
-
-BallMotion motion_of(const Cloud& c) {
-  const float *x = c.x.data(), *y = c.y.data(), *vx = c.vx.data(), *vy = c.vy.data(), *vz = c.vz.data();
-  const double* w = c.w.data();
-  const bool tall = c.tall();
-  double cx = 0, cy = 0, mvx = 0, mvy = 0, speed = 0, mass = 0;
-  for (size_t i = 0; i < c.size(); ++i) {
-    const double up = tall ? double(vz[i]) : 0.0;
-    cx += w[i] * x[i], cy += w[i] * y[i], mvx += w[i] * vx[i], mvy += w[i] * vy[i];
-    speed += w[i] * std::sqrt(double(vx[i]) * vx[i] + double(vy[i]) * vy[i] + up * up);
-    mass += w[i];
-  }
-  if (!(mass > 0)) return {};
-  return {{float(cx / mass), float(cy / mass)}, {float(mvx / mass), float(mvy / mass)}, speed / mass};
-}
-
-}  // namespace
-
 Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps)
     : world_(std::move(field),
              WorldConfig{.particles = config.particles, .purgatory_frames = 3, .seed = config.seed, .threads = config.threads}),
       config_(config),
       rules_(&rules) {
   if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
+  if (!(config.tackle_rate >= 0 && config.tackle_rate <= 100))
+    throw std::invalid_argument("tackle rate must be in [0, 100] per second");
   if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
   if (!(config.balance_per_goal >= 0 && config.balance_per_goal <= 10 && config.balance_most >= 1))
     throw std::invalid_argument("automatic balance: per goal must be in [0, 10] and the most >= 1");
@@ -112,6 +88,7 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   views_.reserve(kFateGroups);
   factors_.reserve(kFateGroups);
   decision_fates_.reserve(kFateGroups);
+  challenges_.reserve(world_.field().bodies.size());
   report_.group_of.reserve(2 * size_t(config.particles));  // one a particle, as World::predict's own fates
   respawn(config.first_spot, 0);
   if (config.first_holder >= 0) check_catcher(config.first_holder), respawn_holder_ = config.first_holder;
@@ -362,6 +339,8 @@ void Match::step(std::span<const BodyInput> input) {
   world_.step(dt, input, core_events_);
   decision_fates_.clear();
   if (world_.decision()) decision_fates_.assign(report_.groups.begin(), report_.groups.end());
+  // No tackle in the frame a catch was decided: one draw a frame, and the catch comes first.
+  else if (world_.holder() >= 0 && config_.tackle_rate > 0) contest(input);
   for (size_t k = 0; k < players_.size(); ++k)
     players_[k].position = input[k].position, players_[k].velocity = input[k].velocity;
   stats_.seconds = time();
@@ -402,7 +381,8 @@ void Match::watch_ball() {
     rolling_ = false;  // a dropped ball lies still, and is told as a drop
     return;
   }
-  const BallMotion m = motion_of(world_.cloud());
+  // A ball must have been twice as fast since it was last told loose to be told loose again.
+  const BallMotion& m = world_.motion();
   if (m.speed >= 2 * kLooseSpeed) rolling_ = true;
   if (!rolling_ || m.speed >= kLooseSpeed) return;
   rolling_ = false;
@@ -421,7 +401,7 @@ void Match::stalled() {
     e.actor = players_[size_t(holder)].name, e.team = players_[size_t(holder)].team, e.actor_index = holder;
     e.at = players_[size_t(holder)].position;
   } else {
-    const BallMotion m = motion_of(world_.cloud());
+    const BallMotion& m = world_.motion();
     e.at = m.centre, e.velocity = m.velocity;
   }
   name_touchers(e);
@@ -471,9 +451,13 @@ void Match::handle(const Event& e) {
       rally_contacts_ += again ? 0 : 1;
       break;
     }
-    case EventType::Catch: {
-      const FateKind kind = catch_kind(f, last_toucher_, e.actor);
-      type = kind == FateKind::Pass ? EventKind::Pass : kind == FateKind::Intercept ? EventKind::Intercept : EventKind::Catch;
+    case EventType::Catch:
+    case EventType::Pickup: {
+      const FateKind kind = e.type == EventType::Pickup ? FateKind::Pickup : catch_kind(f, last_toucher_, e.actor);
+      type = kind == FateKind::Pass        ? EventKind::Pass
+             : kind == FateKind::Intercept ? EventKind::Intercept
+             : kind == FateKind::Pickup    ? EventKind::Pickup
+                                           : EventKind::Catch;
       previous_toucher_ = last_toucher_;
       last_toucher_ = e.actor;
       last_touch_t_ = e.t;
@@ -482,6 +466,14 @@ void Match::handle(const Event& e) {
       gained(e.actor);
       break;
     }
+    case EventType::Tackle:
+      type = EventKind::Tackle;
+      previous_toucher_ = last_toucher_;  // the holder who lost it
+      last_toucher_ = e.actor;
+      last_touch_t_ = e.t;
+      ++rally_contacts_;
+      gained(e.actor);
+      break;
     case EventType::Throw:
       type = EventKind::Throw;
       if (last_toucher_ != e.actor) previous_toucher_ = last_toucher_, last_toucher_ = e.actor;
@@ -568,32 +560,62 @@ double Match::handicap_now(int k) const {
   return p.handicap * std::min(config_.balance_most, std::pow(1 + config_.balance_per_goal, behind));
 }
 
+// The handicap of the player an outcome favours: the one it reaches, or for a goal the shooter
+// when on the favoured team, else that team's mean.
+double Match::handicap_for(const FateView& v) const {
+  if (at_body(v.fate.kind)) return handicap_now(v.fate.target);
+  if (v.favours.empty()) return 1;
+  if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) return handicap_now(last_toucher_);
+  double sum = 0;
+  int n = 0;
+  for (size_t p = 0; p < players_.size(); ++p)
+    if (players_[p].team == v.favours) sum += handicap_now(int(p)), ++n;
+  return n > 0 ? sum / n : 1;
+}
+
+// A tackle is a hazard, not a flight's end: while an opponent's body touches the holder's, it
+// takes the ball at the sport's rate, made likelier or rarer by the fate factors of kind
+// `tackle` (modifiers, power-ups, handicaps) as any fate is. The frame's chances go to the core,
+// which draws once among them and logs the draw as the frame's decision.
+void Match::contest(std::span<const BodyInput> input) {
+  const int h = world_.holder();
+  const Field& f = field();
+  const double frame = 1 / config_.fps;
+  views_.clear();
+  for (size_t k = 0; k < players_.size(); ++k) {
+    if (int(k) == h || !f.bodies[k].catches || f.bodies[k].team == f.bodies[size_t(h)].team) continue;
+    if (length(input[k].position - input[size_t(h)].position) > f.bodies[k].radius + f.bodies[size_t(h)].radius) continue;
+    FateView v;
+    v.fate.kind = FateKind::Tackle, v.fate.target = int(k);
+    v.actor = f.bodies[k].name, v.team = v.favours = f.bodies[k].team;
+    v.mass = v.tweaked = -std::expm1(-config_.tackle_rate * frame);
+    views_.push_back(v);
+  }
+  if (views_.empty()) return;
+  factors_.assign(views_.size(), 1.0);
+  rules_->factors(views_, *this, factors_);
+  challenges_.clear();
+  double total = 0;
+  for (size_t k = 0; k < views_.size(); ++k) {
+    const double chance = -std::expm1(-config_.tackle_rate * factors_[k] * handicap_for(views_[k]) * frame);
+    challenges_.push_back({views_[k].fate.target, chance, views_[k].mass});
+    total += chance;
+  }
+  // Several sure tackles at once: one of them happens, each as likely as its share.
+  if (total > 1)
+    for (Challenge& c : challenges_) c.chance /= total;
+  for (size_t k = 0; k < views_.size(); ++k)
+    decision_fates_.push_back({views_[k].fate, views_[k].mass, challenges_[k].chance, 0, 0});
+  world_.challenge(challenges_, core_events_);
+}
+
 void Match::retweak() {
   world_.predict(report_);
   views_.clear();
   for (const FateGroup& g : report_.groups) views_.push_back(view(g));
   factors_.assign(views_.size(), 1.0);
   rules_->factors(views_, *this, factors_);
-  // The handicap of the player an outcome favours: the one it reaches, or for a goal the shooter
-  // when on the favoured team, else that team's mean.
-  for (size_t k = 0; k < views_.size(); ++k) {
-    const FateView& v = views_[k];
-    double h = 1;
-    if (at_body(v.fate.kind)) {
-      h = handicap_now(v.fate.target);
-    } else if (!v.favours.empty()) {
-      if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) {
-        h = handicap_now(last_toucher_);
-      } else {
-        double sum = 0;
-        int n = 0;
-        for (size_t p = 0; p < players_.size(); ++p)
-          if (players_[p].team == v.favours) sum += handicap_now(int(p)), ++n;
-        if (n > 0) h = sum / n;
-      }
-    }
-    factors_[k] *= h;
-  }
+  for (size_t k = 0; k < views_.size(); ++k) factors_[k] *= handicap_for(views_[k]);
   try {
     world_.tweak(report_, factors_);
   } catch (const std::invalid_argument& e) {

@@ -27,14 +27,16 @@ namespace quantum::game {
 // Intercept (an opponent did: the same event as a mallet's intercept), Catch (anyone else: a
 // loose ball picked up, a throw caught again by the thrower), Give (the rules handed it over).
 // Stalled: nothing was played for the sport's bound (MatchConfig::stall; see counts_as_play);
-// Loose: the ball in play slowed below kLooseSpeed and lies loose where the event says.
+// Loose: the ball in play slowed below kLooseSpeed and lies loose where the event says. Pickup: a
+// player who catches took a loose ball someone had touched (World::loose). Tackle: a player took
+// the held ball from its holder (MatchConfig::tackle_rate); `previous` is who lost it.
 // On a field of landings, Landing: the ball came down on the floor (actor: the area it is in).
 // Hit: a player who hits (field.lua: hits = true) touched the ball and sent it on.
 enum class EventKind : uint8_t {
   Drop, Shot, Intercept, Retouch, Bounce, Goal, OwnGoal, Out, Dead, TimeUp, MatchEnd, Powerup, PowerupEnd,
-  Paused, Resumed, Catch, Pass, Throw, Give, Stalled, Loose, Landing, Hit,
+  Paused, Resumed, Catch, Pass, Throw, Give, Stalled, Loose, Landing, Hit, Pickup, Tackle,
 };
-constexpr int kEventKinds = int(EventKind::Hit) + 1;
+constexpr int kEventKinds = int(EventKind::Tackle) + 1;
 const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "time_up", "powerup_end", ...
 // The kind named `name`, or none.
 std::optional<EventKind> event_kind(std::string_view name);
@@ -46,9 +48,6 @@ const std::vector<std::string>& event_names();
 // loose).
 bool counts_as_play(EventKind kind);
 
-// m/s: a ball in play whose particles' weighted mean speed falls below this lies loose (a
-// `loose` event); it must have been twice as fast since to be told loose again.
-inline constexpr double kLooseSpeed = 0.5;
 
 // Names are views into the field (or the match, for a winner): they stay valid while the match
 // lives, and events cost no allocation.
@@ -153,6 +152,10 @@ struct MatchConfig {
   // they do nothing about it, the match restarts play itself (see Match::step). In
   // [kLeastStall, kMostStall].
   double stall = 20;
+  // Tackles (players who catch): per second, how often an opponent within reach of the holder
+  // (their bodies touching) takes the ball, before the fate factors of kind `tackle`; each
+  // frame's chance is 1 - e^(-rate x factor / fps). 0, the default, is no tackles. In [0, 100].
+  double tackle_rate = 0;
 };
 
 struct Said {
@@ -331,6 +334,8 @@ class Match {
   void watch_ball();                       // tells `loose` when the ball in play slows to a stop
   void tell_rules(size_t event);
   void retweak();
+  void contest(std::span<const BodyInput> input);  // the opponents within reach may take the held ball
+  double handicap_for(const FateView& v) const;     // of the player an outcome favours
   FateView view(const FateGroup& g) const;
 
   World world_;
@@ -348,6 +353,7 @@ class Match {
   std::vector<Event> core_events_;
   FateReport report_;              // this frame's prediction, refilled in place
   std::vector<FateView> views_;
+  std::vector<Challenge> challenges_;  // this frame's tries to take the held ball (room kept)
   std::vector<FateGroup> decision_fates_;
   std::vector<double> factors_;
   RallyStats stats_;

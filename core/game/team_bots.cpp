@@ -106,7 +106,8 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
 
 void TeamBots::hear(const GameEvent& e) {
   switch (e.type) {
-    case EventKind::Drop: case EventKind::Give: case EventKind::Catch: case EventKind::Pass:
+    case EventKind::Drop: case EventKind::Give: case EventKind::Catch: case EventKind::Pickup: case EventKind::Tackle:
+    case EventKind::Pass:
     case EventKind::Intercept: case EventKind::Throw: case EventKind::Hit: case EventKind::Bounce: case EventKind::Landing:
     case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead: case EventKind::Loose:
       for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity});
@@ -121,6 +122,8 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
   switch (h.type) {
     case EventKind::Give:
     case EventKind::Catch:
+    case EventKind::Pickup:
+    case EventKind::Tackle:
     case EventKind::Pass:
     case EventKind::Intercept:
       ball = {Ball::State::Held, h.actor, -1, {}, {}};

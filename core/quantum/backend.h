@@ -30,8 +30,9 @@ struct StepContext {
 
 // Something a particle ran into during a step: a body, a goal line, the bounds (Out), a wall it
 // bounced off at an audible speed (and met nothing else), no valid place left (Crushed), or on a
-// field of landings the floor, audibly (Landing).
-enum class TargetKind : uint8_t { Body, Goal, Out, Wall, Crushed, Landing };
+// field of landings the floor, audibly (Landing). Tackle is no particle's: a player taking the held
+// ball from its holder (World::challenge), an option of that draw; its index is the player.
+enum class TargetKind : uint8_t { Body, Goal, Out, Wall, Crushed, Landing, Tackle };
 struct Target {
   TargetKind kind;
   uint16_t index;  // the body, goal or wall; a landing's area + 1 (0: outside every area); 0 for Out and Crushed

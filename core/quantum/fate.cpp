@@ -269,6 +269,8 @@ const char* to_string(FateKind kind) {
     case FateKind::Intercept: return "intercept";
     case FateKind::Landing: return "landing";
     case FateKind::Hit: return "hit";
+    case FateKind::Pickup: return "pickup";
+    case FateKind::Tackle: return "tackle";
   }
   return "?";
 }
@@ -307,6 +309,8 @@ std::string describe(const Fate& f, const Field& field) {
     case FateKind::Pass: s = "pass to " + field.bodies[f.target].name; break;
     case FateKind::Intercept: s = "intercepted by " + field.bodies[f.target].name; break;
     case FateKind::Hit: s = "hit by " + field.bodies[f.target].name; break;
+    case FateKind::Pickup: s = "picked up by " + field.bodies[f.target].name; break;
+    case FateKind::Tackle: s = "taken by " + field.bodies[f.target].name; break;
     case FateKind::Out: s = "out"; break;
     case FateKind::Field: s = "stays in field"; break;
     case FateKind::Landing:
@@ -337,7 +341,9 @@ std::vector<double> factors_by_kind(const FateReport& report, const KindFactors&
       case FateKind::Field: out.push_back(k.field); break;
       case FateKind::Catch:
       case FateKind::Pass:
-      case FateKind::Intercept: out.push_back(k.catches); break;
+      case FateKind::Intercept:
+      case FateKind::Pickup:
+      case FateKind::Tackle: out.push_back(k.catches); break;
       case FateKind::Hit: out.push_back(k.hits); break;
     }
   }
@@ -368,10 +374,15 @@ void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
 void World::endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) const {
   own_goals(own);
   body_kind.resize(field_.bodies.size());
-  for (size_t k = 0; k < body_kind.size(); ++k)
-    body_kind[k] = uint8_t(field_.bodies[k].catches ? catch_kind(field_, last_touch_, int(k))
-                           : field_.bodies[k].hits ? FateKind::Hit
-                                                   : FateKind::Body);
+  const bool loose_now = loose();
+  for (size_t k = 0; k < body_kind.size(); ++k) body_kind[k] = uint8_t(ending_at(int(k), loose_now));
+}
+
+FateKind World::ending_at(int body, bool loose) const {
+  const BodySpec& b = field_.bodies[size_t(body)];
+  if (b.hits) return FateKind::Hit;
+  if (!b.catches) return FateKind::Body;
+  return loose && last_touch_ >= 0 ? FateKind::Pickup : catch_kind(field_, last_touch_, body);
 }
 
 std::vector<Vec3> World::predict_path(size_t i, float horizon) const {

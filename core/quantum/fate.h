@@ -15,19 +15,23 @@ namespace quantum {
 // when an opponent does, and Catch otherwise (nobody threw it, or the thrower catches it again).
 // Landing: on a field of landings (Field::landings), the ball comes down on the floor; the target
 // is the area it lands in, -1 outside every area. Hit: a body that hits (BodySpec::hits) meets it
-// and sends it on.
-enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field, Catch, Pass, Intercept, Landing, Hit };
-constexpr FateKind kFateKinds[] = {FateKind::Goal,  FateKind::OwnGoal, FateKind::Body,      FateKind::Out,
-                                   FateKind::Field, FateKind::Catch,   FateKind::Pass,      FateKind::Intercept,
-                                   FateKind::Landing, FateKind::Hit};
-constexpr int kFateKindCount = 10;
-// "goal", "own_goal", "body", "out", "field", "catch", "pass", "intercept", "landing", "hit"
+// and sends it on. Pickup: a body that catches reaches a loose ball (World::loose) that someone
+// touched; a loose ball nobody touched since its drop is a Catch. Tackle: no flight's end but a
+// player's chance to take the held ball from its holder (World::challenge); the target is that
+// player.
+enum class FateKind : uint8_t { Goal, OwnGoal, Body, Out, Field, Catch, Pass, Intercept, Landing, Hit, Pickup, Tackle };
+constexpr FateKind kFateKinds[] = {FateKind::Goal,    FateKind::OwnGoal, FateKind::Body,   FateKind::Out,
+                                   FateKind::Field,   FateKind::Catch,   FateKind::Pass,   FateKind::Intercept,
+                                   FateKind::Landing, FateKind::Hit,     FateKind::Pickup, FateKind::Tackle};
+constexpr int kFateKindCount = 12;
+// "goal", "own_goal", "body", "out", "field", "catch", "pass", "intercept", "landing", "hit",
+// "pickup", "tackle"
 const char* to_string(FateKind kind);
 std::vector<std::string> fate_kind_names();  // every kind's name, in order
 // Whether the fate ends at a body (Fate::target is a body index).
 constexpr bool at_body(FateKind k) {
   return k == FateKind::Body || k == FateKind::Catch || k == FateKind::Pass || k == FateKind::Intercept ||
-         k == FateKind::Hit;
+         k == FateKind::Hit || k == FateKind::Pickup || k == FateKind::Tackle;
 }
 // The kind of body `catcher` catching a ball last touched by `thrower` (-1: nobody): Catch,
 // Pass or Intercept as above. The prediction and the match's events name catches alike by it.
@@ -69,7 +73,8 @@ std::string_view fate_actor(const Fate& fate, const Field& field);
 // allocation: the rules read it every frame.
 size_t write_via(const Fate& fate, const Field& field, char* out, size_t size);
 
-// Per-kind fate factors, the paper's example as defaults (catches and hits count as body contacts,
+// Per-kind fate factors, the paper's example as defaults (catches, pickups among them, and hits
+// count as body contacts,
 // and a landing, which ends a flight as going out does, as out).
 struct KindFactors {
   double goal = 5, own_goal = 0.1, body = 5, out = 1, field = 1, catches = 5, hits = 5;

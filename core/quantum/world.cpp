@@ -21,13 +21,16 @@ const char* to_string(EventType type) {
     case EventType::Catch: return "catch";
     case EventType::Throw: return "throw";
     case EventType::Landing: return "landing";
+    case EventType::Pickup: return "pickup";
+    case EventType::Tackle: return "tackle";
   }
   return "?";
 }
 
 std::string_view target_name(Target t, const Field& f) {
   switch (t.kind) {
-    case TargetKind::Body: return f.bodies[t.index].name;
+    case TargetKind::Body:
+    case TargetKind::Tackle: return f.bodies[t.index].name;
     case TargetKind::Goal: return f.goals[t.index].name;
     case TargetKind::Wall: return f.wall_names[t.index];
     case TargetKind::Landing: return t.index > 0 ? std::string_view(f.areas[t.index - 1].name) : "floor";
@@ -42,6 +45,8 @@ EventActor actor_of(const Event& e, const Field& f) {
     case EventType::Drop: return {f.spots[e.actor].name, f.spots[e.actor].team};
     case EventType::Hit:
     case EventType::Catch:
+    case EventType::Pickup:
+    case EventType::Tackle:
     case EventType::Throw: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
     case EventType::Bounce: return {f.wall_names[e.actor], ""};
     case EventType::Goal:
@@ -319,6 +324,8 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   slot.touched.clear(), slot.body.clear();
   slot.step = step_;
   if (live_) {
+    // Loose or not as the last prediction saw the ball: a catch is told as the fate it was tweaked as.
+    const bool loose_before = loose();
     contacts_.clear();
     const StepContext ctx{flight(dt), motion_.data(), nb, step_key(config_.seed, step_),
                           noise_amplitude(field_.brownian, dt)};
@@ -330,7 +337,7 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
       for (size_t i = 0; i < cloud_.size(); ++i) vx[i] *= slow, vy[i] *= slow;
     }
     ++version_;
-    decide(dt, events);
+    decide(dt, loose_before, events);
   }
   for (int k = 0; k < nb; ++k) body_pos_[k] = input[k].position, body_vel_[k] = input[k].velocity;
   if (live_ && cloud_.size() < config_.particles) split_round(false);
@@ -433,6 +440,41 @@ void World::aim_hit(int body) {
   }
 }
 
+void World::challenge(std::span<const Challenge> challengers, std::vector<Event>& events) {
+  if (holder_ < 0) throw std::invalid_argument("nobody holds the ball to take");
+  double total = 0;
+  for (const Challenge& c : challengers) {
+    if (c.body < 0 || c.body >= int(field_.bodies.size()))
+      throw std::invalid_argument("no body " + std::to_string(c.body) + " (the field has " +
+                                  std::to_string(field_.bodies.size()) + ")");
+    if (!field_.bodies[c.body].catches || c.body == holder_)
+      throw std::invalid_argument(field_.bodies[c.body].name + " cannot take the ball: " +
+                                  (c.body == holder_ ? "it holds it" : "its field body does not catch"));
+    if (!(c.chance >= 0 && c.chance <= 1 && c.chance_newtonian >= 0 && c.chance_newtonian <= 1))
+      throw std::invalid_argument("a chance to take the ball must be in [0, 1]");
+    total += c.chance;
+  }
+  if (!(total <= 1 + 1e-9)) throw std::invalid_argument("the chances to take the ball sum past 1");
+  if (challengers.empty()) return;
+  const double u = rng_.uniform();
+  decision_.t = time_;
+  decision_.options.clear();
+  decision_.realized = -1;
+  double cumulative = 0;
+  for (const Challenge& c : challengers) {
+    cumulative += c.chance;
+    if (decision_.realized < 0 && u < cumulative) decision_.realized = int(decision_.options.size());
+    decision_.options.push_back({Target{TargetKind::Tackle, uint16_t(c.body)}, c.chance, c.chance_newtonian, 0});
+  }
+  decided_step_ = step_;
+  if (decision_.realized < 0) return;
+  const Challenge& c = challengers[size_t(decision_.realized)];
+  events.push_back({time_, EventType::Tackle, c.body, c.chance, c.chance_newtonian, 0, body_pos_[size_t(c.body)], {0, 0}});
+  holder_ = c.body;
+  last_touch_ = c.body;
+  ++version_;
+}
+
 void World::set_last_touch(int body) {
   if (body < -1 || body >= int(field_.bodies.size()))
     throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
@@ -441,7 +483,26 @@ void World::set_last_touch(int body) {
   ++version_;
 }
 
-void World::decide(float dt, std::vector<Event>& events) {
+const BallMotion& World::motion() const {
+  if (motion_version_ == version_) return ball_motion_;
+  motion_version_ = version_;
+  const Cloud& c = cloud_;
+  const float *x = c.x.data(), *y = c.y.data(), *vx = c.vx.data(), *vy = c.vy.data(), *vz = c.vz.data();
+  const double* w = c.w.data();
+  const bool tall = c.tall();
+  double cx = 0, cy = 0, mvx = 0, mvy = 0, speed = 0, mass = 0;
+  for (size_t i = 0; live_ && i < c.size(); ++i) {
+    const double up = tall ? double(vz[i]) : 0.0;
+    cx += w[i] * x[i], cy += w[i] * y[i], mvx += w[i] * vx[i], mvy += w[i] * vy[i];
+    speed += w[i] * std::sqrt(double(vx[i]) * vx[i] + double(vy[i]) * vy[i] + up * up);
+    mass += w[i];
+  }
+  ball_motion_ = mass > 0 ? BallMotion{{float(cx / mass), float(cy / mass)}, {float(mvx / mass), float(mvy / mass)}, speed / mass}
+                          : BallMotion{};
+  return ball_motion_;
+}
+
+void World::decide(float dt, bool loose, std::vector<Event>& events) {
   if (contacts_.empty()) return;
   // Particle order makes the draw and the purgatory independent of the backend's visiting order.
   std::sort(contacts_.begin(), contacts_.end(),
@@ -522,7 +583,7 @@ void World::decide(float dt, std::vector<Event>& events) {
   switch (target.kind) {
     case TargetKind::Body:
       if (field_.bodies[target.index].catches) {
-        e.type = EventType::Catch;
+        e.type = ending_at(target.index, loose) == FateKind::Pickup ? EventType::Pickup : EventType::Catch;
         give(target.index);
         break;
       }
@@ -549,6 +610,7 @@ void World::decide(float dt, std::vector<Event>& events) {
     }
     case TargetKind::Out:
     case TargetKind::Crushed:
+    case TargetKind::Tackle:  // no particle's target: never in a tally
       e.type = EventType::Out;
       e.actor = -1;
       remove_ball();

@@ -35,9 +35,11 @@ struct WorldConfig {
 };
 
 // Catch: a body that catches met the ball and holds it now. Throw: its holder let it go. Landing:
-// on a field of landings, the ball came down on the floor (and bounced on).
-enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out, Catch, Throw, Landing };
-// "drop", "hit", "bounce", "goal", "own_goal", "out", "catch", "throw", "landing"
+// on a field of landings, the ball came down on the floor (and bounced on). Pickup: a catch of a
+// loose ball someone touched (see World::loose). Tackle: a player took the held ball from its
+// holder (World::challenge).
+enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out, Catch, Throw, Landing, Pickup, Tackle };
+// "drop", "hit", "bounce", "goal", "own_goal", "out", "catch", "throw", "landing", "pickup", "tackle"
 const char* to_string(EventType type);
 
 struct Event {
@@ -73,6 +75,13 @@ struct Decision {
   int realized = -1;            // index into options; -1: nothing happened, the ball flies on
 };
 
+// A player's try to take the held ball this step (World::challenge): its chance, tweaked and
+// Newtonian.
+struct Challenge {
+  int body;
+  double chance, chance_newtonian;
+};
+
 // Who an event is about, by the field's names: the spot (drop), the body (hit, catch, throw), the
 // wall (bounce), the goal and the team defending it (goal, own goal) or the area a landing is in
 // and its team; nothing for out or a landing outside every area.
@@ -87,6 +96,17 @@ std::string_view target_name(Target target, const Field& field);
 struct BodyInput {
   Vec2 position, velocity;
 };
+
+// The ball in play as a whole: its particles' weighted centre and mean velocity along the floor,
+// and their weighted mean speed (upward speed counts on a field with height).
+struct BallMotion {
+  Vec2 centre, velocity;
+  double speed = 0;
+};
+
+// m/s: a ball in play whose particles' weighted mean speed is below this lies loose: whoever
+// reaches it picks it up (FateKind::Pickup), and the match tells it loose.
+inline constexpr double kLooseSpeed = 0.5;
 
 // Bad input to step(): the message names the body and the value.
 struct InputError : std::invalid_argument {
@@ -154,6 +174,13 @@ class World {
   // Whether the ball passes through `body` now: it hit it less than Field::rehit seconds ago.
   bool passes_now(int body) const { return time_ < pass_until_[size_t(body)]; }
 
+  // Draws once among players trying to take the ball from its holder in this step (tackles,
+  // steals): each takes it with its chance, the rest of the chance is nothing. The draw is the
+  // step's decision; the one it realizes holds the ball now, and a Tackle event is appended.
+  // Throws std::invalid_argument when nobody holds the ball, for a challenger that is unknown,
+  // does not catch or holds the ball, or for chances outside [0, 1] or summing past 1.
+  void challenge(std::span<const Challenge> challengers, std::vector<Event>& events);
+
   // Fields with height: how high `body` reaches from now on (m; its field reach when standing,
   // more while it jumps). Throws std::invalid_argument for an unknown body or a height outside
   // (0, 100] m, and std::logic_error on a flat field.
@@ -211,6 +238,10 @@ class World {
   bool live() const { return live_; }           // a cloud is in play
   int holder() const { return holder_; }        // the body holding the ball, -1 for none
   bool in_play() const { return live_ || holder_ >= 0; }
+  // The live ball's motion (all zero when no ball is live), summed once per change of the cloud:
+  // the match's every-frame reads share one pass over it.
+  const BallMotion& motion() const;
+  bool loose() const { return live_ && motion().speed < kLooseSpeed; }
   int last_touch() const { return last_touch_; }  // body of the last realized hit or catch, -1 after a drop
   // The last step's draw, or null when no particle met anything in it.
   const Decision* decision() const { return decided_step_ == step_ && step_ > 0 ? &decision_ : nullptr; }
@@ -221,7 +252,9 @@ class World {
  private:
   void check_input(float dt, std::span<const BodyInput> input) const;
   void check_bodies(std::span<const BodyInput> input) const;
-  void decide(float dt, std::vector<Event>& events);
+  void decide(float dt, bool loose, std::vector<Event>& events);
+  // The FateKind of `body` meeting the ball now (see FateKind), the ball loose or not.
+  FateKind ending_at(int body, bool loose) const;
   void realize_body(int body, float dt);
   void realize_catch(int body);
   Vec2 release_point(int body, Vec2 direction) const;
@@ -265,6 +298,8 @@ class World {
   float last_dt_ = 1.0f / 60;  // the next step is taken to be as long as the last
   uint64_t step_ = 0;
   uint64_t version_ = 0;
+  mutable BallMotion ball_motion_;  // motion(), as of motion_version_
+  mutable uint64_t motion_version_ = ~uint64_t(0);
   size_t split_cursor_ = 0;
   bool live_ = false;
   int holder_ = -1;

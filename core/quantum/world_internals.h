@@ -33,7 +33,8 @@ struct TargetSlots {
       case TargetKind::Out: return bodies + goals;
       case TargetKind::Wall: return bodies + goals + 1 + t.index;
       case TargetKind::Landing: return bodies + goals + 1 + walls + t.index;
-      case TargetKind::Crushed: break;
+      case TargetKind::Crushed:
+      case TargetKind::Tackle: break;
     }
     return -1;
   }

@@ -15,7 +15,7 @@ local sport = {
   -- Baskets are favoured, and a ball off the rim is much likelier to be rebounded by someone
   -- than to roll out ("A vs B vs out", the paper's section 4); never beyond what a throw's
   -- scatter and the players' reach make possible.
-  factors = { goal = 3, pass = 3, intercept = 2, catch = 2, out = 0.4, field = 1 },
+  factors = { goal = 3, pass = 3, intercept = 2, catch = 2, pickup = 2, out = 0.4, field = 1 },
 
   -- A pass leaves the hand at 8 m/s unless it says otherwise; every throw scatters by 1.5 degrees
   -- of direction and of elevation and by 2 % of its speed (a shot's length is its hardest part:
@@ -27,9 +27,9 @@ local sport = {
   audio = {
     voice = "en-us", rate = 180,
     listener = { 0, 7 }, facing = { 0, -1 },
-    sounds = { pass = "hit.wav", intercept = "hit.wav", catch = "hit.wav", bounce = "wall.wav", goal = "goal.wav",
+    sounds = { pass = "hit.wav", intercept = "hit.wav", catch = "hit.wav", pickup = "hit.wav", bounce = "wall.wav", goal = "goal.wav",
                give = "whistle.wav" },
-    priorities = { goal = 3, intercept = 2, bounce = 1, pass = 1, catch = 1, out = 2, give = 1, throw = 1 },
+    priorities = { goal = 3, intercept = 2, bounce = 1, pass = 1, catch = 1, pickup = 1, out = 2, give = 1, throw = 1 },
   },
 
   phrases = {
@@ -147,6 +147,11 @@ sport.on = {
     local shot = sport.state.shot
     sport.state.shot = nil
     game.say(shot and shot.touched and "rebound" or "catch", { player = e.actor })
+  end,
+
+  -- A loose ball (it rolled to a stop) is a rebound after a shot, else whoever gets to it has it.
+  pickup = function(game, e)
+    sport.on.catch(game, e)
   end,
 
   -- Out: the ball goes to the team that did not touch it last, from where it went out.

@@ -15,7 +15,7 @@ local sport = {
   -- "A vs B vs out" (the paper's section 4): either team catching the ball is much likelier than
   -- the ball going out or rolling dead, and passes likelier still, so skilful play keeps its team
   -- the ball and poor play hands it to the other team rather than out of the game.
-  factors = { goal = 3, own_goal = 0.2, pass = 6, intercept = 4, catch = 3, out = 0.5, field = 1 },
+  factors = { goal = 3, own_goal = 0.2, pass = 6, intercept = 4, catch = 3, pickup = 3, out = 0.5, field = 1 },
 
   -- A throw leaves the hand at 10 m/s unless it says otherwise, scattered by 3 degrees and 8 %.
   throws = { speed = 10, spread = 3, speed_spread = 0.08 },
@@ -25,10 +25,10 @@ local sport = {
   audio = {
     voice = "en-us", rate = 175,
     listener = { 0, 0 }, facing = { 1, 0 },
-    sounds = { pass = "hit.wav", intercept = "hit.wav", catch = "hit.wav", bounce = "wall.wav", goal = "goal.wav",
+    sounds = { pass = "hit.wav", intercept = "hit.wav", catch = "hit.wav", pickup = "hit.wav", bounce = "wall.wav", goal = "goal.wav",
                give = "whistle.wav" },
     -- A goal or an intercept cuts a pass that is still being read out; passes wait their turn.
-    priorities = { goal = 3, own_goal = 3, intercept = 2, pass = 1, catch = 1, out = 2, give = 1, throw = 0 },
+    priorities = { goal = 3, own_goal = 3, intercept = 2, pass = 1, catch = 1, pickup = 1, out = 2, give = 1, throw = 0 },
   },
 
   phrases = {
@@ -147,6 +147,11 @@ sport.on = {
     game.say("catch", { player = e.actor })
   end,
 
+  -- A ball that rolled loose, taken by whoever got to it.
+  pickup = function(game, e)
+    game.say("catch", { player = e.actor })
+  end,
+
   bounce = function(game, e)
     game.say("post")
   end,
@@ -184,11 +189,12 @@ sport.on = {
   match_end = two_teams.announce_end,
 }
 
--- A field player inside a goal area may not catch the ball: those catches are no outcome at all.
+-- A field player inside a goal area may not catch the ball, nor pick up a loose one: those catches
+-- are no outcome at all.
 -- A pass to a teammate on the run (into space) is the skilful play the engine favours more.
 sport.modifiers = {
   function(fate, game)
-    if fate.kind == "pass" or fate.kind == "intercept" or fate.kind == "catch" then
+    if fate.kind == "pass" or fate.kind == "intercept" or fate.kind == "catch" or fate.kind == "pickup" then
       local p = player(game, fate.actor)
       if p.role ~= "goalkeeper" and p.area ~= "" then return 0 end
       if fate.kind == "pass" and p.speed > 2 then return 1.5 end

@@ -75,6 +75,14 @@ sport.on = {
     game.say("back", { player = e.actor })
   end,
 
+  -- A ball that rolled loose is no pass: the streak starts again, and Cy picking it up has
+  -- caught it.
+  pickup = function(game, e)
+    if e.team == "red" then return sport.on.intercept(game, e) end
+    sport.state.passes = 0
+    game.say("back", { player = e.actor })
+  end,
+
   match_end = two_teams.announce_end,
 }
 

@@ -101,8 +101,8 @@ TEST(Stall, ABallThatRollsDeadIsToldLooseThenStalledAtTheBoundAndGivenToTheNeare
   const Recorder::Seen* loose = s.rules.first(game::EventKind::Loose);
   ASSERT_NE(loose, nullptr);
   // 1.2 m/s falls below kLooseSpeed (0.5) after ln(2.4) / 0.45 s of the hall's friction.
-  EXPECT_NEAR(loose->event.t, std::log(1.2 / game::kLooseSpeed) / s.field.friction, 0.05);
-  EXPECT_NEAR(loose->event.at.x, 1.2 / s.field.friction * (1 - game::kLooseSpeed / 1.2), 0.2);
+  EXPECT_NEAR(loose->event.t, std::log(1.2 / kLooseSpeed) / s.field.friction, 0.05);
+  EXPECT_NEAR(loose->event.at.x, 1.2 / s.field.friction * (1 - kLooseSpeed / 1.2), 0.2);
   EXPECT_NEAR(loose->event.at.y, 4.2, 0.2);
   const Recorder::Seen* stalled = s.rules.first(game::EventKind::Stalled);
   ASSERT_NE(stalled, nullptr);

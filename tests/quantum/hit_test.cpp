@@ -3,10 +3,7 @@
 // the ball passes through the hitter for Field::rehit seconds afterwards.
 #include <gtest/gtest.h>
 
-#include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
-#include <iostream>
-#include <map>
 
 #include "field_loader.h"
 #include "test_scenes.h"
@@ -196,15 +193,7 @@ TEST(Hit, RealizedHitsFollowTheTweakedProbabilities) {
     ASSERT_TRUE(e.type == EventType::Hit || e.type == EventType::Out) << "seed " << seed;
     seen[what(e.type == EventType::Hit ? FateKind::Hit : FateKind::Out, e.actor)] += 1;
   }
-  double chi2 = 0;
-  for (const auto& [name, p] : expected) {
-    const double e = p * kWorlds;
-    ASSERT_GE(e, 5) << name;
-    chi2 += (seen[name] - e) * (seen[name] - e) / e;
-    std::cout << name << ": tweaked " << p << ", seen " << seen[name] / kWorlds << '\n';
-  }
-  const double p_value = 1 - boost::math::cdf(boost::math::chi_squared(double(expected.size() - 1)), chi2);
-  std::cout << "chi2 = " << chi2 << " with " << expected.size() - 1 << " degrees of freedom, p = " << p_value << '\n';
+  const double p_value = test::fit_p(expected, seen, kWorlds);
   EXPECT_GT(p_value, 0.001);
 }
 

@@ -128,6 +128,8 @@ TEST(Property, RealizedOutcomesFollowTheTweakedProbabilities) {
       case FateKind::Catch:
       case FateKind::Pass:
       case FateKind::Intercept:
+      case FateKind::Pickup:
+      case FateKind::Tackle:
       case FateKind::Hit: return "hit " + f.bodies[fate.target].name + first;
       case FateKind::Goal:
       case FateKind::OwnGoal: return "goal " + f.goals[fate.target].name + first;

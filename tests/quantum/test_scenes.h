@@ -8,6 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <boost/math/distributions/chi_squared.hpp>
+#include <iostream>
+#include <map>
+
 #include "field_loader.h"
 #include "quantum/world.h"
 
@@ -97,6 +101,22 @@ inline double tweaked_sum(const Cloud& c) {
   double s = 0;
   for (size_t i = 0; i < c.size(); ++i) s += c.tweaked(i);
   return s;
+}
+
+// Pearson's chi-square goodness of fit of `seen` counts out of `n` draws to `expected` shares
+// (each expected count at least 5); prints both and returns the p-value.
+inline double fit_p(const std::map<std::string, double>& expected, std::map<std::string, double> seen, int n) {
+  double chi2 = 0;
+  for (const auto& [what, share] : expected) {
+    const double e = share * n;
+    EXPECT_GE(e, 5) << what << ": too rare for the chi-square test";
+    chi2 += (seen[what] - e) * (seen[what] - e) / e;
+    std::cout << what << ": expected " << share << ", seen " << seen[what] / n << '\n';
+  }
+  const double dof = double(expected.size() - 1);
+  const double p = 1 - boost::math::cdf(boost::math::chi_squared(dof), chi2);
+  std::cout << "chi2 = " << chi2 << " with " << dof << " degrees of freedom, p = " << p << '\n';
+  return p;
 }
 
 // Distance from p to segment a-b.
