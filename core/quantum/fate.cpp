@@ -374,7 +374,7 @@ void World::predicted_bodies(std::vector<detail::BodyPath>& bodies) const {
 void World::endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) const {
   own_goals(own);
   body_kind.resize(field_.bodies.size());
-  const bool loose_now = loose();
+  const bool loose_now = field_.catching() && loose();  // only catchers pick up
   for (size_t k = 0; k < body_kind.size(); ++k) body_kind[k] = uint8_t(ending_at(int(k), loose_now));
 }
 

@@ -324,8 +324,11 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
   slot.touched.clear(), slot.body.clear();
   slot.step = step_;
   if (live_) {
-    // Loose or not as the last prediction saw the ball: a catch is told as the fate it was tweaked as.
-    const bool loose_before = loose();
+    // Loose or not as the last prediction (or the match's watch) saw the ball: a catch is told as
+    // the fate it was tweaked as. A world nobody predicts sums the ball's motion only when a catch
+    // is realized: a pass over the cloud every step cost a 3D step half its time again.
+    std::optional<bool> loose_seen;
+    if (motion_version_ == version_) loose_seen = ball_motion_.speed < kLooseSpeed;
     contacts_.clear();
     const StepContext ctx{flight(dt), motion_.data(), nb, step_key(config_.seed, step_),
                           noise_amplitude(field_.brownian, dt)};
@@ -337,7 +340,7 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
       for (size_t i = 0; i < cloud_.size(); ++i) vx[i] *= slow, vy[i] *= slow;
     }
     ++version_;
-    decide(dt, loose_before, events);
+    decide(dt, loose_seen, events);
   }
   for (int k = 0; k < nb; ++k) body_pos_[k] = input[k].position, body_vel_[k] = input[k].velocity;
   if (live_ && cloud_.size() < config_.particles) split_round(false);
@@ -502,7 +505,7 @@ const BallMotion& World::motion() const {
   return ball_motion_;
 }
 
-void World::decide(float dt, bool loose, std::vector<Event>& events) {
+void World::decide(float dt, std::optional<bool> loose_seen, std::vector<Event>& events) {
   if (contacts_.empty()) return;
   // Particle order makes the draw and the purgatory independent of the backend's visiting order.
   std::sort(contacts_.begin(), contacts_.end(),
@@ -583,7 +586,8 @@ void World::decide(float dt, bool loose, std::vector<Event>& events) {
   switch (target.kind) {
     case TargetKind::Body:
       if (field_.bodies[target.index].catches) {
-        e.type = ending_at(target.index, loose) == FateKind::Pickup ? EventType::Pickup : EventType::Catch;
+        e.type = ending_at(target.index, loose_seen ? *loose_seen : loose()) == FateKind::Pickup ? EventType::Pickup
+                                                                                        : EventType::Catch;
         give(target.index);
         break;
       }

@@ -252,7 +252,7 @@ class World {
  private:
   void check_input(float dt, std::span<const BodyInput> input) const;
   void check_bodies(std::span<const BodyInput> input) const;
-  void decide(float dt, bool loose, std::vector<Event>& events);
+  void decide(float dt, std::optional<bool> loose_seen, std::vector<Event>& events);
   // The FateKind of `body` meeting the ball now (see FateKind), the ball loose or not.
   FateKind ending_at(int body, bool loose) const;
   void realize_body(int body, float dt);
