@@ -249,7 +249,7 @@ void Sport::read_sport(int t) {
     const int k = lua_gettop(L);
     r.only_keys(k, "tackles", {"rate"});
     tackle_rate_ = r.number(k, "rate", "tackles", tackle_rate_, true);
-    if (!(tackle_rate_ >= 0 && tackle_rate_ <= 100)) r.fail("tackles.rate", "must be in [0, 100] per second");
+    if (!(tackle_rate_ >= 0 && tackle_rate_ <= game::kMostTackleRate)) r.fail("tackles.rate", "must be in [0, 100] per second");
     if (tackle_rate_ > 0 && !field_.catching()) r.fail("tackles", "tackles take a held ball: the field needs players who catch");
     lua_pop(L, 1);
   }

@@ -52,7 +52,7 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
       config_(config),
       rules_(&rules) {
   if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
-  if (!(config.tackle_rate >= 0 && config.tackle_rate <= 100))
+  if (!(config.tackle_rate >= 0 && config.tackle_rate <= kMostTackleRate))
     throw std::invalid_argument("tackle rate must be in [0, 100] per second");
   if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
   if (!(config.balance_per_goal >= 0 && config.balance_per_goal <= 10 && config.balance_most >= 1))
@@ -196,6 +196,14 @@ void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread) 
 void Match::plan_hit(int k, const HitPlan& plan) {
   if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
   world_.plan_hit(k, plan);
+}
+
+void Match::took(int k, double t) {
+  previous_toucher_ = last_toucher_;
+  last_toucher_ = k;
+  last_touch_t_ = t;
+  ++rally_contacts_;
+  gained(k);
 }
 
 void Match::gained(int k) {
@@ -433,11 +441,7 @@ void Match::handle(const Event& e) {
     case EventType::Hit: {
       if (f.bodies[e.actor].hits) {  // one touch, sent on at once: no swing to fold into it
         type = EventKind::Hit;
-        previous_toucher_ = last_toucher_;
-        last_toucher_ = e.actor;
-        last_touch_t_ = e.t;
-        ++rally_contacts_;
-        gained(e.actor);
+        took(e.actor, e.t);
         break;
       }
       const bool other_team = last_toucher_ >= 0 && f.bodies[last_toucher_].team != f.bodies[e.actor].team;
@@ -458,21 +462,13 @@ void Match::handle(const Event& e) {
              : kind == FateKind::Intercept ? EventKind::Intercept
              : kind == FateKind::Pickup    ? EventKind::Pickup
                                            : EventKind::Catch;
-      previous_toucher_ = last_toucher_;
-      last_toucher_ = e.actor;
-      last_touch_t_ = e.t;
-      ++rally_contacts_;
+      took(e.actor, e.t);
       stats_.passes += type == EventKind::Pass;
-      gained(e.actor);
       break;
     }
     case EventType::Tackle:
       type = EventKind::Tackle;
-      previous_toucher_ = last_toucher_;  // the holder who lost it
-      last_toucher_ = e.actor;
-      last_touch_t_ = e.t;
-      ++rally_contacts_;
-      gained(e.actor);
+      took(e.actor, e.t);  // `previous`: the holder who lost it
       break;
     case EventType::Throw:
       type = EventKind::Throw;

@@ -131,6 +131,8 @@ inline constexpr double kMostAward = 1000;
 
 // The stall bound (MatchConfig::stall, a sport's match.stall): at least a second, at most an hour.
 inline constexpr double kLeastStall = 1, kMostStall = 3600;
+// The most tackles per second a sport may ask for (MatchConfig::tackle_rate, tackles.rate).
+inline constexpr double kMostTackleRate = 100;
 
 struct MatchConfig {
   uint32_t particles = 1000;
@@ -154,7 +156,8 @@ struct MatchConfig {
   double stall = 20;
   // Tackles (players who catch): per second, how often an opponent within reach of the holder
   // (their bodies touching) takes the ball, before the fate factors of kind `tackle`; each
-  // frame's chance is 1 - e^(-rate x factor / fps). 0, the default, is no tackles. In [0, 100].
+  // frame's chance is 1 - e^(-rate x factor / fps). 0, the default, is no tackles. In [0,
+  // kMostTackleRate].
   double tackle_rate = 0;
 };
 
@@ -327,6 +330,7 @@ class Match {
   GameEvent& new_event(EventKind type);
   void name_touchers(GameEvent& e) const;  // by and previous, from the rally's touches
   void end_rally(bool goal);               // the statistics of a rally that ended
+  void took(int k, double t);              // player k touched the ball at t (a catch, a hit, a tackle): one more contact
   void gained(int k);                      // player k has the ball: a new possession if the other team had it
   void hand_over(int k);                   // the ball into k's hands now, told as `give`
   void check_catcher(int k) const;         // throws unless k is a player who catches

@@ -73,9 +73,8 @@ std::string_view fate_actor(const Fate& fate, const Field& field);
 // allocation: the rules read it every frame.
 size_t write_via(const Fate& fate, const Field& field, char* out, size_t size);
 
-// Per-kind fate factors, the paper's example as defaults (catches, pickups among them, and hits
-// count as body contacts,
-// and a landing, which ends a flight as going out does, as out).
+// Per-kind fate factors, the paper's example as defaults (catches, pickups and tackles among them,
+// and hits count as body contacts, and a landing, which ends a flight as going out does, as out).
 struct KindFactors {
   double goal = 5, own_goal = 0.1, body = 5, out = 1, field = 1, catches = 5, hits = 5;
 };

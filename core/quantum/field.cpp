@@ -84,10 +84,6 @@ bool Field::catching() const {
   return std::any_of(bodies.begin(), bodies.end(), [](const BodySpec& b) { return b.catches; });
 }
 
-bool Field::hitting() const {
-  return std::any_of(bodies.begin(), bodies.end(), [](const BodySpec& b) { return b.hits; });
-}
-
 bool Area::contains(Vec2 p) const {
   if (box) return p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y;
   const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;

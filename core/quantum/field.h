@@ -139,8 +139,6 @@ struct Field {
   std::vector<std::string> teams() const;
   // Whether any body catches: a sport of holding, throwing and catching.
   bool catching() const;
-  // Whether any body hits: a sport of touches that send the ball on (volleyball).
-  bool hitting() const;
   // The first area containing p, or -1.
   int area_at(Vec2 p) const;
   bool has_height() const { return gravity > 0; }

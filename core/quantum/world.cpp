@@ -132,10 +132,14 @@ void World::drop(int spot, std::vector<Event>& events) {
 // friction nothing changes.
 float World::flight(float seconds) const { return field_.flight_time(seconds); }
 
-void World::give(int body) {
+void World::check_body(int body) const {
   if (body < 0 || body >= int(field_.bodies.size()))
     throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
                                 std::to_string(field_.bodies.size()) + ")");
+}
+
+void World::give(int body) {
+  check_body(body);
   if (!field_.bodies[body].catches)
     throw std::invalid_argument(field_.bodies[body].name + " cannot hold the ball: its field body does not catch");
   cloud_.clear();
@@ -378,18 +382,14 @@ void World::place_bodies(std::span<const BodyInput> input) {
 
 void World::set_reach(int body, float height) {
   if (!field_.has_height()) throw std::logic_error("a flat field has no heights to reach");
-  if (body < 0 || body >= int(field_.bodies.size()))
-    throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
-                                std::to_string(field_.bodies.size()) + ")");
+  check_body(body);
   if (!(height > 0 && height <= 100)) throw std::invalid_argument("a reach must be in (0, 100] m");
   body_top_[size_t(body)] = height;
   ++version_;
 }
 
 void World::plan_hit(int body, const HitPlan& plan) {
-  if (body < 0 || body >= int(field_.bodies.size()))
-    throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
-                                std::to_string(field_.bodies.size()) + ")");
+  check_body(body);
   const std::string who = field_.bodies[body].name;
   if (!field_.bodies[body].hits) throw std::invalid_argument(who + " does not hit the ball: its field body does not hit");
   const bool tall = field_.has_height();
@@ -447,9 +447,7 @@ void World::challenge(std::span<const Challenge> challengers, std::vector<Event>
   if (holder_ < 0) throw std::invalid_argument("nobody holds the ball to take");
   double total = 0;
   for (const Challenge& c : challengers) {
-    if (c.body < 0 || c.body >= int(field_.bodies.size()))
-      throw std::invalid_argument("no body " + std::to_string(c.body) + " (the field has " +
-                                  std::to_string(field_.bodies.size()) + ")");
+    check_body(c.body);
     if (!field_.bodies[c.body].catches || c.body == holder_)
       throw std::invalid_argument(field_.bodies[c.body].name + " cannot take the ball: " +
                                   (c.body == holder_ ? "it holds it" : "its field body does not catch"));
@@ -479,9 +477,7 @@ void World::challenge(std::span<const Challenge> challengers, std::vector<Event>
 }
 
 void World::set_last_touch(int body) {
-  if (body < -1 || body >= int(field_.bodies.size()))
-    throw std::invalid_argument("no body " + std::to_string(body) + " (the field has " +
-                                std::to_string(field_.bodies.size()) + ")");
+  if (body != -1) check_body(body);
   last_touch_ = body;
   ++version_;
 }

@@ -251,6 +251,7 @@ class World {
 
  private:
   void check_input(float dt, std::span<const BodyInput> input) const;
+  void check_body(int body) const;  // throws std::invalid_argument for an unknown body
   void check_bodies(std::span<const BodyInput> input) const;
   void decide(float dt, std::optional<bool> loose_seen, std::vector<Event>& events);
   // The FateKind of `body` meeting the ball now (see FateKind), the ball loose or not.
