@@ -392,13 +392,14 @@ void Sport::read_audio(const Reader& r, int t) {
     return (found.empty() ? folders.back() / name : found).lexically_normal().string();
   };
   for (const auto& [event, name] : {std::pair{"shot", "hit.wav"}, {"intercept", "hit.wav"}, {"retouch", "hit.wav"},
-                                    {"hit", "hit.wav"},     {"goal", "goal.wav"}, {"own_goal", "goal.wav"}, {"drop", "whistle.wav"},
+                                    {"hit", "hit.wav"},     {"kick", "hit.wav"},  {"goal", "goal.wav"}, {"own_goal", "goal.wav"}, {"drop", "whistle.wav"},
                                     {"bounce", "wall.wav"}})
     audio_.sounds[event] = resolve(name, std::string("audio.sounds.") + event);
   audio_.priorities = {{"goal", 3}, {"own_goal", 3}, {"match_end", 3}, {"time_up", 3}, {"drop", 2}, {"out", 2},
                        {"dead", 2}, {"shot", 1},     {"intercept", 1}, {"timer", 1},   {"retouch", 0}, {"bounce", 0},
-                       {"hit", 1}};
-  for (const char* e : {"shot", "intercept", "retouch", "hit", "bounce", "catch", "pickup", "tackle", "pass", "throw", "give"}) audio_.supersede[e] = true;
+                       {"hit", 1},       {"kick", 1}};
+  for (const char* e : {"shot", "intercept", "retouch", "hit", "bounce", "catch", "pickup", "tackle", "pass", "throw", "kick", "give"})
+    audio_.supersede[e] = true;
   if (!r.field(t, "audio")) return;
   r.expect(LUA_TTABLE, "audio");
   const int a = lua_gettop(L);

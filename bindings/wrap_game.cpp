@@ -265,38 +265,46 @@ Launch launch_options(lua_State* L, const game::Match& m, int arg) {
 // `speed_spread` of speed (the sport's `throws` by default). With height the ball flies in an
 // arc through the target: the flattest one at that speed, or the one leaving at `elevation`
 // degrees (its speed follows; at a hoop 52 unless given); `elevation_spread` scatters the angle.
-// `throw` is told.
-int throw_ball(lua_State* L) {
+// `throw` is told. game.kick(player, to [, opts]) is the same from the feet: with height the ball
+// leaves the floor, along it at `speed` (slowed by the field's friction) unless `elevation`
+// lofts it; `kick` is told.
+int release(lua_State* L, World::Release how) {
   game::Match& m = acting(L);
   const Field& f = m.field();
   const int player = player_index(m, check_string(L, 1));
   Launch launch = launch_options(L, m, 3);
   double& elevation = launch.elevation;
   const double speed = launch.speed;
-  if (lua_isnoneornil(L, 2)) throw ArgError("argument 2: expected where to throw");
+  const bool kick = how == World::Release::Kick;
+  if (lua_isnoneornil(L, 2)) throw ArgError(kick ? "argument 2: expected where to kick" : "argument 2: expected where to throw");
   const ThrowTarget to = throw_target(L, m, player, 2, speed);
   Vec3 velocity = to.v;
   if (!to.velocity) {
     const Vec2 p = m.players()[size_t(player)].position;
-    if (!(std::hypot(to.point.x - p.x, to.point.y - p.y) > 0)) throw ArgError("the thrower stands on the point it throws at");
-    if (!f.has_height()) {
+    if (!(std::hypot(to.point.x - p.x, to.point.y - p.y) > 0))
+      throw ArgError(kick ? "the kicker stands on the point it kicks at" : "the thrower stands on the point it throws at");
+    if (!f.has_height() || (kick && std::isnan(elevation))) {
       const float dx = to.point.x - p.x, dy = to.point.y - p.y, d = std::hypot(dx, dy);
       velocity = {float(speed * dx / d), float(speed * dy / d), 0};
     } else {
       const Vec2 arm = f.release_point(player, p, {to.point.x, to.point.y});
-      const Vec3 hand{arm.x, arm.y, m.world().reach(player)};
+      const Vec3 from{arm.x, arm.y, kick ? f.ball_radius : m.world().reach(player)};
       const bool hoop = lua_type(L, 2) == LUA_TSTRING && m.field().goals.end() !=
           std::find_if(f.goals.begin(), f.goals.end(), [&](const Goal& g) { return g.hoop() && g.name == lua_tostring(L, 2); });
       if (std::isnan(elevation) && hoop) elevation = kShotElevation / kRadiansPerDegree;
-      velocity = std::isnan(elevation) ? f.throw_at(hand, to.point, float(speed))
-                                       : f.arc_velocity(hand, to.point, float(elevation * kRadiansPerDegree));
+      velocity = std::isnan(elevation) ? f.throw_at(from, to.point, float(speed))
+                                       : f.arc_velocity(from, to.point, float(elevation * kRadiansPerDegree));
       if (velocity.x == 0 && velocity.y == 0 && velocity.z == 0)
-        throw ArgError("no throw at " + std::to_string(elevation) + " degrees reaches that point: throw higher");
+        throw ArgError("no " + std::string(kick ? "kick" : "throw") + " at " + std::to_string(elevation) +
+                       " degrees reaches that point: " + (kick ? "kick" : "throw") + " higher");
     }
   }
-  m.throw_ball(player, velocity, launch.spread);
+  m.throw_ball(player, velocity, launch.spread, how);
   return 0;
 }
+
+int throw_ball(lua_State* L) { return release(L, World::Release::Throw); }
+int kick(lua_State* L) { return release(L, World::Release::Kick); }
 
 // game.hit(player [, to [, {speed =, spread =, ...}]]): the player, who hits (field.lua: hits =
 // true), sends the ball it next meets toward `to` (a velocity {vx, vy [, vz]}, a point, a
@@ -425,7 +433,7 @@ void push_game_api(lua_State* L, Sport* sport) {
                {"cancel", guard<cancel>},     {"turn", guard<turn>},         {"aim", guard<aim>},
                {"score", guard<score>},       {"time", guard<time>},         {"length", guard<length>},         {"teams", guard<teams>},
                {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
-               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>}, {"hit", guard<hit>}, {"jump", guard<jump>},
+               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>}, {"kick", guard<kick>}, {"hit", guard<hit>}, {"jump", guard<jump>},
                {"holder", guard<holder>},     {"area", guard<area>},         {"field", guard<field>}},
               sport);
 }

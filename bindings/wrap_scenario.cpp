@@ -346,14 +346,20 @@ int give(lua_State* L) {
 
 // s:throw(player, vx, vy [, vz]): the holder throws, as from its accelerometer (vz upward, on a
 // field with height): the sport's spread scatters the cloud, and its rules hear the throw.
-int throw_ball(lua_State* L) {
+// s:kick(player, vx, vy [, vz]) kicks it from the feet (World::release): along the floor, or
+// lofted with vz.
+int release(lua_State* L, World::Release how) {
   Scenario& s = self(L);
   const int k = body_index(s, check_string(L, 2));
   if (s.match().holder() != k) throw ArgError(check_string(L, 2) + " does not hold the ball");
-  s.match().throw_ball(k, {to_float(check_number(L, 3)), to_float(check_number(L, 4)), to_float(opt_number(L, 5, 0))});
+  s.match().throw_ball(k, {to_float(check_number(L, 3)), to_float(check_number(L, 4)), to_float(opt_number(L, 5, 0))},
+                       std::nullopt, how);
   s.session->tell();
   return 0;
 }
+
+int throw_ball(lua_State* L) { return release(L, World::Release::Throw); }
+int kick(lua_State* L) { return release(L, World::Release::Kick); }
 
 // s:hit(player, vx, vy [, vz]): the player, who hits, sends the ball it next meets at that
 // velocity, as a swing its accelerometer felt (the sport's spread scatters it); s:hit(player)
@@ -479,7 +485,8 @@ void open_scenario(lua_State* L) {
                  {"run", guard<run>},       {"grant", guard<grant>},   {"events", guard<events>},
                  {"said", guard<said>},     {"errors", guard<errors>}, {"fates", guard<fates>},
                  {"players", guard<players>}, {"score", guard<score>}, {"time", guard<time>},
-                 {"give", guard<give>},     {"throw", guard<throw_ball>}, {"hit", guard<hit>},
+                 {"give", guard<give>},     {"throw", guard<throw_ball>}, {"kick", guard<kick>},
+                 {"hit", guard<hit>},
                  {"holder", guard<holder>},
                  {"jump", guard<jump>}},
                 gc);

@@ -18,7 +18,8 @@ namespace {
 
 constexpr std::array<const char*, kEventKinds> kEventNames = {
     "drop", "shot", "intercept", "retouch", "bounce", "goal", "own_goal", "out", "dead", "time_up", "match_end",
-    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "stalled", "loose", "landing", "hit", "pickup", "tackle"};
+    "powerup", "powerup_end", "paused", "resumed", "catch", "pass", "throw", "give", "stalled", "loose", "landing", "hit", "pickup", "tackle",
+    "kick"};
 
 }  // namespace
 
@@ -183,10 +184,10 @@ void Match::hand_over(int k) {
   tell_rules(events_.size() - 1);
 }
 
-void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread) {
+void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread, World::Release how) {
   if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
   thrown_.clear();
-  world_.release(k, velocity, spread.value_or(config_.throw_spread), thrown_);
+  world_.release(k, velocity, spread.value_or(config_.throw_spread), thrown_, how);
   const Event e = thrown_.back();  // a copy: the rules told of it may throw again
   handle(e);
   // The new flight's fates, so the next draw is already tweaked.
@@ -471,7 +472,8 @@ void Match::handle(const Event& e) {
       took(e.actor, e.t);  // `previous`: the holder who lost it
       break;
     case EventType::Throw:
-      type = EventKind::Throw;
+    case EventType::Kick:
+      type = e.type == EventType::Kick ? EventKind::Kick : EventKind::Throw;
       if (last_toucher_ != e.actor) previous_toucher_ = last_toucher_, last_toucher_ = e.actor;
       last_touch_t_ = e.t;
       break;

@@ -31,12 +31,13 @@ namespace quantum::game {
 // player who catches took a loose ball someone had touched (World::loose). Tackle: a player took
 // the held ball from its holder (MatchConfig::tackle_rate); `previous` is who lost it.
 // On a field of landings, Landing: the ball came down on the floor (actor: the area it is in).
-// Hit: a player who hits (field.lua: hits = true) touched the ball and sent it on.
+// Hit: a player who hits (field.lua: hits = true) touched the ball and sent it on. Kick: the
+// holder let go from its feet (a throw along the floor or lofted from it).
 enum class EventKind : uint8_t {
   Drop, Shot, Intercept, Retouch, Bounce, Goal, OwnGoal, Out, Dead, TimeUp, MatchEnd, Powerup, PowerupEnd,
-  Paused, Resumed, Catch, Pass, Throw, Give, Stalled, Loose, Landing, Hit, Pickup, Tackle,
+  Paused, Resumed, Catch, Pass, Throw, Give, Stalled, Loose, Landing, Hit, Pickup, Tackle, Kick,
 };
-constexpr int kEventKinds = int(EventKind::Tackle) + 1;
+constexpr int kEventKinds = int(EventKind::Kick) + 1;
 const char* to_string(EventKind kind);  // "drop", "shot", ..., "own_goal", "time_up", "powerup_end", ...
 // The kind named `name`, or none.
 std::optional<EventKind> event_kind(std::string_view name);
@@ -236,10 +237,11 @@ class Match {
   // (field.lua: catches = true) or a delay outside [0, 60] s.
   void give(int k, double delay = 0);
   // Player k, who holds the ball, throws it at `velocity` (m/s; upward velocity.z only on a field
-  // with height), scattered by `spread` (the
-  // sport's when none): a `throw` event is told. Throws std::invalid_argument when k does not
-  // hold the ball, or for a bad velocity or spread.
-  void throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread = std::nullopt);
+  // with height), scattered by `spread` (the sport's when none): a `throw` event is told, or a
+  // `kick` for a ball kicked from the feet (World::release). Throws std::invalid_argument when k
+  // does not hold the ball, or for a bad velocity or spread.
+  void throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread = std::nullopt,
+                  World::Release how = World::Release::Throw);
   // How player k, who hits (field.lua: hits = true), sends on the ball it next meets (see
   // World::plan_hit): a rule's aim, a simulated player's choice. Throws std::invalid_argument
   // for what the world refuses.

@@ -108,7 +108,7 @@ void TeamBots::hear(const GameEvent& e) {
   switch (e.type) {
     case EventKind::Drop: case EventKind::Give: case EventKind::Catch: case EventKind::Pickup: case EventKind::Tackle:
     case EventKind::Pass:
-    case EventKind::Intercept: case EventKind::Throw: case EventKind::Hit: case EventKind::Bounce: case EventKind::Landing:
+    case EventKind::Intercept: case EventKind::Throw: case EventKind::Kick: case EventKind::Hit: case EventKind::Bounce: case EventKind::Landing:
     case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead: case EventKind::Loose:
       for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity});
       return;
@@ -135,18 +135,20 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
       return;
     case EventKind::Drop:
     case EventKind::Throw:
+    case EventKind::Kick:
     case EventKind::Hit:  // sent on at once, as a throw is
     case EventKind::Bounce:
     case EventKind::Landing:  // the ball bounces on from the floor
     case EventKind::Loose: {  // a loose ball is anyone's, its last thrower's too
       const double err = b.skill.imagine_noise;
       const bool bounced = h.type == EventKind::Bounce || h.type == EventKind::Landing;
-      const int thrower = h.type == EventKind::Throw || h.type == EventKind::Hit ? h.actor : bounced ? ball.thrower : -1;
+      const bool sent = h.type == EventKind::Throw || h.type == EventKind::Kick || h.type == EventKind::Hit;
+      const int thrower = sent ? h.actor : bounced ? ball.thrower : -1;
       ball = {Ball::State::Flying, -1, thrower,
               h.where + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))},
               float(std::max(0.3, 1 + 0.1 * noise(b.rng))) * rotated(h.velocity, 0.05 * noise(b.rng))};
       fly(ball.at, ball.velocity, b.skill.reaction);  // it flew on while the news travelled
-      if (h.actor == b.body && (h.type == EventKind::Throw || h.type == EventKind::Hit)) b.got_ball = -1;
+      if (h.actor == b.body && sent) b.got_ball = -1;
       return;
     }
     default: ball = {}; return;  // goal, out, dead: no ball until the next drop or give

@@ -65,13 +65,14 @@ NextStep next_step(uint64_t seed, uint64_t step, float brownian, float dt, float
 // Particle i at the start of the prediction: moving with the next step's drift, as the step moves
 // it (the drift is horizontal only).
 template <class Space>
-typename Space::Mover start_of(const Cloud& c, size_t i, const NextStep& next) {
+typename Space::Mover start_of(const Space& space, const Cloud& c, size_t i, const NextStep& next) {
   typename Space::Mover m = Space::ball(c, i);
   if (next.dt <= 0) return m;
   float dx, dy;
   noise_offsets(noise_bits(uint32_t(i), next.key), next.amplitude, dx, dy);
-  const float x1 = c.x[i] + c.vx[i] * next.dt + dx, y1 = c.y[i] + c.vy[i] * next.dt + dy;
-  m.ux = (x1 - c.x[i]) / next.dt, m.uy = (y1 - c.y[i]) / next.dt;
+  const float span = space.span(m, next.dt);
+  const float x1 = c.x[i] + c.vx[i] * span + dx, y1 = c.y[i] + c.vy[i] * span + dy;
+  m.ux = (x1 - c.x[i]) / span, m.uy = (y1 - c.y[i]) / span;
   return m;
 }
 
@@ -204,7 +205,7 @@ void trace_fates(FateJob<Space>& job) {
     flying->n = later->n = 0;
     std::fill(fates, fates + (end_of_chunk - begin), Fate{});
     for (size_t i = begin; i < end_of_chunk; ++i) {
-      const Mover m = start_of<Space>(c, i, job.next_step);
+      const Mover m = start_of(space, c, i, job.next_step);
       const uint32_t place = uint32_t(i - begin);
       // The flat safe box knows no floor, ceiling, hoop or board: with height every particle is searched.
       if constexpr (!Space::kHeight) {
@@ -400,7 +401,7 @@ std::vector<Vec3> World::predict_path(size_t i, float horizon) const {
     // A flat flight is a straight line; an arc is drawn as chords of at most this long in time,
     // smooth at any picture's scale.
     constexpr float kChord = 0.02f;
-    trace_fate(space, bodies.data(), int(bodies.size()), ends, start_of<Space>(cloud_, i, next), next.dt,
+    trace_fate(space, bodies.data(), int(bodies.size()), ends, start_of(space, cloud_, i, next), next.dt,
                flight(horizon), [&](const typename Space::Mover& m, float seconds) {
                  const int pieces = Space::kHeight ? std::max(1, int(std::ceil(seconds / kChord))) : 1;
                  for (int k = path.empty() ? 0 : 1; k <= pieces; ++k)
@@ -436,7 +437,7 @@ void World::predict(FateReport& report, float horizon) const {
   const auto run = [&](auto& job, void (*trace)(void*)) { shared ? s.helper.together(trace, &job) : trace(&job); };
   const int nb = int(s.predicted_bodies.size());
   uint32_t* group_of = report.group_of.data();
-  // A field with height has no friction: its flight time is the time itself.
+  // With height, flight() is the time itself: the tracer slows a rolling particle (Sky::roll).
   internals_->on_space([&](const auto& space) {
     using Space = std::decay_t<decltype(space)>;
     FateJob<Space> job{space, s.predicted_bodies.data(), nb, ends, cloud_, next, flight(horizon),

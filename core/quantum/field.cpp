@@ -150,9 +150,6 @@ void finish_height(Field& f) {
     if (f.landings) throw FieldError("landings", "a ball lands only on a field with height: give the field `gravity` (9.81)");
     return;
   }
-  // Friction is a flat field's slowing; an arc slowed alike in every direction would no longer be
-  // a parabola the prediction can solve in closed form.
-  if (f.friction != 0) throw FieldError("ball.friction", "a field with gravity has no friction (the ball flies in arcs)");
   check_range(f.floor_restitution, 0.0f, 1.0f, "ball.floor_restitution");
   if (f.ceiling != 0) check_range(f.ceiling, 2 * f.ball_radius + 0.01f, 1000.0f, "ceiling");
   for (size_t i = 0; i < f.bodies.size(); ++i)

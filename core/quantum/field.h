@@ -107,7 +107,9 @@ struct Field {
   float audible_bounce = 0.3f;
   float brownian = 0.0f;        // diffusion of the players' knowledge of the ball, m/sqrt(s)
   float max_body_speed = 30.0f;  // m/s; faster input is a tracking fault, not a player
-  // 1/s: a rolling or flying ball's speed falls as e^(-friction t). 0 (an air table) is none.
+  // 1/s: a sliding or flying ball's speed falls as e^(-friction t). 0 (an air table) is none. With
+  // height it is the floor's rolling friction: only a ball rolling on the floor slows, one in the
+  // air flies its arc unslowed.
   float friction = 0.0f;
   // Height. A field with gravity (m/s^2) gives the ball a height above the floor: it flies in
   // arcs, bounces off the floor (the wall "floor") with `floor_restitution` and off a ceiling
@@ -151,7 +153,7 @@ struct Field {
   // Friction slows a ball alike at any speed, v(t) = v0 e^(-kt), so in t seconds it covers
   // v0 (1 - e^(-kt)) / k: the frictionless path, travelled for this "flight time" instead of t
   // (without friction, t itself). The core's step and prediction, the simulated players'
-  // imagined ball and the rules' aimed throws all fly by it.
+  // imagined ball and the rules' aimed throws all fly by it; with height, only a rolling ball.
   float flight_time(float seconds) const;
   // Seconds a ball thrown at `speed` takes to cover `distance`; infinity when it stops short.
   double travel_time(double distance, double speed) const;

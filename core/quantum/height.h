@@ -9,6 +9,7 @@
 // (batch_next_hits3), written for the vectorizer; one particle is a batch of one.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -35,6 +36,13 @@ struct Sky {
   explicit Sky(const Field& field);
 
   float g = 0, e_floor = 0, r = 0;
+  // The floor's rolling friction (Field::friction), 1/s. A rolling ball's speed falls as
+  // e^(-roll t), so its path is still a straight line, covered by rolled(t) at its start speed in
+  // t seconds: a rolling particle is searched over that length and its contact time read back by
+  // roll_time. A flying ball is not slowed.
+  float roll = 0;
+  float rolled(float t) const { return roll > 0 ? -std::expm1(-roll * t) / roll : t; }
+  float roll_time(float span) const { return roll > 0 ? -std::log1p(-roll * span) / roll : span; }
   float ceiling = kInf;  // the highest the ball's centre gets
   int floor_wall = -1, ceiling_wall = -1;
   // Hoops: centre, ring radius, half the rod's thickness, restitution; their goal and rim wall.
@@ -111,7 +119,7 @@ struct Mover3Batch {
 void batch_next_hits3(const Geometry& g, const Sky& sky, const BodyPath* bodies, int n_bodies, Mover3Batch& b,
                       size_t n, float t1, bool with_bodies);
 
-// m moved on by dt seconds of free flight.
+// m moved on by dt seconds of free flight (or of rolling, slowed by the floor).
 Mover3 advanced(const Sky& sky, const Mover3& m, float dt);
 
 // Earliest contact of m (at time t0) in (t0, t1]; bodies skipped when `with_bodies` is false.

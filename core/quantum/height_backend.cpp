@@ -86,6 +86,8 @@ class HeightBackend final : public Backend {
     // a member read inside a loop would be reloaded every particle and keep it from vectorizing.
     const float dt = ctx.dt, amp = ctx.noise_amplitude, gravity = s.g, ground = s.r + detail::kGroundSkin;
     const float floor_line = s.r, ceiling_line = s.ceiling, bulge = 0.125f * gravity * dt * dt;
+    // A ball rolling on a floor with friction covers less than its speed times dt, and slows.
+    const float rolled = s.rolled(dt), slowed = s.roll > 0 ? std::exp(-s.roll * dt) : 1.0f;
     const uint32_t key = ctx.noise_key;
     const detail::Box safe = g.safe;
 
@@ -108,8 +110,8 @@ class HeightBackend final : public Backend {
         const float x0 = x[i], y0 = y[i], z0 = z[i], w0 = vz[i];
         // A ball resting on the floor rolls: the floor holds gravity.
         const bool resting = (w0 == 0) & (z0 <= ground);
-        const float fall = resting ? 0.0f : gravity;
-        const float x1 = x0 + vx[i] * dt + dx, y1 = y0 + vy[i] * dt + dy;
+        const float fall = resting ? 0.0f : gravity, along = resting ? rolled : dt;
+        const float x1 = x0 + vx[i] * along + dx, y1 = y0 + vy[i] * along + dy;
         const float z1 = z0 + w0 * dt - 0.5f * fall * dt * dt;
         ox[j] = x0, oy[j] = y0, oz[j] = z0, ovz[j] = w0;
         x[i] = x1, y[i] = y1, z[i] = z1, vz[i] = w0 - fall * dt;
@@ -173,10 +175,20 @@ class HeightBackend final : public Backend {
         }
       }
       detail::flag_near_mouths(g, ox, oy, x, y, base, m, flag);
+      // Friction slows the rolling balls; the tracer slows the ones it traces itself. Its own
+      // pass, so a floor without friction costs the loop above no stores.
+      if (slowed < 1) {
+        for (int j = 0; j < m; ++j) {
+          const int i = base + j;
+          const float keep = ((ovz[j] == 0) & (oz[j] <= ground) & (flag[j] == 0)) ? slowed : 1.0f;
+          vx[i] *= keep, vy[i] *= keep;
+        }
+      }
       const int flagged = detail::collect_flagged(flag, m, slow);
       for (int q = 0; q < flagged; ++q) {
         const int j = slow[q], i = base + j;
-        const detail::Mover3 mv{ox[j], oy[j], oz[j], (x[i] - ox[j]) / dt, (y[i] - oy[j]) / dt, vx[i], vy[i], ovz[j]};
+        const float along = ((ovz[j] == 0) & (oz[j] <= ground)) ? rolled : dt;
+        const detail::Mover3 mv{ox[j], oy[j], oz[j], (x[i] - ox[j]) / along, (y[i] - oy[j]) / along, vx[i], vy[i], ovz[j]};
         tracer_.add(uint32_t(i), mv, true, finish);
       }
     }

@@ -36,6 +36,9 @@ struct Flat {
   static Mover ball(const Cloud& c, size_t i) { return {c.x[i], c.y[i], c.vx[i], c.vy[i], c.vx[i], c.vy[i]}; }
   static Vec3 where(const Mover& m) { return {m.x, m.y, 0}; }
   static Mover shadow(const Mover& m) { return m; }  // the ball seen from above
+  // The length of path, at m's start speed, that dt of flight time covers: dt itself (friction is
+  // in the flight time already).
+  static float span(const Mover&, float dt) { return dt; }
   // Free flight for dt seconds: a straight line.
   Mover advanced(const Mover& m, float dt) const { return {m.x + m.ux * dt, m.y + m.uy * dt, m.ux, m.uy, m.vx, m.vy}; }
   void resolve(const BodyPath* bodies, const Hit& h, float t, Mover& m) const {
@@ -77,6 +80,9 @@ struct Tall {
   }
   static Vec3 where(const Mover& m) { return {m.x, m.y, m.z}; }
   static detail::Mover shadow(const Mover& m) { return m.flat(); }
+  // The length of path, at m's start speed, that dt seconds cover: dt, or less for a ball rolling
+  // on a floor with friction.
+  float span(const Mover& m, float dt) const { return sky.gravity_on(m) == 0 ? sky.rolled(dt) : dt; }
   // Free flight for dt seconds: a parabola, or a roll on the floor.
   Mover advanced(const Mover& m, float dt) const { return detail::advanced(sky, m, dt); }
   void resolve(const BodyPath* bodies, const Hit& h, float t, Mover& m) const { resolve3(g, sky, bodies, h, t, m); }

@@ -23,6 +23,7 @@ const char* to_string(EventType type) {
     case EventType::Landing: return "landing";
     case EventType::Pickup: return "pickup";
     case EventType::Tackle: return "tackle";
+    case EventType::Kick: return "kick";
   }
   return "?";
 }
@@ -47,7 +48,8 @@ EventActor actor_of(const Event& e, const Field& f) {
     case EventType::Catch:
     case EventType::Pickup:
     case EventType::Tackle:
-    case EventType::Throw: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
+    case EventType::Throw:
+    case EventType::Kick: return {f.bodies[e.actor].name, f.bodies[e.actor].team};
     case EventType::Bounce: return {f.wall_names[e.actor], ""};
     case EventType::Goal:
     case EventType::OwnGoal: return {f.goals[e.actor].name, f.goals[e.actor].team};
@@ -127,10 +129,11 @@ void World::drop(int spot, std::vector<Event>& events) {
   events.push_back({time_, EventType::Drop, spot, 1, 1, 1, at, {0, 0}});
 }
 
-// The step and the prediction trace frictionless paths over flight times (Field::flight_time),
-// and the step then slows the velocities by e^(-kt): the prediction stays exact, and without
-// friction nothing changes.
-float World::flight(float seconds) const { return field_.flight_time(seconds); }
+// On a flat field the step and the prediction trace frictionless paths over flight times
+// (Field::flight_time), and the step then slows the velocities by e^(-kt): the prediction stays
+// exact, and without friction nothing changes. With height only a rolling particle slows, which
+// the tracer knows (Sky::roll): its time is the time itself.
+float World::flight(float seconds) const { return field_.has_height() ? seconds : field_.flight_time(seconds); }
 
 void World::check_body(int body) const {
   if (body < 0 || body >= int(field_.bodies.size()))
@@ -168,7 +171,7 @@ Vec2 World::release_point(int body, Vec2 direction) const {
   return {m.x + m.ux * t, m.y + m.uy * t};
 }
 
-void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Event>& events) {
+void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Event>& events, Release how) {
   if (body < 0 || body != holder_)
     throw std::invalid_argument(
         (body >= 0 && body < int(field_.bodies.size()) ? field_.bodies[body].name : "body " + std::to_string(body)) +
@@ -186,15 +189,18 @@ void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Eve
                                          : Vec2{1, 0};
   const Vec2 at = release_point(body, direction);
   cloud_.clear();
-  const float hand = tall ? std::min(body_top_[size_t(body)], internals_->sky.ceiling - 1e-3f) : 0;
-  release_at({at.x, at.y, hand}, velocity, spread);
+  const bool kick = how == Release::Kick;
+  if (kick && tall && velocity.z == 0) spread.elevation = 0;  // along the floor
+  const float hand = !tall ? 0 : kick ? field_.ball_radius : std::min(body_top_[size_t(body)], internals_->sky.ceiling - 1e-3f);
+  release_at({at.x, at.y, hand}, velocity, spread, kick && tall);
   cloud_.normalize();
   clear_purgatory();
   live_ = true;
   holder_ = -1;
   last_touch_ = body;
   ++version_;
-  events.push_back({time_, EventType::Throw, body, 1, 1, config_.particles, at, {velocity.x, velocity.y}});
+  events.push_back({time_, kick ? EventType::Kick : EventType::Throw, body, 1, 1, config_.particles, at,
+                    {velocity.x, velocity.y}});
 }
 
 World::Launch World::launch_of(Vec3 velocity) {
@@ -221,11 +227,12 @@ Vec3 World::scattered(const Launch& l, ThrowSpread spread) {
   return {s * std::cos(e) * std::cos(h), s * std::cos(e) * std::sin(h), s * std::sin(e)};
 }
 
-void World::release_at(Vec3 at, Vec3 velocity, ThrowSpread spread) {
+void World::release_at(Vec3 at, Vec3 velocity, ThrowSpread spread, bool from_floor) {
   const Launch l = launch_of(velocity);
   const bool tall = field_.has_height();
   for (uint32_t i = 0; i < config_.particles; ++i) {
-    const Vec3 v = scattered(l, spread);
+    Vec3 v = scattered(l, spread);
+    if (from_floor && v.z < 0) v.z = 0;
     if (tall) cloud_.push(at, v, 1, 1);
     else cloud_.push(at.x, at.y, v.x, v.y, 1, 1);
   }
@@ -337,7 +344,7 @@ void World::step(float dt, std::span<const BodyInput> input, std::vector<Event>&
     const StepContext ctx{flight(dt), motion_.data(), nb, step_key(config_.seed, step_),
                           noise_amplitude(field_.brownian, dt)};
     backend_->advance(cloud_, ctx, contacts_);
-    if (field_.friction > 0) {
+    if (field_.friction > 0 && !field_.has_height()) {
       const float slow = std::exp(-field_.friction * dt);
       float* __restrict vx = cloud_.vx.data();
       float* __restrict vy = cloud_.vy.data();
@@ -674,7 +681,8 @@ void World::realize_body(int body, float dt) {
     internals_->on_space([&](const auto& space) {
       using Space = std::decay_t<decltype(space)>;
       catch_up(internals_->tracer<Space>(), g, now.data(), nb, slot, body, flight(float(age) * dt),
-               field_.friction > 0 ? std::exp(-field_.friction * float(age) * dt) : 1.0f, scratch_);
+               field_.friction > 0 && !field_.has_height() ? std::exp(-field_.friction * float(age) * dt) : 1.0f,
+               scratch_);
     });
   }
   std::swap(cloud_, scratch_);

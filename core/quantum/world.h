@@ -34,23 +34,24 @@ struct WorldConfig {
   uint32_t threads = 2;
 };
 
-// Catch: a body that catches met the ball and holds it now. Throw: its holder let it go. Landing:
-// on a field of landings, the ball came down on the floor (and bounced on). Pickup: a catch of a
-// loose ball someone touched (see World::loose). Tackle: a player took the held ball from its
-// holder (World::challenge).
-enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out, Catch, Throw, Landing, Pickup, Tackle };
-// "drop", "hit", "bounce", "goal", "own_goal", "out", "catch", "throw", "landing", "pickup", "tackle"
+// Catch: a body that catches met the ball and holds it now. Throw: its holder let it go; Kick:
+// from its feet (World::Release). Landing: on a field of landings, the ball came down on the
+// floor (and bounced on). Pickup: a catch of a loose ball someone touched (see World::loose).
+// Tackle: a player took the held ball from its holder (World::challenge).
+enum class EventType { Drop, Hit, Bounce, Goal, OwnGoal, Out, Catch, Throw, Landing, Pickup, Tackle, Kick };
+// "drop", "hit", "bounce", "goal", "own_goal", "out", "catch", "throw", "landing", "pickup",
+// "tackle", "kick"
 const char* to_string(EventType type);
 
 struct Event {
   double t;
   EventType type;
-  int actor;            // spot (drop), body (hit, catch, throw), wall (bounce), goal (goal, own goal), area (landing; -1 outside every area); -1 for out
+  int actor;            // spot (drop), body (hit, catch, throw, kick), wall (bounce), goal (goal, own goal), area (landing; -1 outside every area); -1 for out
   double p;             // probability with which this outcome was drawn (fate factors applied)
   double p_newtonian;   // the same without fate factors
   uint32_t particles;   // particles that carried the outcome
   Vec2 at;              // weighted centre of those particles
-  Vec2 velocity;        // hit, bounce, throw: the ball's mean velocity afterwards (what a player makes of it); else 0
+  Vec2 velocity;        // hit, bounce, throw, kick: the ball's mean velocity afterwards (what a player makes of it); else 0
 };
 
 // How a thrown ball's particles scatter: standard deviations of their direction (rad) and of
@@ -162,7 +163,13 @@ class World {
   // not hold the ball or the velocity is not finite and > 0 (or faster than 1000 m/s).
   // On a field with height the ball leaves the hand at the body's reach (Field::reach_of) with
   // the vertical velocity velocity.z; on a flat field velocity.z must be 0.
-  void release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Event>& events);
+  // A Kick leaves the feet instead, and a Kick event is appended: with height the ball starts on
+  // the floor, rolling along it when velocity.z is 0 (no particle is scattered upward) and
+  // lofted otherwise (a particle scattered below the horizontal rolls); on a flat field a kick
+  // goes as a throw does.
+  enum class Release : uint8_t { Throw, Kick };
+  void release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Event>& events,
+               Release how = Release::Throw);
 
   // How a body that hits (BodySpec::hits) sends on the ball it next meets (a simulated player's
   // choice, a rule's aim, a swing an accelerometer felt). A plan is for one touch: the hit uses
@@ -264,7 +271,8 @@ class World {
   };
   static Launch launch_of(Vec3 velocity);
   Vec3 scattered(const Launch& launch, ThrowSpread spread);  // one particle's velocity; draws from the rng
-  void release_at(Vec3 at, Vec3 velocity, ThrowSpread spread);  // config.particles particles (z ignored when flat)
+  // config.particles particles (z ignored when flat); from the floor none goes down into it.
+  void release_at(Vec3 at, Vec3 velocity, ThrowSpread spread, bool from_floor = false);
   void aim_hit(int body);  // a realized hit: the plan's velocities, and the ball passes through the hitter a while
   Vec3 hit_velocity(const HitPlan& plan) const;  // the plan's velocity from where the cloud is now
   float flight(float seconds) const;  // Field::flight_time

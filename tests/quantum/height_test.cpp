@@ -20,51 +20,40 @@ Field court() { return test::quiet("basketball"); }
 
 int body(const Field& f, const std::string& name) { return test::body_named(f, name); }
 
-// Every player parked at the far corner of the court unless placed.
-std::vector<BodyInput> parked(const Field& f, const std::map<std::string, Vec2>& placed = {}) {
-  std::vector<BodyInput> in;
-  for (size_t k = 0; k < f.bodies.size(); ++k) {
-    const auto it = placed.find(f.bodies[k].name);
-    in.push_back({it != placed.end() ? it->second : Vec2{-7.0f + 0.2f * float(k), 13.5f}, {0, 0}});
-  }
-  return in;
-}
-
-Cloud ball(Vec3 p, Vec3 v) {
-  Cloud c;
-  c.push(p, v, 1, 1);
-  return c;
-}
-
 const Goal& hoop(const Field& f) { return f.goals.at(0); }
 
+// The same arc on a floor with friction: friction is the floor's, and slows no ball in the air.
 TEST(Height, AFlightFollowsTheClosedForm) {
-  const Field f = court();
-  World world(f, WorldConfig{.particles = 1});
-  const std::vector<BodyInput> in = parked(f);
-  world.place_bodies(in);
-  const Vec3 p0{-3, 8, 1.5f}, v0{2, -1, 6};
-  world.set_cloud(ball(p0, v0));
-  std::vector<Event> events;
-  for (int s = 1; s <= 60; ++s) {  // one second: up to 3.3 m and back to 1.6 m, nothing in the way
-    world.step(kDt, in, events);
-    const float t = float(s) * kDt;
-    ASSERT_EQ(world.cloud().size(), 1u);
-    EXPECT_NEAR(world.cloud().x[0], p0.x + v0.x * t, 1e-4f);
-    EXPECT_NEAR(world.cloud().y[0], p0.y + v0.y * t, 1e-4f);
-    EXPECT_NEAR(world.cloud().z[0], p0.z + v0.z * t - 0.5f * kG * t * t, 1e-4f) << "at " << t << " s";
-    EXPECT_NEAR(world.cloud().vz[0], v0.z - kG * t, 1e-4f);
+  for (const float friction : {0.0f, 0.5f}) {
+    Field f = court();
+    f.friction = friction;
+    World world(f, WorldConfig{.particles = 1});
+    const std::vector<BodyInput> in = test::parked_in_corner(f);
+    world.place_bodies(in);
+    const Vec3 p0{-3, 8, 1.5f}, v0{2, -1, 6};
+    world.set_cloud(test::one_ball(p0, v0));
+    std::vector<Event> events;
+    for (int s = 1; s <= 60; ++s) {  // one second: up to 3.3 m and back to 1.6 m, nothing in the way
+      world.step(kDt, in, events);
+      const float t = float(s) * kDt;
+      ASSERT_EQ(world.cloud().size(), 1u);
+      EXPECT_NEAR(world.cloud().x[0], p0.x + v0.x * t, 1e-4f) << "friction " << friction;
+      EXPECT_NEAR(world.cloud().y[0], p0.y + v0.y * t, 1e-4f);
+      EXPECT_NEAR(world.cloud().z[0], p0.z + v0.z * t - 0.5f * kG * t * t, 1e-4f) << "at " << t << " s";
+      EXPECT_NEAR(world.cloud().vz[0], v0.z - kG * t, 1e-4f);
+      EXPECT_EQ(world.cloud().vx[0], v0.x);
+    }
+    EXPECT_TRUE(events.empty());
   }
-  EXPECT_TRUE(events.empty());
 }
 
 TEST(Height, TheFloorSendsTheBallBackWithItsRestitution) {
   const Field f = court();
   World world(f, WorldConfig{.particles = 1});
-  const std::vector<BodyInput> in = parked(f);
+  const std::vector<BodyInput> in = test::parked_in_corner(f);
   world.place_bodies(in);
   const float drop = 2.0f, r = f.ball_radius;
-  world.set_cloud(ball({3, 8, drop}, {0, 0, 0}));
+  world.set_cloud(test::one_ball({3, 8, drop}, {0, 0, 0}));
   std::vector<Event> events;
   float highest_after = 0;
   bool bounced = false;
@@ -85,9 +74,9 @@ TEST(Height, TheFloorSendsTheBallBackWithItsRestitution) {
 TEST(Height, ABallAtRestOnTheFloorRollsAndStaysThere) {
   const Field f = court();
   World world(f, WorldConfig{.particles = 1});
-  const std::vector<BodyInput> in = parked(f);
+  const std::vector<BodyInput> in = test::parked_in_corner(f);
   world.place_bodies(in);
-  world.set_cloud(ball({0, 8, f.ball_radius}, {1, 0, 0}));
+  world.set_cloud(test::one_ball({0, 8, f.ball_radius}, {1, 0, 0}));
   std::vector<Event> events;
   for (int s = 0; s < 60; ++s) world.step(kDt, in, events);
   EXPECT_TRUE(events.empty());
@@ -98,17 +87,17 @@ TEST(Height, ABallAtRestOnTheFloorRollsAndStaysThere) {
 TEST(Height, ASwishGoesThroughTheRing) {
   const Field f = court();
   World world(f, WorldConfig{.particles = 1});
-  const std::vector<BodyInput> in = parked(f);
+  const std::vector<BodyInput> in = test::parked_in_corner(f);
   world.place_bodies(in);
   const Vec2 c = hoop(f).a;
-  world.set_cloud(ball({c.x, c.y, 4.0f}, {0, 0, 0}));
+  world.set_cloud(test::one_ball({c.x, c.y, 4.0f}, {0, 0, 0}));
   std::vector<Event> events;
   for (int s = 0; s < 60 && events.empty(); ++s) world.step(kDt, in, events);
   ASSERT_EQ(events.size(), 1u);
   EXPECT_EQ(events[0].type, EventType::Goal);
   EXPECT_EQ(f.goals[size_t(events[0].actor)].name, "basket");
   // Prediction says the same, with nothing on the way.
-  world.set_cloud(ball({c.x, c.y, 4.0f}, {0, 0, 0}));
+  world.set_cloud(test::one_ball({c.x, c.y, 4.0f}, {0, 0, 0}));
   const FateReport report = world.predict(2.0f);
   ASSERT_EQ(report.groups.size(), 1u);
   EXPECT_EQ(report.groups[0].fate.kind, FateKind::Goal);
@@ -118,12 +107,12 @@ TEST(Height, ASwishGoesThroughTheRing) {
 TEST(Height, ABallDroppedOnTheRimBouncesOff) {
   const Field f = court();
   World world(f, WorldConfig{.particles = 1});
-  const std::vector<BodyInput> in = parked(f);
+  const std::vector<BodyInput> in = test::parked_in_corner(f);
   world.place_bodies(in);
   const Goal& h = hoop(f);
   // Straight down onto the rod's top on the court side, a little outside its middle line: it
   // must glance off outward, away from the basket.
-  world.set_cloud(ball({h.a.x, h.a.y + h.rim_radius + 0.02f, 4.0f}, {0, 0, 0}));
+  world.set_cloud(test::one_ball({h.a.x, h.a.y + h.rim_radius + 0.02f, 4.0f}, {0, 0, 0}));
   std::vector<Event> events;
   for (int s = 0; s < 60 && events.empty(); ++s) world.step(kDt, in, events);
   ASSERT_EQ(events.size(), 1u);
@@ -141,12 +130,12 @@ TEST(Height, ABallDroppedOnTheRimBouncesOff) {
 TEST(Height, TheBackboardReflects) {
   const Field f = court();
   World world(f, WorldConfig{.particles = 1});
-  const std::vector<BodyInput> in = parked(f);
+  const std::vector<BodyInput> in = test::parked_in_corner(f);
   world.place_bodies(in);
   const Board& b = f.boards.at(0);
   // Level at the board's middle height, flying straight at it from 2 m out, to the side of the ring.
   const float z = 0.5f * (b.bottom + b.top) + 0.3f, speed = 8;
-  world.set_cloud(ball({0.6f, b.a.y + 2, z}, {0, -speed, 0}));
+  world.set_cloud(test::one_ball({0.6f, b.a.y + 2, z}, {0, -speed, 0}));
   std::vector<Event> events;
   for (int s = 0; s < 30 && events.empty(); ++s) world.step(kDt, in, events);
   ASSERT_EQ(events.size(), 1u);
@@ -155,7 +144,7 @@ TEST(Height, TheBackboardReflects) {
   EXPECT_NEAR(world.cloud().vy[0], speed * b.restitution, 1e-3f);
   EXPECT_NEAR(world.cloud().vx[0], 0.0f, 1e-6f);
   // Below the board the ball flies on under it.
-  world.set_cloud(ball({0.6f, b.a.y + 2, b.bottom - 0.5f}, {0, -speed, 2}));
+  world.set_cloud(test::one_ball({0.6f, b.a.y + 2, b.bottom - 0.5f}, {0, -speed, 2}));
   events.clear();
   for (int s = 0; s < 20; ++s) world.step(kDt, in, events);
   for (const Event& e : events) EXPECT_NE(f.wall_names[size_t(e.actor)], "backboard");
@@ -166,12 +155,12 @@ TEST(Height, TheBackboardReflects) {
 TEST(Height, APlayerCatchesWhatComesWithinReach) {
   const Field f = court();
   const int pia = body(f, "Pia");
-  const std::vector<BodyInput> in = parked(f, {{"Pia", {0, 8}}});
+  const std::vector<BodyInput> in = test::parked_in_corner(f, {{"Pia", {0, 8}}});
   auto fly_past = [&](float z, float reach) {
     World world(f, WorldConfig{.particles = 1});
     world.place_bodies(in);
     world.set_reach(pia, reach);
-    world.set_cloud(ball({-3, 8, z}, {8, 0, 0.5f * kG * (3.0f / 8)}));  // level as it passes Pia
+    world.set_cloud(test::one_ball({-3, 8, z}, {8, 0, 0.5f * kG * (3.0f / 8)}));  // level as it passes Pia
     std::vector<Event> events;
     for (int s = 0; s < 40 && events.empty(); ++s) world.step(kDt, in, events);
     return !events.empty() && events[0].type == EventType::Catch && events[0].actor == pia;
@@ -185,7 +174,7 @@ TEST(Height, APlayerCatchesWhatComesWithinReach) {
 TEST(Height, AFlatFieldRefusesHeightAndAHoopNeedsGravity) {
   Field flat = test::airhockey();
   World world(flat, WorldConfig{});
-  EXPECT_THROW(world.set_cloud(ball({0, 0, 1}, {0, 0, 0})), std::invalid_argument);
+  EXPECT_THROW(world.set_cloud(test::one_ball({0, 0, 1}, {0, 0, 0})), std::invalid_argument);
   EXPECT_THROW(world.set_reach(0, 2), std::logic_error);
   Field f = court();
   f.gravity = 0;
@@ -211,7 +200,7 @@ TEST(Height, RealizedShotsFollowTheTweakedProbabilities) {
   const Field f = court();
   const int maya = body(f, "Maya"), pia = body(f, "Pia"), noah = body(f, "Noah");
   const std::vector<BodyInput> in =
-      parked(f, {{"Maya", {-3, 5.5f}}, {"Pia", {1.2f, 2.2f}}, {"Noah", {-1.3f, 2.4f}}});
+      test::parked_in_corner(f, {{"Maya", {-3, 5.5f}}, {"Pia", {1.2f, 2.2f}}, {"Noah", {-1.3f, 2.4f}}});
   WorldConfig config;
   config.particles = 400;
   World scene(f, config);
@@ -276,7 +265,7 @@ TEST(Height, ALargeCloudsFatesAreEachParticlesOwn) {
   Field f = test::quiet("basketball");
   f.brownian = 0.05f;  // the next step's noise, which depends on each particle's index, is replayed too
   const int maya = body(f, "Maya");
-  const std::vector<BodyInput> in = parked(f, {{"Maya", {-3, 5.5f}}, {"Pia", {1.2f, 2.2f}}, {"Noah", {-1.3f, 2.4f}}});
+  const std::vector<BodyInput> in = test::parked_in_corner(f, {{"Maya", {-3, 5.5f}}, {"Pia", {1.2f, 2.2f}}, {"Noah", {-1.3f, 2.4f}}});
   WorldConfig config;
   config.particles = 20'000;
   World thrower(f, config);

@@ -27,12 +27,6 @@ int area(const Field& f, const std::string& name) {
 // Both players far from the ball's way, in the hall's corners.
 std::vector<BodyInput> aside() { return {{{-9, -6}, {0, 0}}, {{9, 6}, {0, 0}}}; }
 
-Cloud ball(Vec3 p, Vec3 v) {
-  Cloud c;
-  c.push(p, v, 1, 1);
-  return c;
-}
-
 // A spread of hits from (-2, 0) at 2 m over the net and back: some come down in Blue's court
 // short of the net, some meet the net, most land in Red's court, some beyond its lines.
 Cloud spread(int n) {
@@ -68,7 +62,7 @@ TEST(Landing, TheBallComingDownLandsInTheAreaItIsIn) {
   for (const Case& c : {Case{{5, 0, 4}, red, -2 + 5 * t}, Case{{9, 0, 4}, -1, -2 + 9 * t}}) {
     World world(f, WorldConfig{.particles = 1});
     world.place_bodies(aside());
-    world.set_cloud(ball({-2, 0, 2}, c.velocity));
+    world.set_cloud(test::one_ball({-2, 0, 2}, c.velocity));
     const FateReport report = world.predict(3.0f);
     ASSERT_EQ(report.groups.size(), 1u);
     EXPECT_EQ(report.groups[0].fate.kind, FateKind::Landing);
@@ -86,7 +80,7 @@ TEST(Landing, TheBallComingDownLandsInTheAreaItIsIn) {
   plain.landings = false;
   World world(plain, WorldConfig{.particles = 1});
   world.place_bodies(aside());
-  world.set_cloud(ball({-2, 0, 2}, {5, 0, 4}));
+  world.set_cloud(test::one_ball({-2, 0, 2}, {5, 0, 4}));
   EXPECT_NE(world.predict(3.0f).groups[0].fate.kind, FateKind::Landing);
   std::vector<Event> events;
   for (int s = 0; s < 90 && events.empty(); ++s) world.step(kDt, aside(), events);

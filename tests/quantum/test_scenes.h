@@ -32,6 +32,24 @@ inline int body_named(const Field& f, const std::string& name) {
   return 0;
 }
 
+// One particle at p moving at v: a ball with height, exactly where a test puts it.
+inline Cloud one_ball(Vec3 p, Vec3 v) {
+  Cloud c;
+  c.push(p, v, 1, 1);
+  return c;
+}
+
+// Every player of the basketball half court (or a field of its size) parked in its far corner,
+// out of the way, unless placed.
+inline std::vector<BodyInput> parked_in_corner(const Field& f, const std::map<std::string, Vec2>& placed = {}) {
+  std::vector<BodyInput> in;
+  for (size_t k = 0; k < f.bodies.size(); ++k) {
+    const auto it = placed.find(f.bodies[k].name);
+    in.push_back({it != placed.end() ? it->second : Vec2{-7.0f + 0.2f * float(k), 13.5f}, {0, 0}});
+  }
+  return in;
+}
+
 // A world of seed `seed` set up as a scene: the bodies placed, the ball replaced by `cloud`,
 // `last_touch` the last to touch it. For statistical tests that replay one scene many times.
 inline std::unique_ptr<World> scene_world(const Field& f, WorldConfig config, uint64_t seed,
