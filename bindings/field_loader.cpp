@@ -127,7 +127,7 @@ Field read_field(Reader& r, int top) {
     f.spots.push_back(spot);
   });
   r.array(top, "bodies", "", limits::kMaxBodies, [&](int b, const std::string& place) {
-    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "hits", "role", "track", "reach"});
+    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "hits", "kicks", "role", "track", "reach"});
     BodySpec body;
     body.team = r.string(b, "team", place, "", true);
     body.name = r.string(b, "name", place, body.team + " body", false);
@@ -135,6 +135,7 @@ Field read_field(Reader& r, int top) {
     body.start = r.point_at(b, "at", place);
     body.catches = r.boolean(b, "catches", place, false);
     body.hits = r.boolean(b, "hits", place, false);
+    body.kicks = r.boolean(b, "kicks", place, false);
     body.role = r.string(b, "role", place, "", false);
     body.track = r.string(b, "track", place, "", false);
     body.reach = to_float(r.number(b, "reach", place, 0, false));

@@ -142,6 +142,8 @@ void push_field(lua_State* L, const Field& f) {
     raw_set(L, "catches");
     lua_pushboolean(L, b.hits);
     raw_set(L, "hits");
+    lua_pushboolean(L, b.kicks);
+    raw_set(L, "kicks");
   });
   push_strings(L, f.wall_names);
   raw_set(L, "walls");
@@ -196,6 +198,12 @@ void fill_player(lua_State* L, const game::Match& match, size_t k) {
   raw_set(L, "reach_height");
   lua_pushboolean(L, p.turn);
   raw_set(L, "turn");
+  // Numbers, not a table: a pooled frame's players allocate nothing.
+  for (const auto& [key, value] : {std::pair{"place_x", p.place ? &p.place->x : nullptr}, {"place_y", p.place ? &p.place->y : nullptr}}) {
+    if (value) lua_pushnumber(L, *value);
+    else lua_pushnil(L);
+    raw_set(L, key);
+  }
   const BodySpec& body = match.field().bodies[k];
   set(L, "role", body.role);
   const int area = match.field().area_at(p.position);

@@ -122,6 +122,7 @@ class Sport final : public game::Rules {
     }
     match.say(said_, recorded == audio_.recorded.end() ? std::string_view() : std::string_view(recorded->second));
   }
+  bool has_phrase(std::string_view key) const { return phrases_.find(key) != nullptr; }
   // The host's own announcements (the match paused or resumed): the sport's phrase `key` when it
   // has one, else `fallback`.
   void say_host(game::Match& match, const std::string& key, const std::string& fallback);

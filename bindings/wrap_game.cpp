@@ -164,12 +164,77 @@ int aim(lua_State* L) {
   return 0;
 }
 
-// game.give(player [, delay]): the ball into the player's hands (a throw-off, a throw-in, a free
-// throw), at once or `delay` seconds from now; a ball in play is dead at once. `give` is told
-// when the player has it.
+// A restart's place at argument `arg`: a spot's name or a point {x = .., y = ..}; its name as the
+// announcer says it into `said`.
+Vec2 place_at(lua_State* L, const game::Match& m, int arg, std::string& said) {
+  if (lua_istable(L, arg)) {
+    raw_field(L, arg, "x");
+    raw_field(L, arg, "y");
+    if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1))
+      throw ArgError("argument " + std::to_string(script_arg(L, arg)) + ": expected a spot's name or a point {x = .., y = ..}");
+    const Vec2 p{to_float(lua_tonumber(L, -2)), to_float(lua_tonumber(L, -1))};
+    lua_pop(L, 2);
+    char text[64];
+    std::snprintf(text, sizeof text, "%.1f, %.1f", double(p.x), double(p.y));
+    said = text;
+    return p;
+  }
+  const std::string name = check_string(L, arg);
+  std::vector<std::string> names;
+  for (const Spot& s : m.field().spots) {
+    if (s.name == name) return said = name, s.at;
+    names.push_back(s.name);
+  }
+  throw ArgError(unknown_key(name, names, "spot"));
+}
+
+// A person (not a simulated player) is told a place by the announcer: the sport's phrase `place`
+// ({player}, {place}) when it has one.
+void tell_place(lua_State* L, game::Match& m, int k, const std::string& where) {
+  if (m.players()[size_t(k)].skill) return;
+  const std::string& who = m.players()[size_t(k)].name;
+  Sport& sport = sport_of(L);
+  sport.say(m, sport.has_phrase("place") ? "place" : "{player}, to {place}", [&](std::string_view name) {
+    return name == "player" ? std::optional<PhraseValue>({who, {}})
+           : name == "place" ? std::optional<PhraseValue>({where, {}})
+                             : std::optional<PhraseValue>();
+  });
+}
+
+// game.give(player [, delay [, {at = spot_or_point}]]): the ball into the player's hands (a
+// throw-off, a throw-in, a free throw), at once or `delay` seconds from now; a ball in play is
+// dead at once. With `at`, the player is placed there and the ball waits for them (see
+// Match::give). `give` is told when the player has it.
 int give(lua_State* L) {
   game::Match& m = acting(L);
-  m.give(player_index(m, check_string(L, 1)), opt_number(L, 2, 0));
+  const int k = player_index(m, check_string(L, 1));
+  const double delay = opt_number(L, 2, 0);
+  std::optional<Vec2> at;
+  std::string where;
+  if (!lua_isnoneornil(L, 3)) {
+    check_table(L, 3);
+    Reader(L).only_keys(3, "argument 3", {"at"});
+    raw_field(L, 3, "at");
+    if (!lua_isnil(L, -1)) at = place_at(L, m, lua_gettop(L), where);
+    lua_pop(L, 1);
+  }
+  m.give(k, delay, at);
+  if (at) tell_place(L, m, k, where);
+  return 0;
+}
+
+// game.place(player [, spot_or_point]): the player takes that place for a restart (a formation,
+// a kick-off); without one, the place is freed. Places hold until the ball is next played.
+int place(lua_State* L) {
+  game::Match& m = acting(L);
+  const int k = player_index(m, check_string(L, 1));
+  if (lua_isnoneornil(L, 2)) {
+    m.place(k, std::nullopt);
+    return 0;
+  }
+  std::string where;
+  m.place(k, place_at(L, m, 2, where));
+  tell_place(L, m, k, where);
   return 0;
 }
 
@@ -433,7 +498,7 @@ void push_game_api(lua_State* L, Sport* sport) {
                {"cancel", guard<cancel>},     {"turn", guard<turn>},         {"aim", guard<aim>},
                {"score", guard<score>},       {"time", guard<time>},         {"length", guard<length>},         {"teams", guard<teams>},
                {"team_name", guard<team_name>}, {"players", guard<players>}, {"powerups", guard<powerups>},
-               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"throw", guard<throw_ball>}, {"kick", guard<kick>}, {"hit", guard<hit>}, {"jump", guard<jump>},
+               {"last_touch", guard<last_touch>}, {"give", guard<give>},      {"place", guard<place>}, {"throw", guard<throw_ball>}, {"kick", guard<kick>}, {"hit", guard<hit>}, {"jump", guard<jump>},
                {"holder", guard<holder>},     {"area", guard<area>},         {"field", guard<field>}},
               sport);
 }

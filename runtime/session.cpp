@@ -169,9 +169,7 @@ bool Session::frame() {
     const bool lost = status == PlayerSource::Status::Lost;
     if (lost != paused_) pause_or_resume(lost);
     if (!paused_) {
-      // A throw goes from the player who holds the ball; anyone else's arm swings at nothing.
-      for (const game::Throw& t : players_->throws())
-        if (t.player == m.holder()) m.throw_ball(t.player, {t.velocity.x, t.velocity.y, t.up});
+      for (const game::Throw& t : players_->throws()) m.let_go(t);
       m.step(players_->bodies());
       if (decisions_->stream() && m.decision()) write_decision(*decisions_->stream(), *m.decision(), m.decision_fates(), m.field());
     }

@@ -267,7 +267,9 @@ const std::vector<BodyInput>& Bots::move(double t, double dt, std::span<const Pl
     b.heard.resize(kept);
     if (b.knows_ball) fly(b.ball, b.ball_v, dt);
     const bool whole_field = by_turns && players[k].turn;
-    const Vec2 want = clamp_to_reach(b, decide(b, t, players, whole_field), whole_field);
+    // A restart's place comes first (game.place).
+    const Vec2 decided = decide(b, t, players, whole_field);
+    const Vec2 want = players[k].place ? *players[k].place : clamp_to_reach(b, decided, whole_field);
     const double limit = b.plan == Plan::Strike ? b.skill.strike_speed : b.skill.max_speed;
     Vec2 step = want - b.pos;
     const float l = length(step), most = float(limit * dt);

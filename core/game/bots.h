@@ -26,14 +26,6 @@ struct SkillModel {
 };
 SkillModel skill_model(double skill);
 
-// A throw a player makes: who, and the ball's velocity as it leaves the hand: along the floor,
-// and upward (`up`, m/s; fields with height only, 0 on a flat one).
-struct Throw {
-  int player = -1;
-  Vec2 velocity;
-  float up = 0;
-};
-
 // Simulated players of any sport: they hear the announcer and move every body.
 class SimulatedPlayers {
  public:

@@ -74,7 +74,7 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
     const double h = handicaps.empty() ? 1.0 : handicaps[k];
     if (!handicap_ok(h))
       throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be in (0, 1000]");
-    players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}, {}});
+    players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}, {}, {}});
   }
   teams_ = f.teams();
   for (const std::string& team : teams_) score_[team] = 0;
@@ -157,17 +157,32 @@ GameEvent& Match::new_event(EventKind type) {
   return e;
 }
 
-void Match::give(int k, double delay) {
+void Match::give(int k, double delay, std::optional<Vec2> at) {
   check_catcher(k);
   if (!(delay >= 0 && delay <= 60)) throw std::invalid_argument("give: delay must be in [0, 60] s");
+  if (at) place(k, at);
   dead_ball();
   respawn_at_ = -1;
-  if (delay > 0) {
+  if (delay > 0 || (at && !at_place(k))) {
     respawn_holder_ = k;
     respawn_at_ = time() + delay;
     return;
   }
   hand_over(k);
+}
+
+void Match::place(int k, std::optional<Vec2> at) {
+  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  const Field& f = field();
+  if (at && !(std::isfinite(at->x) && std::isfinite(at->y) && at->x >= f.bounds_min.x && at->x <= f.bounds_max.x &&
+              at->y >= f.bounds_min.y && at->y <= f.bounds_max.y))
+    throw std::invalid_argument("a place must be a finite point within the bounds");
+  players_[size_t(k)].place = at;
+}
+
+bool Match::at_place(int k) const {
+  const Player& p = players_[size_t(k)];
+  return !p.place || std::hypot(p.position.x - p.place->x, p.position.y - p.place->y) <= kTakePlace;
 }
 
 void Match::hand_over(int k) {
@@ -192,6 +207,12 @@ void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread, 
   handle(e);
   // The new flight's fates, so the next draw is already tweaked.
   if (world_.live()) retweak();
+}
+
+void Match::let_go(const Throw& t) {
+  if (t.player < 0 || t.player != holder()) return;
+  throw_ball(t.player, {t.velocity.x, t.velocity.y, t.up}, std::nullopt,
+             field().bodies[size_t(t.player)].kicks ? World::Release::Kick : World::Release::Throw);
 }
 
 void Match::plan_hit(int k, const HitPlan& plan) {
@@ -336,7 +357,9 @@ void Match::step(std::span<const BodyInput> input) {
   core_events_.clear();
   for (size_t k = 0; k < landing_.size(); ++k)
     if (landing_[k] >= 0 && time() >= landing_[k] - 1e-9) world_.set_reach(int(k), field().reach_of(int(k))), landing_[k] = -1;
-  if (respawn_at_ >= 0 && time() >= respawn_at_ - 1e-9) {
+  // A give at a place waits for its taker to get there, but not for ever.
+  const bool waiting = respawn_holder_ >= 0 && !at_place(respawn_holder_) && time() < respawn_at_ + kMostPlaceWait;
+  if (respawn_at_ >= 0 && time() >= respawn_at_ - 1e-9 && !waiting) {
     respawn_at_ = -1;
     if (respawn_holder_ >= 0) {
       hand_over(std::exchange(respawn_holder_, -1));
@@ -484,6 +507,11 @@ void Match::handle(const Event& e) {
     case EventType::Landing: type = EventKind::Landing; break;
   }
   if (type == EventKind::Drop) rally_contacts_ = 0, last_toucher_ = previous_toucher_ = -1, possession_ = {};
+  // The ball is played again: a restart's places are free.
+  const bool played = e.type == EventType::Hit || e.type == EventType::Catch || e.type == EventType::Pickup ||
+                      e.type == EventType::Tackle || e.type == EventType::Throw || e.type == EventType::Kick;
+  if (played)
+    for (Player& p : players_) p.place.reset();
   GameEvent& g = new_event(type);
   g.t = e.t, g.p = e.p, g.p_newtonian = e.p_newtonian, g.particles = e.particles, g.at = e.at;
   g.velocity = e.velocity, g.actor_index = e.actor;

@@ -197,6 +197,14 @@ struct Aim {
   Vec2 point;
 };
 
+// A throw a player makes: who, and the ball's velocity as it leaves the hand: along the floor,
+// and upward (`up`, m/s; fields with height only, 0 on a flat one).
+struct Throw {
+  int player = -1;
+  Vec2 velocity;
+  float up = 0;
+};
+
 struct Player {
   std::string name, team;  // the body's name and team in the field
   double handicap = 1;     // multiplies the fates that favour this player (see docs/lua-api.md)
@@ -205,6 +213,9 @@ struct Player {
   // the ball, and where to send it.
   bool turn = true;
   Aim aim;
+  // A restart's place for this player (game.place, a give at a spot): simulated players walk
+  // there and wait; it holds until the ball is next played.
+  std::optional<Vec2> place;
   // A simulated player's skill in [0, 1]; none for a person (tracked, at the desk, a spec's script).
   std::optional<double> skill;
 };
@@ -233,15 +244,26 @@ class Match {
   void dead_ball();
   // Puts the ball in player k's hands (a throw-off, a throw-in, a free throw) after `delay`
   // seconds: a ball in play is dead at once, a pending drop or give is replaced, and a `give`
-  // event is told when k gets it. Throws std::invalid_argument for a player who does not catch
-  // (field.lua: catches = true) or a delay outside [0, 60] s.
-  void give(int k, double delay = 0);
+  // event is told when k gets it. Given `at` (a corner, the spot a ball went out), k is placed
+  // there, and the ball waits for k to stand within kTakePlace of it, or kMostPlaceWait seconds
+  // at most. Throws std::invalid_argument for a player who does not catch (field.lua: catches =
+  // true), a delay outside [0, 60] s or a place that is not finite or outside the bounds.
+  void give(int k, double delay = 0, std::optional<Vec2> at = std::nullopt);
+  static constexpr double kTakePlace = 1.0, kMostPlaceWait = 10.0;
+  // Asks player k to take a place (a formation, a restart) or, with none, frees it: see
+  // Player::place. Throws std::invalid_argument for an unknown player or a place that is not
+  // finite or outside the bounds.
+  void place(int k, std::optional<Vec2> at);
   // Player k, who holds the ball, throws it at `velocity` (m/s; upward velocity.z only on a field
   // with height), scattered by `spread` (the sport's when none): a `throw` event is told, or a
   // `kick` for a ball kicked from the feet (World::release). Throws std::invalid_argument when k
   // does not hold the ball, or for a bad velocity or spread.
   void throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread = std::nullopt,
                   World::Release how = World::Release::Throw);
+  // A throw a player made (a simulated player's, an accelerometer's): it goes only from the
+  // player who holds the ball (anyone else's arm swings at nothing), from the feet of a player
+  // who kicks (field.lua: kicks), else from the hands.
+  void let_go(const Throw& t);
   // How player k, who hits (field.lua: hits = true), sends on the ball it next meets (see
   // World::plan_hit): a rule's aim, a simulated player's choice. Throws std::invalid_argument
   // for what the world refuses.
@@ -335,6 +357,7 @@ class Match {
   void took(int k, double t);              // player k touched the ball at t (a catch, a hit, a tackle): one more contact
   void gained(int k);                      // player k has the ball: a new possession if the other team had it
   void hand_over(int k);                   // the ball into k's hands now, told as `give`
+  bool at_place(int k) const;              // k has no place, or stands within kTakePlace of it
   void check_catcher(int k) const;         // throws unless k is a player who catches
   void stalled();                          // tells the rules, and restarts play when they do not
   void watch_ball();                       // tells `loose` when the ball in play slows to a stop

@@ -309,7 +309,9 @@ Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   } else {
     return step;  // nobody open yet: look again next frame
   }
-  throws_.push_back(field_.has_height() ? arc(b, me.position, aim, velocity, at_goal) : Throw{b.body, velocity});
+  // A player who kicks plays the ball along the ground; with height, anyone else throws in an arc.
+  const bool arcs = field_.has_height() && !field_.bodies[size_t(b.body)].kicks;
+  throws_.push_back(arcs ? arc(b, me.position, aim, velocity, at_goal) : Throw{b.body, velocity});
   b.got_ball = -1;
   return step;
 }
@@ -468,7 +470,9 @@ const std::vector<BodyInput>& TeamBots::move(double t, double dt, std::span<cons
   for (size_t k = 0; k < bots_.size(); ++k) {
     Bot& b = bots_[k];
     b.pos = players[k].position;  // where it really is (a rule spec may have placed it)
-    Vec2 step = decide(b, t, players) - b.pos;
+    // A restart's place comes first; the holder still decides its throw.
+    const Vec2 decided = decide(b, t, players);
+    Vec2 step = players[k].place.value_or(decided) - b.pos;
     // A player with the ball takes a few steps, no more (the ball is to be thrown, not carried);
     // a goalkeeper moves across its goal in short side steps.
     const bool holds = b.ball.state == Ball::State::Held && b.ball.holder == b.body;

@@ -211,6 +211,8 @@ void finish_field(Field& f) {
     check_range(f.bodies[i].radius, 1e-3f, 10.0f, place + ".radius");
     if (f.bodies[i].catches && f.bodies[i].hits)
       throw FieldError(place, "a body either catches or hits the ball, not both (one touch holds it, the other sends it on)");
+    if (f.bodies[i].kicks && !f.bodies[i].catches)
+      throw FieldError(place, "a body that kicks must catch: it holds the ball at its feet until it kicks");
   }
   check_range(f.rehit, 0.0f, 10.0f, "rehit");
   for (size_t i = 0; i < f.bodies.size(); ++i)

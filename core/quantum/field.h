@@ -68,6 +68,9 @@ struct BodySpec {
   Vec2 start;
   bool catches = false;
   bool hits = false;  // never both: a touch either holds the ball or sends it on
+  // A body that catches and kicks holds the ball at its feet: its own throws (a simulated
+  // player's, an accelerometer's) leave as kicks (World::Release::Kick). A keeper's hands don't.
+  bool kicks = false;
   std::string role;   // the sport's word for the player's part ("goalkeeper"); the core ignores it
   std::string track;  // the tracking id that moves this body ("blue 1" for a hat); "" for its name
   // Fields with height: the body is a vertical cylinder up to this height (m), the highest its

@@ -201,5 +201,21 @@ TEST(Kick, OnAFlatFieldAKickIsAThrowFromTheFeet) {
   EXPECT_EQ(clouds[0].vy, clouds[1].vy);
 }
 
+// A body that kicks holds the ball at its feet: it must catch, and the field says which one is
+// wrong.
+TEST(Kick, ABodyThatKicksMustCatch) {
+  Field f = pitch();
+  f.bodies[1].kicks = true;
+  World fine(f, WorldConfig{});
+  f.bodies[1].catches = false;
+  try {
+    World world(f, WorldConfig{});
+    ADD_FAILURE() << "a body that kicks but does not catch was taken";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.place, "bodies[2] (" + f.bodies[1].name + ")");
+    EXPECT_NE(e.message.find("must catch"), std::string::npos) << e.message;
+  }
+}
+
 }  // namespace
 }  // namespace quantum
