@@ -199,11 +199,12 @@ void fill_player(lua_State* L, const game::Match& match, size_t k) {
   lua_pushboolean(L, p.turn);
   raw_set(L, "turn");
   // Numbers, not a table: a pooled frame's players allocate nothing.
-  for (const auto& [key, value] : {std::pair{"place_x", p.place ? &p.place->x : nullptr}, {"place_y", p.place ? &p.place->y : nullptr}}) {
-    if (value) lua_pushnumber(L, *value);
-    else lua_pushnil(L);
-    raw_set(L, key);
-  }
+  if (p.place) lua_pushnumber(L, p.place->x);
+  else lua_pushnil(L);
+  raw_set(L, "place_x");
+  if (p.place) lua_pushnumber(L, p.place->y);
+  else lua_pushnil(L);
+  raw_set(L, "place_y");
   const BodySpec& body = match.field().bodies[k];
   set(L, "role", body.role);
   const int area = match.field().area_at(p.position);

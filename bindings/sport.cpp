@@ -483,7 +483,7 @@ void Sport::unknown_phrase(std::string_view key) const {
 
 void Sport::say_host(game::Match& match, const std::string& key, const std::string& fallback) {
   auto none = [](std::string_view) { return std::optional<PhraseValue>(); };
-  say(match, phrases_.find(key) ? key : fallback, none);
+  say_or(match, key, fallback, none);
 }
 
 double Sport::factor(const std::string& kind) const {

@@ -122,9 +122,12 @@ class Sport final : public game::Rules {
     }
     match.say(said_, recorded == audio_.recorded.end() ? std::string_view() : std::string_view(recorded->second));
   }
-  bool has_phrase(std::string_view key) const { return phrases_.find(key) != nullptr; }
-  // The host's own announcements (the match paused or resumed): the sport's phrase `key` when it
-  // has one, else `fallback`.
+  // The sport's phrase `key` when it has one, else the text `fallback` (the engine's own words).
+  template <class Lookup>
+  void say_or(game::Match& match, std::string_view key, std::string_view fallback, Lookup&& lookup) {
+    say(match, phrases_.find(key) ? key : fallback, lookup);
+  }
+  // The host's own announcements (the match paused or resumed): say_or without placeholders.
   void say_host(game::Match& match, const std::string& key, const std::string& fallback);
 
   // Gives player `player` (a body index) the power-up `name`: its script (name.lua in the first

@@ -193,8 +193,7 @@ Vec2 place_at(lua_State* L, const game::Match& m, int arg, std::string& said) {
 void tell_place(lua_State* L, game::Match& m, int k, const std::string& where) {
   if (m.players()[size_t(k)].skill) return;
   const std::string& who = m.players()[size_t(k)].name;
-  Sport& sport = sport_of(L);
-  sport.say(m, sport.has_phrase("place") ? "place" : "{player}, to {place}", [&](std::string_view name) {
+  sport_of(L).say_or(m, "place", "{player}, to {place}", [&](std::string_view name) {
     return name == "player" ? std::optional<PhraseValue>({who, {}})
            : name == "place" ? std::optional<PhraseValue>({where, {}})
                              : std::optional<PhraseValue>();
@@ -341,13 +340,14 @@ int release(lua_State* L, World::Release how) {
   double& elevation = launch.elevation;
   const double speed = launch.speed;
   const bool kick = how == World::Release::Kick;
-  if (lua_isnoneornil(L, 2)) throw ArgError(kick ? "argument 2: expected where to kick" : "argument 2: expected where to throw");
+  const std::string verb = kick ? "kick" : "throw";
+  if (lua_isnoneornil(L, 2)) throw ArgError("argument 2: expected where to " + verb);
   const ThrowTarget to = throw_target(L, m, player, 2, speed);
   Vec3 velocity = to.v;
   if (!to.velocity) {
     const Vec2 p = m.players()[size_t(player)].position;
     if (!(std::hypot(to.point.x - p.x, to.point.y - p.y) > 0))
-      throw ArgError(kick ? "the kicker stands on the point it kicks at" : "the thrower stands on the point it throws at");
+      throw ArgError("the " + verb + "er stands on the point it " + verb + "s at");
     if (!f.has_height() || (kick && std::isnan(elevation))) {
       const float dx = to.point.x - p.x, dy = to.point.y - p.y, d = std::hypot(dx, dy);
       velocity = {float(speed * dx / d), float(speed * dy / d), 0};
@@ -360,8 +360,8 @@ int release(lua_State* L, World::Release how) {
       velocity = std::isnan(elevation) ? f.throw_at(from, to.point, float(speed))
                                        : f.arc_velocity(from, to.point, float(elevation * kRadiansPerDegree));
       if (velocity.x == 0 && velocity.y == 0 && velocity.z == 0)
-        throw ArgError("no " + std::string(kick ? "kick" : "throw") + " at " + std::to_string(elevation) +
-                       " degrees reaches that point: " + (kick ? "kick" : "throw") + " higher");
+        throw ArgError("no " + verb + " at " + std::to_string(elevation) + " degrees reaches that point: " + verb +
+                       " higher");
     }
   }
   m.throw_ball(player, velocity, launch.spread, how);

@@ -95,8 +95,12 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   if (config.first_holder >= 0) check_catcher(config.first_holder), respawn_holder_ = config.first_holder;
 }
 
-void Match::check_catcher(int k) const {
+void Match::check_player(int k) const {
   if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+}
+
+void Match::check_catcher(int k) const {
+  check_player(k);
   if (!field().bodies[size_t(k)].catches)
     throw std::invalid_argument(players_[size_t(k)].name + " cannot hold the ball: its field body does not catch");
 }
@@ -172,7 +176,7 @@ void Match::give(int k, double delay, std::optional<Vec2> at) {
 }
 
 void Match::place(int k, std::optional<Vec2> at) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   const Field& f = field();
   if (at && !(std::isfinite(at->x) && std::isfinite(at->y) && at->x >= f.bounds_min.x && at->x <= f.bounds_max.x &&
               at->y >= f.bounds_min.y && at->y <= f.bounds_max.y))
@@ -200,7 +204,7 @@ void Match::hand_over(int k) {
 }
 
 void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread, World::Release how) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   thrown_.clear();
   world_.release(k, velocity, spread.value_or(config_.throw_spread), thrown_, how);
   const Event e = thrown_.back();  // a copy: the rules told of it may throw again
@@ -216,7 +220,7 @@ void Match::let_go(const Throw& t) {
 }
 
 void Match::plan_hit(int k, const HitPlan& plan) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   world_.plan_hit(k, plan);
 }
 
@@ -269,18 +273,18 @@ void Match::powerup_event(EventKind type, int player, const std::string& name) {
 }
 
 void Match::set_handicap(int k, double handicap) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   if (!handicap_ok(handicap)) throw std::invalid_argument("a handicap must be in (0, 1000]");
   players_[size_t(k)].handicap = handicap;
 }
 
 void Match::set_turn(int k, bool turn) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   players_[size_t(k)].turn = turn;
 }
 
 void Match::set_aim(int k, Aim aim) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   const int most = aim.kind == Aim::Kind::Goal ? int(field().goals.size())
                    : aim.kind == Aim::Kind::Wall ? int(field().wall_names.size())
                                                  : 0;
@@ -292,7 +296,7 @@ void Match::set_aim(int k, Aim aim) {
 }
 
 void Match::set_skill(int k, std::optional<double> skill) {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   if (skill && !(*skill >= 0 && *skill <= 1)) {
     char got[32];
     std::snprintf(got, sizeof got, "%g", *skill);
@@ -342,7 +346,7 @@ void Match::report_error(std::string message) { errors_.push_back(std::move(mess
 
 void Match::jump(int k, double height, double seconds) {
   if (!field().has_height()) throw std::logic_error("jumping needs a field with height (gravity)");
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
+  check_player(k);
   if (!(height > 0 && height <= 3)) throw std::invalid_argument("a jump's height must be in (0, 3] m");
   if (!(seconds > 0 && seconds <= 2)) throw std::invalid_argument("a jump must last (0, 2] s");
   landing_.resize(players_.size(), -1);

@@ -358,6 +358,7 @@ class Match {
   void gained(int k);                      // player k has the ball: a new possession if the other team had it
   void hand_over(int k);                   // the ball into k's hands now, told as `give`
   bool at_place(int k) const;              // k has no place, or stands within kTakePlace of it
+  void check_player(int k) const;          // throws unless k is a player
   void check_catcher(int k) const;         // throws unless k is a player who catches
   void stalled();                          // tells the rules, and restarts play when they do not
   void watch_ball();                       // tells `loose` when the ball in play slows to a stop
