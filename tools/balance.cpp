@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -53,12 +54,6 @@ std::pair<double, double> mean_and_error(const BalanceResult& r, Figure figure) 
   return {mean, error};
 }
 
-int points(const PlayResult& p) {
-  int total = 0;
-  for (const auto& [team, n] : p.score) total += n;
-  return total;
-}
-
 }  // namespace
 
 BalanceResult balance(const runtime::SessionOptions& options, int matches, const std::function<void(int done)>& progress) {
@@ -97,22 +92,16 @@ BalanceResult balance(const runtime::SessionOptions& options, int matches, const
 
   BalanceResult r;
   r.matches = matches;
-  int rallies = 0, contacts = 0, goals = 0, passes = 0, scored = 0;
-  double seconds = 0;
   for (int m = 0; m < matches; ++m) {
     const PlayResult& p = results[size_t(m)];
     r.seeds.push_back(options.seed + uint64_t(m));
     if (p.winner.empty()) ++r.draws;
     else ++r.wins[p.winner];
     for (const auto& [team, n] : p.score) r.wins.try_emplace(team, 0);
-    rallies += p.stats.rallies, contacts += p.stats.contacts, goals += p.stats.goals, seconds += p.stats.seconds;
-    passes += p.stats.passes, r.possessions += p.stats.possessions, scored += points(p);
+    r.totals += p.figures();
     r.stalls += p.stats.stalls, r.stalled_matches += p.stats.stalls > 0;
   }
-  r.contacts_per_rally = rallies ? double(contacts) / rallies : 0;
-  r.passes_per_possession = r.possessions ? double(passes) / r.possessions : 0;
-  r.goals_per_minute = seconds > 0 ? goals * 60 / seconds : 0;
-  r.points_per_minute = seconds > 0 ? scored * 60 / seconds : 0;
+  r.counted = results.front().counted;
   r.results = std::move(results);
   return r;
 }
@@ -222,7 +211,7 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
       return p.stats.rallies ? double(p.stats.contacts) / p.stats.rallies : NAN;
     });
     const auto goals = mean_and_error(r, [](const PlayResult& p) { return p.stats.goals * 60 / p.stats.seconds; });
-    const auto scored = mean_and_error(r, [](const PlayResult& p) { return points(p) * 60 / p.stats.seconds; });
+    const auto scored = mean_and_error(r, [](const PlayResult& p) { return p.figures().points * 60 / p.stats.seconds; });
     factor_data << strength << ',' << contacts.first << ',' << contacts.second << ',' << goals.first << ','
                 << goals.second << ',' << scored.first << ',' << scored.second << '\n';
     write_csv(factor_rows, r, {"factor_strength"}, {strength}, header);
@@ -270,14 +259,9 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
   }
   std::snprintf(line, sizeof line, "| draws | %d | %.0f %% | |\n\n", study.draws, 100.0 * study.draws / study.matches);
   summary << line;
-  std::snprintf(line, sizeof line,
-                "Contacts per rally %.1f, goals per minute %.1f, points per minute (the sport's own score) %.1f",
-                study.contacts_per_rally, study.goals_per_minute, study.points_per_minute);
-  summary << line;
-  if (study.possessions > 0) {
-    std::snprintf(line, sizeof line, ", passes per possession %.1f", study.passes_per_possession);
-    summary << line;
-  }
+  std::string figures = describe(study.counted, study.totals);
+  figures[0] = char(std::toupper(figures[0]));
+  summary << figures;
   std::snprintf(line, sizeof line, "; stalls %d, in %d of %d matches", study.stalls, study.stalled_matches, study.matches);
   summary << line;
   summary << ".\n\n## " << first_name << " against its handicap\n\n![win rate](win_rate_vs_handicap.png)\n\n"

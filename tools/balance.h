@@ -18,11 +18,8 @@ namespace quantum::tools {
 struct BalanceResult {
   int matches = 0, draws = 0;
   std::map<std::string, int> wins;  // by team
-  double contacts_per_rally = 0;    // over all rallies of all matches
-  double goals_per_minute = 0;      // goal events (own goals too) over all time played
-  double points_per_minute = 0;     // the sport's own score (points, baskets' points, rallies won), all teams
-  int possessions = 0;              // sports of catching: times a team gained the ball...
-  double passes_per_possession = 0;  // ...and the passes it made, on average, before losing it
+  Counted counted;                  // what the sport counts (its field's kind of play)...
+  Figures totals;                   // ...over all matches: its figures are describe(counted, totals)
   int stalls = 0, stalled_matches = 0;  // stalled events (the sport's bound without play), and matches with any
   std::vector<uint64_t> seeds;      // one per match, in order
   std::vector<PlayResult> results;

@@ -106,7 +106,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
     if (video) video->finish(wav);
     const game::Match& match = session.match();
-    result = {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished()};
+    result = {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field())};
   }
   return result;
 }

@@ -2,6 +2,7 @@
 
 #include "desk.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ostream>
@@ -66,6 +67,50 @@ std::string outcome(const PlayResult& result) {
 
 }  // namespace
 
+Counted counted(const Field& field) {
+  Counted c;
+  c.goals = !field.goals.empty();
+  if (field.catching()) c.play = Counted::Play::Holds;
+  else if (std::any_of(field.bodies.begin(), field.bodies.end(), [](const BodySpec& b) { return b.hits; }))
+    c.play = Counted::Play::Hits;
+  return c;
+}
+
+Figures& Figures::operator+=(const Figures& o) {
+  rallies += o.rallies, contacts += o.contacts, goals += o.goals, passes += o.passes;
+  possessions += o.possessions, points += o.points, seconds += o.seconds;
+  return *this;
+}
+
+Figures PlayResult::figures() const {
+  int points = 0;
+  for (const auto& [team, n] : score) points += n;
+  return {stats.rallies, stats.contacts, stats.goals, stats.passes, stats.possessions, points, stats.seconds};
+}
+
+std::string describe(const Counted& counted, const Figures& f) {
+  const auto per = [](double n, double of) { return of > 0 ? n / of : 0.0; };
+  char buf[200];
+  switch (counted.play) {
+    case Counted::Play::Strikes: std::snprintf(buf, sizeof buf, "contacts per rally %.2f", per(f.contacts, f.rallies)); break;
+    case Counted::Play::Hits: std::snprintf(buf, sizeof buf, "touches per rally %.2f", per(f.contacts, f.rallies)); break;
+    case Counted::Play::Holds:
+      std::snprintf(buf, sizeof buf, "passes per possession %.2f", per(f.passes, f.possessions));
+      break;
+  }
+  std::string text = buf;
+  if (counted.goals) {
+    std::snprintf(buf, sizeof buf, ", goals per minute %.2f", per(f.goals * 60.0, f.seconds));
+    text += buf;
+  }
+  // A sport whose score is not its goals (basketball's points, volleyball's rallies won) says its own.
+  if (!counted.goals || f.points != f.goals) {
+    std::snprintf(buf, sizeof buf, ", points per minute %.2f (the sport's score)", per(f.points * 60.0, f.seconds));
+    text += buf;
+  }
+  return text;
+}
+
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript,
                 const DeskOptions* desk) {
   PlayResult result;
@@ -75,25 +120,15 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
     runtime::Session session(options, transcript ? &out : nullptr, errors);
     session.run();
     const game::Match& match = session.match();
-    result = {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished()};
+    result = {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field())};
   }
   if (transcript) {
-    const game::RallyStats& s = result.stats;
     out << "final score:";
     for (const auto& [team, goals] : result.score) out << ' ' << team << ' ' << goals;
     out << outcome(result) << '\n';
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "rallies %d, contacts per rally %.2f, goals per minute %.2f, %.0f s played\n",
-                  s.rallies, s.rallies ? double(s.contacts) / s.rallies : 0.0, s.seconds > 0 ? s.goals * 60 / s.seconds : 0.0,
-                  s.seconds);
-    out << buf;
-    // A sport whose score is not its goals (basketball's points) says its own too.
-    int points = 0;
-    for (const auto& [team, n] : result.score) points += n;
-    if (points != s.goals && s.seconds > 0) {
-      std::snprintf(buf, sizeof buf, "points per minute %.2f (the sport's score)\n", points * 60 / s.seconds);
-      out << buf;
-    }
+    char played[64];
+    std::snprintf(played, sizeof played, ", %.0f s played\n", result.stats.seconds);
+    out << "rallies " << result.stats.rallies << ", " << describe(result.counted, result.figures()) << played;
   }
   return result;
 }

@@ -13,12 +13,34 @@
 
 namespace quantum::tools {
 
+// What a sport's figures count, from its field: a sport of striking (air hockey) its contacts per
+// rally, one of hitting (volleyball) its touches per rally, one of holding (handball, soccer) its
+// passes per possession; goals per minute where the field has goals, and points per minute where
+// its score is not its goals.
+struct Counted {
+  enum class Play : uint8_t { Strikes, Hits, Holds } play = Play::Strikes;
+  bool goals = true;
+};
+Counted counted(const Field& field);
+
+// A match's or a study's totals, as counted.
+struct Figures {
+  int rallies = 0, contacts = 0, goals = 0, passes = 0, possessions = 0, points = 0;
+  double seconds = 0;
+  Figures& operator+=(const Figures& o);
+};
+// "contacts per rally 4.72, goals per minute 10.07": what `counted` says the sport counts. Points
+// per minute ("the sport's score") only where they are not the goals.
+std::string describe(const Counted& counted, const Figures& figures);
+
 struct PlayResult {
   std::map<std::string, int> score;
   std::string winner;  // "" for a draw
   game::RallyStats stats;
   int rule_errors = 0;
   bool finished = true;  // false when the match stopped before its end (a recording over, --until)
+  Counted counted;
+  Figures figures() const;
 };
 
 struct DeskOptions;

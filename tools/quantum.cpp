@@ -292,13 +292,7 @@ int main(int argc, char** argv) {
         std::snprintf(figure, sizeof figure, " %s %d (%.0f %%)", team.c_str(), n, 100.0 * n / r.matches);
         std::cout << figure;
       }
-      std::snprintf(figure, sizeof figure, ", draws %d\ncontacts per rally %.2f, goals per minute %.2f, points per minute %.2f",
-                    r.draws, r.contacts_per_rally, r.goals_per_minute, r.points_per_minute);
-      std::cout << figure;
-      if (r.possessions > 0) {
-        std::snprintf(figure, sizeof figure, ", passes per possession %.2f", r.passes_per_possession);
-        std::cout << figure;
-      }
+      std::cout << ", draws " << r.draws << '\n' << quantum::tools::describe(r.counted, r.totals);
       // A stall is play the match lost (docs/lua-api.md, match.stall): a study says how often.
       std::snprintf(figure, sizeof figure, "\nstalls %d, in %d of %d matches", r.stalls, r.stalled_matches, r.matches);
       std::cout << figure;

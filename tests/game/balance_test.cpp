@@ -12,6 +12,7 @@
 #include <map>
 
 #include "balance.h"
+#include "field_loader.h"
 #include "sport.h"
 
 namespace quantum {
@@ -128,8 +129,10 @@ TEST(Balance, APlottedStudyWritesEveryMatchItsPlotsAndASummary) {
   }
   std::string summary;
   for (const std::string& line : lines_of(dir / "summary.md")) summary += line + "\n";
-  for (const char* part : {"![win rate](win_rate_vs_handicap.png)", "| Blue |", "points per minute"})
+  // Air hockey counts contacts and goals; its score is its goals, so no points besides.
+  for (const char* part : {"![win rate](win_rate_vs_handicap.png)", "| Blue |", "Contacts per rally", "goals per minute"})
     EXPECT_NE(summary.find(part), std::string::npos) << part << "\n" << summary;
+  EXPECT_EQ(summary.find("points per minute"), std::string::npos) << summary;
 }
 
 // Basketball's score is points (2 or 3 a basket): the study reads the sport's own score.
@@ -145,8 +148,23 @@ TEST(Balance, ASportsOwnScoreIsSummarisedNotItsGoals) {
   }
   ASSERT_GT(goals, 0);
   EXPECT_GE(points, 2 * goals);
-  EXPECT_NEAR(r.points_per_minute / r.goals_per_minute, double(points) / goals, 1e-9);
+  EXPECT_EQ(r.totals.goals, goals);
+  EXPECT_EQ(r.totals.points, points);
+  // A sport of holding whose score is not its goals says passes, goals and its own points.
+  const std::string told = tools::describe(r.counted, r.totals);
+  for (const char* part : {"passes per possession", "goals per minute", "points per minute"})
+    EXPECT_NE(told.find(part), std::string::npos) << part << ": " << told;
 }
 
 }  // namespace
+// A court of hits without goals counts touches per rally and the points it scores, no goals.
+TEST(Balance, ASportOfHitsCountsTouchesAndPointsNotGoals) {
+  const tools::Counted court = tools::counted(lua::load_field(QUANTUM_SOURCE_DIR "/tests/sports/rally/field.lua"));
+  EXPECT_EQ(court.play, tools::Counted::Play::Hits);
+  EXPECT_FALSE(court.goals);
+  const std::string told = tools::describe(court, {.rallies = 4, .contacts = 38, .points = 4, .seconds = 120});
+  EXPECT_EQ(told, "touches per rally 9.50, points per minute 2.00 (the sport's score)");
+  EXPECT_EQ(tools::counted(lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua")).play, tools::Counted::Play::Strikes);
+}
+
 }  // namespace quantum
