@@ -105,8 +105,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     session.finish();
     if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
     if (video) video->finish(wav);
-    const game::Match& match = session.match();
-    result = {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field())};
+    result = result_of(session);
   }
   return result;
 }

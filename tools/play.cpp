@@ -111,6 +111,11 @@ std::string describe(const Counted& counted, const Figures& f) {
   return text;
 }
 
+PlayResult result_of(const runtime::Session& session) {
+  const game::Match& match = session.match();
+  return {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field())};
+}
+
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript,
                 const DeskOptions* desk) {
   PlayResult result;
@@ -119,8 +124,7 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
   } else {
     runtime::Session session(options, transcript ? &out : nullptr, errors);
     session.run();
-    const game::Match& match = session.match();
-    result = {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field())};
+    result = result_of(session);
   }
   if (transcript) {
     out << "final score:";

@@ -43,6 +43,9 @@ struct PlayResult {
   Figures figures() const;
 };
 
+// A match's result as its session ended it.
+PlayResult result_of(const runtime::Session& session);
+
 struct DeskOptions;
 
 // Plays one match, at the desk when `desk` asks for a view, a video, a snapshot or the mouse
