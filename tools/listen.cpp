@@ -188,8 +188,13 @@ Listening listen(const std::string& wav, const std::string& events) {
   const std::vector<int16_t> sound = mono_16k(wav);
 
   Decoder d;
+  // Beams far wider than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): on espeak-ng's voice the
+  // defaults pruned the right phrase away before its end, and the recognizer picked nothing at all
+  // ("Goal! 11 from 17", whose "Goal!" is followed by a long pause). A grammar of a match's phrases
+  // is small, so the wider search costs little (a 60 s match: 1.9 s -> 2.2 s).
   cmd_ln_t* config = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", (std::string(kModel) + "/en-us").c_str(), "-dict",
-                                 (std::string(kModel) + "/cmudict-en-us.dict").c_str(), "-logfn", "/dev/null", nullptr);
+                                 (std::string(kModel) + "/cmudict-en-us.dict").c_str(), "-beam", "1e-80", "-wbeam",
+                                 "1e-60", "-pbeam", "1e-80", "-logfn", "/dev/null", nullptr);
   if (!config || !(d.ps = ps_init(config)))
     throw std::runtime_error(std::string("cannot start pocketsphinx with its US English model in ") + kModel +
                              " (Debian: pocketsphinx-en-us)");

@@ -6,6 +6,7 @@
 
 #include <sndfile.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -61,22 +62,34 @@ std::vector<std::string> shipped_sports() {
   return sports;
 }
 
-// docs/sound.md's figures come from this test's output.
-TEST(Heard, EveryShippedSportsAnnouncerIsUnderstoodOverItsGame) {
-  const std::vector<std::string> sports = shipped_sports();
-  ASSERT_GE(sports.size(), 5u);
-  for (const std::string& sport : sports) {
-    const Rendered r = render(sport);
-    const tools::Listening l = tools::listen(r.wav, r.events);
-    const int played = int(l.played.size());
-    std::cout << sport << ": heard " << l.heard() << " of " << played << " phrases played, goal calls "
-              << l.goal_calls_heard << " of " << l.goal_calls << ", " << l.said - played << " of " << l.said
-              << " not played\n";
-    EXPECT_GE(played, 20) << sport << ": an announcer with something to say";
-    EXPECT_GE(l.heard(), 0.9 * played) << sport;
-    EXPECT_EQ(l.goal_calls_heard, l.goal_calls) << sport << ": every goal call is played and heard";
-  }
+TEST(Heard, EveryShippedSportIsListenedTo) { EXPECT_GE(shipped_sports().size(), 5u); }
+
+// One test per sport, so that CTest runs each in a process of its own: espeak-ng's synthesis
+// carries state from one phrase to the next (the same "New puck" at the same rate lasts 0.549615 s
+// in a fresh process and 0.550884 s after air hockey's phrases), so a sport rendered after others
+// would be heard as a different match. docs/sound.md's figures come from this test's output.
+class EveryShippedSportsAnnouncer : public testing::TestWithParam<std::string> {};
+
+TEST_P(EveryShippedSportsAnnouncer, IsUnderstoodOverItsGame) {
+  const std::string& sport = GetParam();
+  const Rendered r = render(sport);
+  const tools::Listening l = tools::listen(r.wav, r.events);
+  const int played = int(l.played.size());
+  std::cout << sport << ": heard " << l.heard() << " of " << played << " phrases played, goal calls "
+            << l.goal_calls_heard << " of " << l.goal_calls << ", " << l.said - played << " of " << l.said
+            << " not played\n";
+  EXPECT_GE(played, 20) << sport << ": an announcer with something to say";
+  EXPECT_GE(l.heard(), 0.9 * played) << sport;
+  EXPECT_EQ(l.goal_calls_heard, l.goal_calls) << sport << ": every goal call is played and heard";
 }
+
+INSTANTIATE_TEST_SUITE_P(Heard, EveryShippedSportsAnnouncer, testing::ValuesIn(shipped_sports()),
+                         [](const testing::TestParamInfo<std::string>& sport) {
+                           std::string name = sport.param;  // gtest takes letters, digits and _
+                           for (char& c : name)
+                             if (!std::isalnum(uint8_t(c))) c = '_';
+                           return name;
+                         });
 
 TEST(Heard, EveryEventLineSaysWhatBecameOfItsPhrases) {
   const Rendered r = render("airhockey");
