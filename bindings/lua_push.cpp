@@ -136,6 +136,7 @@ void push_field(lua_State* L, const Field& f) {
   });
   set_list(L, "players", f.bodies, [&](const BodySpec& b) {
     set(L, "name", b.name), set(L, "team", b.team), set(L, "role", b.role), set(L, "reach", b.radius);
+    set_point(L, "at", b.start);  // where it starts: a formation's place
     // `reach` is the radius (how far the hands get); with height, how high they get standing.
     if (f.has_height()) set(L, "reach_height", f.reach_of(int(&b - f.bodies.data())));
     lua_pushboolean(L, b.catches);

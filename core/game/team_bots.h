@@ -10,8 +10,11 @@
 // opponents' goal area and call for the ball when nobody marks them. The other team marks them
 // man to man between them and the goal and presses the holder. Goalkeepers keep to their goal
 // area, between the ball and the goal. A flying ball draws whoever of each team can reach its
-// path first; a loose one (the announcer's `loose`: where it lies), the nearest of each team. Field players stay out of goal areas;
-// goalkeepers stay in their own.
+// path first; a loose one (the announcer's `loose`: where it lies), the nearest of each team,
+// who looks about the place it was told to lie when the ball is not where it imagined. Field
+// players stay out of goal areas; goalkeepers stay in their own. Players who kick (soccer) dribble
+// for longer before they must let go, and are marked and pressed from further off, since a ball
+// along the ground meets every foot on its line.
 #pragma once
 
 #include <cstdint>
@@ -51,6 +54,7 @@ class TeamBots final : public SimulatedPlayers {
     int holder = -1;    // Held: the body holding it
     int thrower = -1;   // Flying: who threw it (-1: dropped, or off a wall)
     Vec2 at, velocity;  // Flying: where it was and how fast, as imagined
+    Vec2 told;          // where the announcer last placed it
   };
   struct Heard {
     double at;  // when the bot acts on it
@@ -93,6 +97,7 @@ class TeamBots final : public SimulatedPlayers {
   Vec2 allowed(const Bot& b, Vec2 p) const;
   Vec2 holder_position(const Bot& b, std::span<const Player> players) const;
   bool team_has_ball(const Bot& b) const;
+  double most_hold(const Bot& b) const;  // s it may hold the ball before it must let go
 
   Field field_;
   std::vector<Bot> bots_;

@@ -19,6 +19,7 @@
 #include "match_audio.h"
 #include "reloader.h"
 #include "sport.h"
+#include "../shipped_sports.h"
 
 namespace quantum {
 namespace {
@@ -285,7 +286,7 @@ TEST(HostilePaths, APhraseKeyThatLooksLikeAPathIsNotLookedForAsAPowerUp) {
 // every shipped power-up are found, and so are a sport's own files reached by a symlink inside
 // it and a sport whose folder is itself a symlink.
 TEST(HostilePaths, ShippedSportsAndTheirOwnFilesStillResolve) {
-  for (const char* name : {"airhockey", "basketball", "handball", "keepaway", "practice"}) {
+  for (const char* name : quantum::test::kShippedSports) {
     const std::string folder = std::string(QUANTUM_SOURCE_DIR "/rules/") + name;
     const lua::Sport sport(folder);
     for (const auto& [event, file] : sport.audio().sounds) {

@@ -18,6 +18,7 @@
 #include "field_loader.h"
 #include "scenes.h"
 #include "synthetic.h"
+#include "../shipped_sports.h"
 
 namespace {
 
@@ -112,7 +113,7 @@ TEST(Cli, SameSeedSameLogWhateverTheThreads) {
 // the hoop. The match runs to its end, its events lie on the field, and a team sport's ball is
 // played on after a catch (each catch is followed by a throw, bar one still in hand at the end).
 TEST(Cli, SimulateRunsEveryShippedSport) {
-  for (const char* sport : {"airhockey", "handball", "basketball", "keepaway", "practice"}) {
+  for (const char* sport : quantum::test::kShippedSports) {
     SCOPED_TRACE(sport);
     const std::string folder = std::string(QUANTUM_SOURCE_DIR "/rules/") + sport;
     quantum::Field field = quantum::lua::load_field(folder);
@@ -146,7 +147,7 @@ TEST(Cli, SimulateRunsEveryShippedSport) {
 // The scripted players of `quantum simulate` keep to the field and under its speed limit, with
 // the velocity each reports the derivative of its path: checked every frame of a minute.
 TEST(SimulateScene, ScriptedPlayersStayOnEveryShippedFieldAndWithinItsSpeed) {
-  for (const char* sport : {"airhockey", "handball", "basketball", "keepaway", "practice"}) {
+  for (const char* sport : quantum::test::kShippedSports) {
     SCOPED_TRACE(sport);
     quantum::Field field = quantum::lua::load_field(std::string(QUANTUM_SOURCE_DIR "/rules/") + sport);
     quantum::finish_field(field);

@@ -11,6 +11,7 @@
 
 #include "field_loader.h"
 #include "quantum/contact.h"
+#include "../shipped_sports.h"
 
 namespace quantum {
 namespace {
@@ -65,7 +66,7 @@ TEST(Contact, TheBatchedSearchFindsWhatTheScalarSearchFinds) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> unit(0, 1), angle(0, 6.2831853f);
   int paths = 0, grazing = 0, at_end_points = 0, at_bodies = 0;
-  for (const std::string sport : {"airhockey", "handball", "basketball", "keepaway", "practice"}) {
+  for (const std::string sport : quantum::test::kShippedSports) {
     SCOPED_TRACE(sport);
     const Field f = lua::load_field(QUANTUM_SOURCE_DIR "/rules/" + sport);
     const detail::Geometry g(f);

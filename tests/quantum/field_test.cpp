@@ -8,6 +8,7 @@
 
 #include "quantum/contact.h"
 #include "test_scenes.h"
+#include "../shipped_sports.h"
 
 namespace quantum {
 namespace {
@@ -180,7 +181,7 @@ float distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
 TEST(Field, TheContactGridListsEveryWallABallCanReach) {
   std::mt19937 rng(7);
   int near_walls = 0;
-  for (const std::string sport : {"airhockey", "handball", "basketball", "keepaway", "practice"}) {
+  for (const std::string sport : quantum::test::kShippedSports) {
     SCOPED_TRACE(sport);
     const Field f = lua::load_field(QUANTUM_SOURCE_DIR "/rules/" + sport);
     const detail::Geometry g(f);
