@@ -367,12 +367,12 @@ int kick(lua_State* L) { return release(L, World::Release::Kick); }
 int hit(lua_State* L) {
   Scenario& s = self(L);
   const int k = body_index(s, check_string(L, 2));
-  HitPlan plan;
-  plan.spread = s.match().config().throw_spread;
   if (!lua_isnoneornil(L, 3)) {
-    plan.kind = HitPlan::Kind::Velocity;
-    plan.velocity = {to_float(check_number(L, 3)), to_float(check_number(L, 4)), to_float(opt_number(L, 5, 0))};
+    s.match().swing(k, {to_float(check_number(L, 3)), to_float(check_number(L, 4)), to_float(opt_number(L, 5, 0))});
+    return 0;
   }
+  HitPlan plan;  // off the player's motion
+  plan.spread = s.match().config().throw_spread;
   s.match().plan_hit(k, plan);
   return 0;
 }

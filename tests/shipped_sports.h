@@ -6,6 +6,6 @@
 
 namespace quantum::test {
 
-inline constexpr std::array kShippedSports = {"airhockey", "handball", "basketball", "keepaway", "practice", "soccer"};
+inline constexpr std::array kShippedSports = {"airhockey", "handball", "basketball", "keepaway", "practice", "soccer", "volleyball"};
 
 }  // namespace quantum::test

@@ -17,21 +17,27 @@ std::vector<BodyInput> scripted_mallets(const Field& field, double t) {
   const double lunge_peak = 2 / std::sqrt(3.0);  // the fastest of sin^3, per unit of reach and rate
   for (size_t k = 0; k < field.bodies.size(); ++k) {
     const BodySpec& b = field.bodies[k];
-    const float toward_middle = b.start.x < cx ? 1.0f : -1.0f;
     const double phase = 1.7 * double(k);
     // Sideways sweep over most of the width, forward lunge of up to 45 cm; a player who catches
-    // lunges all the way to the middle, where a ball is dropped, as slowly as that takes.
-    const double reach = b.catches ? std::abs(cx - b.start.x) : 0.45;
-    const double sweep_w = 2.1 + 0.3 * double(k), lunge_w = std::min(1.3 + 0.2 * double(k), fastest / (lunge_peak * reach));
+    // lunges all the way to the middle, where a ball is dropped, and one who hits (a net game,
+    // whose ball lies at its first spot, a serve) to that spot, as slowly as that takes.
+    const bool to_spot = b.hits && !field.spots.empty();
+    const Vec2 spot = to_spot ? field.spots[0].at : Vec2{cx, b.start.y};
+    const float dx = spot.x - b.start.x, dy = to_spot ? spot.y - b.start.y : 0.0f, far = std::hypot(dx, dy);
+    const Vec2 way = far > 0 && (to_spot || b.catches) ? Vec2{dx / far, dy / far} : Vec2{b.start.x < cx ? 1.0f : -1.0f, 0};
+    const double reach = to_spot || b.catches ? far : 0.45;
+    // A lunge at a slant is not square to the sweep: each keeps to half of the sum then.
+    const double most = to_spot ? fastest / std::sqrt(2.0) : fastest;
+    const double sweep_w = 2.1 + 0.3 * double(k), lunge_w = std::min(1.3 + 0.2 * double(k), most / (lunge_peak * reach));
     // A body that starts off the middle sweeps only as far as its nearer side line allows.
     const float room = std::min(b.start.y - field.bounds_min.y, field.bounds_max.y - b.start.y) - b.radius;
-    const double sweep = std::min(double(std::max(0.0f, std::min(0.6f * (half_width - b.radius), room))), fastest / sweep_w);
+    const double sweep = std::min(double(std::max(0.0f, std::min(0.6f * (half_width - b.radius), room))), most / sweep_w);
     const double s = std::sin(sweep_w * t + phase), ds = sweep_w * std::cos(sweep_w * t + phase);
     const double l = std::sin(lunge_w * t + phase), dl = lunge_w * std::cos(lunge_w * t + phase);
     const double lunge = l > 0 ? l * l * l : 0, dlunge = l > 0 ? 3 * l * l * dl : 0;
     BodyInput in;
-    in.position = {float(b.start.x + toward_middle * reach * lunge), float(b.start.y + sweep * s)};
-    in.velocity = {float(toward_middle * reach * dlunge), float(sweep * ds)};
+    in.position = {float(b.start.x + way.x * reach * lunge), float(b.start.y + way.y * reach * lunge + sweep * s)};
+    in.velocity = {float(way.x * reach * dlunge), float(way.y * reach * dlunge + sweep * ds)};
     out.push_back(in);
   }
   return out;

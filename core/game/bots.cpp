@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "game/court_bots.h"
+#include "game/hearing.h"
 #include "game/plane.h"
 #include "game/team_bots.h"
 
@@ -258,13 +260,7 @@ const std::vector<BodyInput>& Bots::move(double t, double dt, std::span<const Pl
   const bool by_turns = std::any_of(players.begin(), players.end(), [](const Player& p) { return !p.turn; });
   for (size_t k = 0; k < bots_.size(); ++k) {
     Bot& b = bots_[k];
-    // Act on what is due, in the order heard; keep the rest (in place: no allocation).
-    size_t kept = 0;
-    for (const Heard& h : b.heard) {
-      if (h.at > t) b.heard[kept++] = h;
-      else imagine(b, h);
-    }
-    b.heard.resize(kept);
+    act_on_due(b.heard, t, [&](const Heard& h) { imagine(b, h); });  // in place: no allocation
     if (b.knows_ball) fly(b.ball, b.ball_v, dt);
     const bool whole_field = by_turns && players[k].turn;
     // A restart's place comes first (game.place).
@@ -283,6 +279,8 @@ const std::vector<BodyInput>& Bots::move(double t, double dt, std::span<const Pl
 std::unique_ptr<SimulatedPlayers> make_bots(const Field& field, std::vector<double> skills, uint64_t seed,
                                             double throw_speed) {
   if (field.catching()) return std::make_unique<TeamBots>(field, std::move(skills), seed, throw_speed);
+  const bool hitting = std::any_of(field.bodies.begin(), field.bodies.end(), [](const BodySpec& b) { return b.hits; });
+  if (hitting && field.has_height()) return std::make_unique<CourtBots>(field, std::move(skills), seed, throw_speed);
   return std::make_unique<Bots>(field, std::move(skills), seed);
 }
 

@@ -39,7 +39,8 @@ class SimulatedPlayers {
   virtual std::span<const Throw> throws() const { return {}; }
 };
 
-// The simulated players for `field`: TeamBots when its bodies catch, Bots when they strike.
+// The simulated players for `field`: TeamBots when its bodies catch, CourtBots when they hit
+// over a net (a field with height), Bots when they strike.
 // One skill in [0, 1] per body; `throw_speed` is the sport's (m/s).
 std::unique_ptr<SimulatedPlayers> make_bots(const Field& field, std::vector<double> skills, uint64_t seed,
                                             double throw_speed);

@@ -214,6 +214,11 @@ void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread, 
 }
 
 void Match::let_go(const Throw& t) {
+  if (t.player >= 0 && t.player < int(players_.size()) && field().bodies[size_t(t.player)].hits) {
+    const Vec3 v{t.velocity.x, t.velocity.y, t.up};
+    if (throw_fault(v, field().has_height()).empty()) swing(t.player, v);  // else a swing at nothing
+    return;
+  }
   if (t.player < 0 || t.player != holder()) return;
   throw_ball(t.player, {t.velocity.x, t.velocity.y, t.up}, std::nullopt,
              field().bodies[size_t(t.player)].kicks ? World::Release::Kick : World::Release::Throw);
@@ -222,6 +227,14 @@ void Match::let_go(const Throw& t) {
 void Match::plan_hit(int k, const HitPlan& plan) {
   check_player(k);
   world_.plan_hit(k, plan);
+}
+
+void Match::swing(int k, Vec3 velocity) {
+  HitPlan plan;
+  plan.kind = HitPlan::Kind::Velocity;
+  plan.velocity = velocity;
+  plan.spread = config_.throw_spread;
+  plan_hit(k, plan);
 }
 
 void Match::took(int k, double t) {
@@ -518,7 +531,7 @@ void Match::handle(const Event& e) {
     for (Player& p : players_) p.place.reset();
   GameEvent& g = new_event(type);
   g.t = e.t, g.p = e.p, g.p_newtonian = e.p_newtonian, g.particles = e.particles, g.at = e.at;
-  g.velocity = e.velocity, g.actor_index = e.actor;
+  g.velocity = e.velocity, g.height = e.height, g.up = e.up, g.actor_index = e.actor;
   const EventActor actor = actor_of(e, f);
   g.actor = actor.name, g.team = actor.team;
   if (type != EventKind::Drop) name_touchers(g);

@@ -65,6 +65,7 @@ struct GameEvent {
   double p = 1, p_newtonian = 1;
   uint32_t particles = 0;
   Vec2 at, velocity;   // where it happened; for a touch or bounce the ball's mean velocity after it
+  float height = 0, up = 0;  // fields with height, for a touch or bounce: the ball's height and upward speed after it
   int actor_index = -1;  // spot, body, wall or goal index in the field
   std::string powerup;   // powerup, powerup_end: the power-up's name (actor is its holder)
 };
@@ -262,8 +263,13 @@ class Match {
                   World::Release how = World::Release::Throw);
   // A throw a player made (a simulated player's, an accelerometer's): it goes only from the
   // player who holds the ball (anyone else's arm swings at nothing), from the feet of a player
-  // who kicks (field.lua: kicks), else from the hands.
+  // who kicks (field.lua: kicks), else from the hands. From a player who hits it is a swing.
   void let_go(const Throw& t);
+  // Player k, who hits, sends the ball it next meets at `velocity` (upward velocity.z only on a
+  // field with height), scattered by the sport's spread: a swing as an accelerometer felt it, or
+  // a simulated player's. It replaces a rule's plan (game.hit), as a person's swing would.
+  // Throws std::invalid_argument as plan_hit does.
+  void swing(int k, Vec3 velocity);
   // How player k, who hits (field.lua: hits = true), sends on the ball it next meets (see
   // World::plan_hit): a rule's aim, a simulated player's choice. Throws std::invalid_argument
   // for what the world refuses.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "game/hearing.h"
 #include "game/plane.h"
 
 namespace quantum::game {
@@ -486,12 +487,7 @@ const std::vector<BodyInput>& TeamBots::move(double t, double dt, std::span<cons
                                 std::to_string(bots_.size()) + " bots");
   throws_.clear();
   for (Bot& b : bots_) {
-    size_t kept = 0;
-    for (const Heard& h : b.heard) {
-      if (h.at > t) b.heard[kept++] = h;
-      else imagine(b, h);
-    }
-    b.heard.resize(kept);
+    act_on_due(b.heard, t, [&](const Heard& h) { imagine(b, h); });
     if (b.ball.state == Ball::State::Flying) fly(b.ball.at, b.ball.velocity, dt);
   }
   for (size_t k = 0; k < bots_.size(); ++k) {

@@ -88,7 +88,11 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
   purgatory_.resize(config_.purgatory_frames);
   for (PurgatorySlot& slot : purgatory_)
     slot.touched.reserve(config_.particles, tall), slot.body.reserve(config_.particles);
-  cloud_.reserve(config_.particles, tall);
+  // The cloud and the scratch cloud trade places (std::swap) at every realized contact and
+  // heard bounce, so each needs the room either may: twice the cloud (below). Sized only as the
+  // cloud, a gathered shot that was larger than any before allocated in whichever frame first
+  // met it with the smaller one.
+  cloud_.reserve(2 * size_t(config_.particles), tall);
   // A prediction's chunks: the cloud starts as one particle at a drop and grows past N for a
   // while after a realized contact (the gathered shot before the split), so room made as it came
   // would be made in the first frame it is fuller than ever.
@@ -200,7 +204,7 @@ void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Eve
   last_touch_ = body;
   ++version_;
   events.push_back({time_, kick ? EventType::Kick : EventType::Throw, body, 1, 1, config_.particles, at,
-                    {velocity.x, velocity.y}});
+                    {velocity.x, velocity.y}, tall ? hand : 0.0f, tall ? velocity.z : 0.0f});
 }
 
 World::Launch World::launch_of(Vec3 velocity) {
@@ -608,6 +612,9 @@ void World::decide(float dt, std::optional<bool> loose_seen, std::vector<Event>&
       }
       for (size_t i = 0; i < cloud_.size(); ++i)
         e.velocity.x += float(cloud_.weight(i) * cloud_.vx[i]), e.velocity.y += float(cloud_.weight(i) * cloud_.vy[i]);
+      if (cloud_.tall())
+        for (size_t i = 0; i < cloud_.size(); ++i)
+          e.height += float(cloud_.weight(i) * cloud_.z[i]), e.up += float(cloud_.weight(i) * cloud_.vz[i]);
       break;
     case TargetKind::Goal: {
       const bool own = last_touch_ >= 0 && field_.bodies[last_touch_].team == field_.goals[target.index].team;
@@ -641,12 +648,16 @@ namespace {
 // only; one that went in or out meanwhile is dropped, and one a body has since moved over is
 // lifted out of it. Bouncing off a wall meanwhile is part of the flight.
 template <class Space>
-void catch_up(detail::StepTracer<Space>& tracer, const detail::Geometry& g, const detail::BodyPath* now, int nb,
+void catch_up(detail::StepTracer<Space>& tracer, const detail::Geometry& g, detail::BodyPath* now, int nb,
               const PurgatorySlot& slot, int body, float span, float slow, Cloud& out) {
   const Cloud& from = slot.touched;
   auto keep = [&](uint32_t i, const typename Space::Mover& m, detail::Outcome outcome) {
     if (outcome.kind != detail::HitKind::None && outcome.kind != detail::HitKind::Wall) return;
     detail::Mover flat = Space::shadow(m);
+    // A particle above a body's hands (a ball met on top of them) is not inside it: only the
+    // bodies it is level with lift it out, or a dig would leave from the hitter's side.
+    if constexpr (Space::kHeight)
+      for (int k = 0; k < nb; ++k) now[k].passes = m.z > now[k].top + g.r;
     if (detail::settle(g, now, nb, 0, flat, true).kind != detail::HitKind::None) return;
     if constexpr (Space::kHeight) out.push(Vec3{flat.x, flat.y, m.z}, Vec3{m.vx, m.vy, m.vz}, from.w[i], from.w[i]);
     else out.push(flat.x, flat.y, flat.vx * slow, flat.vy * slow, from.w[i], from.w[i]);

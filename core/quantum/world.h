@@ -52,6 +52,9 @@ struct Event {
   uint32_t particles;   // particles that carried the outcome
   Vec2 at;              // weighted centre of those particles
   Vec2 velocity;        // hit, bounce, throw, kick: the ball's mean velocity afterwards (what a player makes of it); else 0
+  // Fields with height, for the same events: how high the ball's centre is and how fast it rises
+  // afterwards (what a player sees of a lob); else 0.
+  float height = 0, up = 0;
 };
 
 // How a thrown ball's particles scatter: standard deviations of their direction (rad) and of

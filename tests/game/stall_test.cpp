@@ -220,7 +220,7 @@ TEST_P(Silence, NoMatchGoesLongerThanItsBoundWithoutPlay) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Sport, Silence, testing::Values("handball", "basketball", "keepaway", "airhockey", "soccer"),
+INSTANTIATE_TEST_SUITE_P(Sport, Silence, testing::Values("handball", "basketball", "keepaway", "airhockey", "soccer", "volleyball"),
                          [](const testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
 }  // namespace

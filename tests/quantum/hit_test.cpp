@@ -221,5 +221,33 @@ TEST(Hit, ABodyEitherCatchesOrHitsAndOnlyAHitterPlans) {
   EXPECT_EQ(factors_by_kind(one, KindFactors{.hits = 4})[0], 4);
 }
 
+// A ball a hitter sends straight up comes back down onto its hands and is met again, as a
+// volleyball player's touch to itself is: the top of the body meets a falling ball after a hit
+// as before one.
+TEST(Hit, ABallHitStraightUpComesDownOntoTheHittersHandsAgain) {
+  Field f = lua::load_field(QUANTUM_SOURCE_DIR "/rules/volleyball");
+  finish_field(f);
+  World world(f, WorldConfig{.particles = 200, .seed = 3});
+  std::vector<BodyInput> bodies = standing(f);
+  bodies[0].position = {-6, 0};
+  world.place_bodies(bodies);
+  world.set_cloud(test::one_ball({-6, 0, 4}, {0, 0, 0}));
+  HitPlan up;
+  up.kind = HitPlan::Kind::Velocity, up.velocity = {0.2f, 0, 6}, up.spread = {0, 0, 0};
+  world.plan_hit(0, up);
+  std::vector<Event> events;
+  std::vector<double> hits;
+  for (int s = 0; s < 4 * 60 && hits.size() < 2; ++s) {
+    events.clear();
+    world.step(kDt, bodies, events);
+    for (const Event& e : events) {
+      if (e.type == EventType::Hit) hits.push_back(e.t);
+      ASSERT_NE(e.type, EventType::Landing) << "the ball came down through the hitter at " << e.t;
+    }
+  }
+  ASSERT_EQ(hits.size(), 2u);
+  EXPECT_NEAR(hits[1] - hits[0], 2 * 6 / 9.81, 0.1) << "up and down again: 2 v / g";
+}
+
 }  // namespace
 }  // namespace quantum
