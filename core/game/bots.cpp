@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "game/court_bots.h"
-#include "game/hearing.h"
+#include "game/bot_common.h"
 #include "game/plane.h"
 #include "game/team_bots.h"
 
@@ -24,9 +24,7 @@ SkillModel skill_model(double s) {
 }
 
 Bots::Bots(const Field& field, std::vector<double> skills, uint64_t seed) : field_(field) {
-  if (skills.size() != field.bodies.size())
-    throw std::invalid_argument("got " + std::to_string(skills.size()) + " skills for " +
-                                std::to_string(field.bodies.size()) + " players");
+  check_count(skills.size(), "skills", field.bodies.size(), "players");
   lo_ = field.bounds_max, hi_ = field.bounds_min;
   for (const Segment& s : field.segments)
     for (Vec2 p : {s.a, s.b})
@@ -253,9 +251,7 @@ Vec2 Bots::decide(Bot& b, double t, std::span<const Player> players, bool whole_
 }
 
 const std::vector<BodyInput>& Bots::move(double t, double dt, std::span<const Player> players) {
-  if (players.size() != bots_.size())
-    throw std::invalid_argument("got " + std::to_string(players.size()) + " players for " +
-                                std::to_string(bots_.size()) + " bots");
+  check_count(players.size(), "players", bots_.size(), "bots");
   // A sport that gives the turn to some players only plays by turns.
   const bool by_turns = std::any_of(players.begin(), players.end(), [](const Player& p) { return !p.turn; });
   for (size_t k = 0; k < bots_.size(); ++k) {

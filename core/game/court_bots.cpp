@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "game/hearing.h"
+#include "game/bot_common.h"
 #include "game/plane.h"
 
 namespace quantum::game {
@@ -29,9 +29,7 @@ Vec2 flat(Vec3 v) { return {v.x, v.y}; }
 
 CourtBots::CourtBots(const Field& field, std::vector<double> skills, uint64_t seed, double hit_speed)
     : field_(field), hit_speed_(hit_speed) {
-  if (skills.size() != field.bodies.size())
-    throw std::invalid_argument("got " + std::to_string(skills.size()) + " skills for " +
-                                std::to_string(field.bodies.size()) + " players");
+  check_count(skills.size(), "skills", field.bodies.size(), "players");
   if (!(hit_speed > 0)) throw std::invalid_argument("a hit's speed must be > 0");
   if (!field.has_height()) throw std::invalid_argument("players who hit over a net need a field with height");
   for (const BodySpec& b : field.bodies)
@@ -116,7 +114,7 @@ void CourtBots::imagine(Bot& b, const Heard& h) {
     case EventKind::Bounce:
     case EventKind::Landing: {
       if (h.type == EventKind::Hit) {
-        const int team = field_.bodies[size_t(h.actor)].team == teams_[0] ? 0 : 1;
+        const int team = bots_[size_t(h.actor)].team;  // bots_ is in the field's body order
         b.touches = team == b.last_team ? b.touches + 1 : 1;
         b.last_team = team, b.last_hitter = h.actor;
       }
@@ -157,6 +155,20 @@ CourtBots::Meeting CourtBots::meeting(const Ball& ball, double now, float height
 }
 
 float CourtBots::side_of(int team, Vec2 p) const { return dot(p - net_, sides_[team].toward); }
+
+Vec2 CourtBots::off_net(int team, Vec2 p, float off) const { return p - (side_of(team, p) + off) * sides_[team].toward; }
+
+Vec2 CourtBots::setter_place(int team) const { return off_net(team, 0.5f * (sides_[team].lo + sides_[team].hi), kSetterOff); }
+
+template <class Measure>
+int CourtBots::nearest_mate(const Bot& b, int except, std::span<const Player> players, Measure measure) const {
+  float least = 1e30f;
+  int best = -1;
+  for (const Bot& o : bots_)
+    if (o.team == b.team && o.body != except)
+      if (const float m = measure(players[size_t(o.body)].position); m < least) least = m, best = o.body;
+  return best;
+}
 
 Vec2 CourtBots::on_own_side(const Bot& b, Vec2 p) const {
   const float over = side_of(b.team, p) + field_.bodies[size_t(b.body)].radius + 0.05f;
@@ -228,20 +240,12 @@ void CourtBots::swing(Bot& b, Vec3 from, int touch, std::span<const Player> play
   } else {
     // Up for a teammate a step off the net: the setter's place, or for the second touch the
     // attacker's (the teammate nearest the net), where its hands will be.
-    const Side& s = sides_[b.team];
-    const Vec2 court = 0.5f * (s.lo + s.hi);
-    Vec2 along = court - side_of(b.team, court) * s.toward;  // the court's middle, on the net
-    float off = kSetterOff;
+    Vec2 to = setter_place(b.team);
     if (touch == 2) {
-      off = kAttackOff;
-      float nearest = 1e30f;
-      for (const Bot& o : bots_)
-        if (o.team == b.team && o.body != b.body && -side_of(b.team, players[size_t(o.body)].position) < nearest) {
-          nearest = -side_of(b.team, players[size_t(o.body)].position);
-          along = players[size_t(o.body)].position + nearest * s.toward;
-        }
+      const int attacker = nearest_mate(b, b.body, players, [&](Vec2 p) { return -side_of(b.team, p); });
+      if (attacker >= 0) to = off_net(b.team, players[size_t(attacker)].position, kAttackOff);
+      else to = off_net(b.team, setter_place(b.team), kAttackOff);
     }
-    const Vec2 to = along - off * s.toward;
     const Vec3 hands{to.x, to.y, kMeetShare * field_.reach_of(b.body)};
     v = field_.arc_velocity(from, hands, touch == 2 ? kSet : kDig);
     if (v.x == 0 && v.y == 0 && v.z == 0) v = field_.throw_at(from, hands, float(hit_speed_));
@@ -270,37 +274,20 @@ Vec2 CourtBots::decide(Bot& b, double t, std::span<const Player> players) {
     }
     // The next to play it after a first touch waits at the setter's place.
     if (!serve && b.last_team != b.team) {
-      const Side& s = sides_[b.team];
-      const Vec2 court = 0.5f * (s.lo + s.hi);
-      const Vec2 setter = court - (side_of(b.team, court) + kSetterOff) * s.toward;
-      float nearest = 1e30f;
-      int next = -1;
-      for (const Bot& o : bots_)
-        if (o.team == b.team && o.body != who && length(players[size_t(o.body)].position - setter) < nearest)
-          nearest = length(players[size_t(o.body)].position - setter), next = o.body;
-      if (next == b.body) return setter;
+      const Vec2 setter = setter_place(b.team);
+      if (nearest_mate(b, who, players, [&](Vec2 p) { return length(p - setter); }) == b.body) return setter;
     }
     return b.home;
   }
   // On their side: when their next touch is their attack, the one of us nearest the net blocks.
-  if (b.last_team == 1 - b.team && b.touches == 2) {
-    float nearest = 1e30f;
-    int blocker = -1;
-    for (const Bot& o : bots_)
-      if (o.team == b.team && -side_of(b.team, players[size_t(o.body)].position) < nearest)
-        nearest = -side_of(b.team, players[size_t(o.body)].position), blocker = o.body;
-    if (blocker == b.body) {
-      const float off = kBlockOff + field_.bodies[size_t(b.body)].radius;
-      return m.at - (side_of(b.team, m.at) + off) * sides_[b.team].toward;
-    }
-  }
+  if (b.last_team == 1 - b.team && b.touches == 2 &&
+      nearest_mate(b, -1, players, [&](Vec2 p) { return -side_of(b.team, p); }) == b.body)
+    return off_net(b.team, m.at, kBlockOff + field_.bodies[size_t(b.body)].radius);
   return b.home;
 }
 
 const std::vector<BodyInput>& CourtBots::move(double t, double dt, std::span<const Player> players) {
-  if (players.size() != bots_.size())
-    throw std::invalid_argument("got " + std::to_string(players.size()) + " players for " +
-                                std::to_string(bots_.size()) + " bots");
+  check_count(players.size(), "players", bots_.size(), "bots");
   swings_.clear();
   for (Bot& b : bots_) {
     act_on_due(b.heard, t, [&](const Heard& h) { imagine(b, h); });

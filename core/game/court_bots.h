@@ -83,9 +83,13 @@ class CourtBots final : public SimulatedPlayers {
   Vec3 ball_at(const Ball& ball, double t) const;
   Meeting meeting(const Ball& ball, double now, float height) const;
   float side_of(int team, Vec2 p) const;  // < 0 on the team's own side of the net
+  Vec2 off_net(int team, Vec2 p, float off) const;  // level with p, `off` m back from the net on the team's side
+  Vec2 setter_place(int team) const;  // where a team's first touch goes: mid-court, a step off the net
+  // Of b's team, but not `except`, the player for whom `measure(position)` is least; -1 for none.
+  template <class Measure>
+  int nearest_mate(const Bot& b, int except, std::span<const Player> players, Measure measure) const;
   Vec2 decide(Bot& b, double t, std::span<const Player> players);
   int receiver(const Bot& b, Vec2 at, std::span<const Player> players, bool serve) const;
-  Vec2 target(Bot& b, int touch, std::span<const Player> players);
   Vec2 open_court(Bot& b, std::span<const Player> players, bool deep);
   Vec3 over_the_net(const Bot& b, Vec3 from, Vec2 to);
   void swing(Bot& b, Vec3 from, int touch, std::span<const Player> players);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "game/hearing.h"
+#include "game/bot_common.h"
 #include "game/plane.h"
 
 namespace quantum::game {
@@ -59,9 +59,7 @@ TeamSkill team_skill(double s) {
 
 TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed, double throw_speed)
     : field_(field), throw_speed_(throw_speed) {
-  if (skills.size() != field.bodies.size())
-    throw std::invalid_argument("got " + std::to_string(skills.size()) + " skills for " +
-                                std::to_string(field.bodies.size()) + " players");
+  check_count(skills.size(), "skills", field.bodies.size(), "players");
   if (!(throw_speed > 0)) throw std::invalid_argument("a throw's speed must be > 0");
   lo_ = field.bounds_min + Vec2{0.3f, 0.3f}, hi_ = field.bounds_max - Vec2{0.3f, 0.3f};
   const Vec2 middle = 0.5f * (field.bounds_min + field.bounds_max);
@@ -482,9 +480,7 @@ Vec2 TeamBots::decide(Bot& b, double t, std::span<const Player> players) {
 }
 
 const std::vector<BodyInput>& TeamBots::move(double t, double dt, std::span<const Player> players) {
-  if (players.size() != bots_.size())
-    throw std::invalid_argument("got " + std::to_string(players.size()) + " players for " +
-                                std::to_string(bots_.size()) + " bots");
+  check_count(players.size(), "players", bots_.size(), "bots");
   throws_.clear();
   for (Bot& b : bots_) {
     act_on_due(b.heard, t, [&](const Heard& h) { imagine(b, h); });
