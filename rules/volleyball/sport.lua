@@ -150,13 +150,13 @@ sport.on = {
   hit = function(game, e)
     local other = two_teams.other(game, e.team)
     -- The first touch of a ball nobody has touched: the serve, which must go over as it is.
-    if not state.served and e.previous == "" then
-      state.served = true
+    local serve = not state.served and e.previous == ""
+    state.served = true
+    if serve then
       game.turn(nil)  -- from the serve on, anyone plays the ball
       state.touching, state.touches, state.serve_only = e.team, 3, true
       return game.say("serve", { player = e.actor })
     end
-    state.served = true
     if e.team ~= state.touching then
       -- The ball came over: a block when met at the net at once, else the side's first touch.
       local block = math.abs(e.x) < NET_REACH
