@@ -141,6 +141,7 @@ int main(int argc, char** argv) {
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   };
   add_params(play, game.params);
+  add_params(simulate, sim.params);
   quantum::tools::DeskOptions desk;
   // The desk's options, on play and on replay alike.
   auto add_desk = [](CLI::App* command, quantum::tools::DeskOptions& d) {

@@ -7,6 +7,7 @@
 
 #include "box2d_backend.h"
 #include "json_lines.h"
+#include "params.h"
 #include "field_loader.h"
 #include "quantum/world.h"
 #include "scenes.h"
@@ -128,7 +129,9 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   if (o.backend != "fast" && o.backend != "box2d")
     throw std::invalid_argument("--backend must be fast or box2d, not '" + o.backend + "'");
   if (!o.snapshot.empty()) runtime::check_snapshot_file(o.snapshot);
-  Field field = lua::load_field(o.field);
+  lua::Params params(o.params);
+  Field field = lua::load_field(o.field, &params);
+  params.check_read(o.field);
   finish_field(field);
   WorldConfig config;
   config.particles = o.particles;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "quantum/fate.h"
 #include "quantum/world.h"
@@ -26,6 +27,7 @@ struct SimulateOptions {
   uint32_t purgatory = 3;
   KindFactors factors;
   std::string shooter;         // fields with a hoop: who shoots ("" for the first player who catches)
+  std::vector<std::string> params;  // NAME=VALUE for the field file (param(NAME, default))
 };
 
 // Runs the simulation; the summary goes to `summary`. Throws on bad options or a bad field.

@@ -113,20 +113,7 @@ Vec2 Bots::target(const Bot& b, const Aim& aim) const {
   switch (aim.kind) {
     case Aim::Kind::Point: return aim.point;
     case Aim::Kind::Goal: return goal_target(b, field_.goals[size_t(aim.index)]);
-    case Aim::Kind::Wall: {
-      Vec2 best = b.ball;
-      float nearest = 1e30f;
-      for (const Segment& seg : field_.segments) {
-        if (seg.wall != aim.index) continue;
-        const Vec2 ab = seg.b - seg.a, ap = b.ball - seg.a;
-        const float l2 = ab.x * ab.x + ab.y * ab.y;
-        // Not the very ends: a corner sends the ball anywhere.
-        const float f = l2 > 0 ? std::clamp((ap.x * ab.x + ap.y * ab.y) / l2, 0.2f, 0.8f) : 0.5f;
-        const Vec2 p = seg.a + f * ab;
-        if (length(p - b.ball) < nearest) nearest = length(p - b.ball), best = p;
-      }
-      return best;
-    }
+    case Aim::Kind::Wall: return nearest_on_wall(field_, aim.index, b.ball);
     case Aim::Kind::Default: break;
   }
   Vec2 best{b.ball.x + b.attack_x, b.ball.y};

@@ -191,10 +191,16 @@ int CourtBots::receiver(const Bot& b, Vec2 at, std::span<const Player> players, 
 }
 
 // An open place in the other court: the one furthest from every opponent, as well as b sees it;
-// a serve (`deep`) goes beyond the first third. The sport's aim (a point) replaces it.
+// a serve (`deep`) goes beyond the first third. The sport's aim replaces it: a point, a goal's
+// centre, a wall's point nearest the hitter.
 Vec2 CourtBots::open_court(Bot& b, std::span<const Player> players, bool deep) {
   const Aim& aim = players[size_t(b.body)].aim;
-  if (aim.kind == Aim::Kind::Point) return aim.point;
+  switch (aim.kind) {
+    case Aim::Kind::Point: return aim.point;
+    case Aim::Kind::Goal: return centre(field_.goals[size_t(aim.index)]);
+    case Aim::Kind::Wall: return nearest_on_wall(field_, aim.index, players[size_t(b.body)].position);
+    case Aim::Kind::Default: break;
+  }
   const Side& them = sides_[1 - b.team];
   std::normal_distribution<double> noise(0, 1);
   const double blur = 1.5 * (1 - b.skill.vision);

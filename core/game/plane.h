@@ -33,4 +33,20 @@ inline Vec2 nearest_on_segment(Vec2 p, Vec2 a, Vec2 b) {
 }
 inline float distance_to_segment(Vec2 p, Vec2 a, Vec2 b) { return length(p - nearest_on_segment(p, a, b)); }
 
+// The point of the field's wall `wall` (all its segments) nearest `from`, kept off each
+// segment's ends: a corner sends the ball anywhere. `from` itself when the wall has no segment.
+inline Vec2 nearest_on_wall(const Field& field, int wall, Vec2 from) {
+  Vec2 best = from;
+  float nearest = 1e30f;
+  for (const Segment& seg : field.segments) {
+    if (seg.wall != wall) continue;
+    const Vec2 ab = seg.b - seg.a, ap = from - seg.a;
+    const float l2 = ab.x * ab.x + ab.y * ab.y;
+    const float f = l2 > 0 ? std::clamp((ap.x * ab.x + ap.y * ab.y) / l2, 0.2f, 0.8f) : 0.5f;
+    const Vec2 p = seg.a + f * ab;
+    if (length(p - from) < nearest) nearest = length(p - from), best = p;
+  }
+  return best;
+}
+
 }  // namespace quantum::game

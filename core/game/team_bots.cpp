@@ -22,6 +22,7 @@ constexpr float kMarkKicker = 2.6f;
 constexpr float kPress = 1.6f;     // m the nearest defender keeps from the holder (kMarkKicker from one who kicks)...
 constexpr float kClosest = 1.3f;   // ...and not nearer, when a goal area is in the way
 constexpr float kLoose = 0.8f;     // m/s: an imagined ball slower than this lies loose
+constexpr float kHop = 0.5f;       // m/s: a ball that bounces off the floor slower than this rolls
 constexpr float kSearched = 0.2f;  // m from where it imagines a loose ball: a player has looked there
 constexpr double kSearch = 2.0;    // m about the told place a player looks for a loose ball
 constexpr float kArrive = 7.0f;    // m/s a pass should still have when it reaches the catcher
@@ -83,8 +84,13 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
     b.heard.reserve(64);
     bots_.push_back(std::move(b));
   }
+  // A hoop's mouth is in the air: the area under it (basketball's arc) is open to everyone.
   for (const Area& a : field.areas)
-    goal_area_.push_back(std::any_of(field.goals.begin(), field.goals.end(), [&](const Goal& g) { return a.contains(centre(g)); }));
+    goal_area_.push_back(std::any_of(field.goals.begin(), field.goals.end(),
+                                     [&](const Goal& g) { return !g.hoop() && a.contains(centre(g)); }));
+  for (Bot& b : bots_)
+    for (size_t a = 0; a < field.areas.size() && b.side < 0; ++a)
+      if (field.areas[a].box && !goal_area_[a] && field.areas[a].team == field.bodies[size_t(b.body)].team) b.side = int(a);
   for (Bot& b : bots_)
     for (const Bot& o : bots_)
       if (!o.keeper) (field.bodies[size_t(o.body)].team == field.bodies[size_t(b.body)].team ? b.mates : b.opponents).push_back(o.body);
@@ -116,7 +122,7 @@ void TeamBots::hear(const GameEvent& e) {
     case EventKind::Pass:
     case EventKind::Intercept: case EventKind::Throw: case EventKind::Kick: case EventKind::Hit: case EventKind::Bounce: case EventKind::Landing:
     case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead: case EventKind::Loose:
-      for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity});
+      for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity, e.height, e.up});
       return;
     default: return;  // nothing about the ball
   }
@@ -153,7 +159,9 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
       ball = {Ball::State::Flying, -1, thrower,
               h.where + Vec2{float(err * noise(b.rng)), float(err * noise(b.rng))},
               float(std::max(0.3, 1 + 0.1 * noise(b.rng))) * rotated(h.velocity, 0.05 * noise(b.rng)), h.where};
-      fly(ball.at, ball.velocity, b.skill.reaction);  // it flew on while the news travelled
+      if (field_.has_height())
+        ball.z = std::max(h.height, field_.ball_radius), ball.up = float(h.up * std::max(0.3, 1 + 0.1 * noise(b.rng)));
+      fly(ball, b.skill.reaction);  // it flew on while the news travelled
       if (h.actor == b.body && sent) b.got_ball = -1;
       return;
     }
@@ -161,15 +169,52 @@ void TeamBots::imagine(Bot& b, const Heard& h) {
   }
 }
 
-// The imagined ball rolls on, slowed by the field's friction, and stops at the bounds.
-void TeamBots::fly(Vec2& at, Vec2& velocity, double dt) const {
-  at = at + field_.flight_time(float(dt)) * velocity;
-  velocity = float(std::exp(-field_.friction * dt)) * velocity;
+// The imagined ball flies on for dt: through the air under gravity, then (or on a flat field)
+// rolling, slowed by the field's friction; it stops at the bounds.
+void TeamBots::fly(Ball& ball, double dt) const {
+  if (field_.has_height()) dt = airborne(ball, dt);
+  if (dt > 0) {
+    ball.at = ball.at + field_.flight_time(float(dt)) * ball.velocity;
+    ball.velocity = float(std::exp(-field_.friction * dt)) * ball.velocity;
+  }
+  Vec2& at = ball.at;
   if (at.x < field_.bounds_min.x || at.x > field_.bounds_max.x || at.y < field_.bounds_min.y ||
       at.y > field_.bounds_max.y) {
     at = {std::clamp(at.x, field_.bounds_min.x, field_.bounds_max.x), std::clamp(at.y, field_.bounds_min.y, field_.bounds_max.y)};
-    velocity = {0, 0};
+    ball.velocity = {0, 0};
+    ball.z = std::min(ball.z, field_.ball_radius), ball.up = 0;
   }
+}
+
+// Up to dt of the ball's flight through the air: across at its speed (only a rolling ball slows)
+// and down under gravity, bouncing off the floor as the field's floor does. Returns the time left
+// once it rolls, 0 while it is still in the air.
+double TeamBots::airborne(Ball& ball, double dt) const {
+  const float g = field_.gravity, r = field_.ball_radius;
+  while (dt > 0 && (ball.up > 0 || ball.z > r)) {
+    const double down = (ball.up + std::sqrt(double(ball.up) * ball.up + 2.0 * g * std::max(0.0f, ball.z - r))) / g;
+    const double s = std::min(dt, down);
+    ball.at = ball.at + float(s) * ball.velocity;
+    ball.z = float(ball.z + ball.up * s - 0.5 * g * s * s);
+    ball.up = float(ball.up - g * s);
+    dt -= s;
+    if (s == down) {
+      ball.z = r;
+      ball.up = -field_.floor_restitution * ball.up;
+      if (ball.up < kHop) ball.up = 0;
+    }
+  }
+  return dt;
+}
+
+// A ball that rolls slowly on the floor: anyone's to pick up.
+bool TeamBots::lies_loose(const Ball& ball) const {
+  return length(ball.velocity) < kLoose && ball.up == 0 && ball.z <= field_.ball_radius;
+}
+
+// Whether the body's hands get to the ball where it flies (always on a flat field).
+bool TeamBots::within_reach(const Ball& ball, int body) const {
+  return !field_.has_height() || ball.z <= field_.reach_of(body);
 }
 
 double TeamBots::most_hold(const Bot& b) const { return field_.bodies[size_t(b.body)].kicks ? kMostDribble : kMostHold; }
@@ -187,10 +232,12 @@ Vec2 TeamBots::holder_position(const Bot& b, std::span<const Player> players) co
   return 0.5f * (field_.bounds_min + field_.bounds_max);
 }
 
-// Where a player may stand: inside the bounds; a goalkeeper in its goal area, anyone else out of
-// every goal area (an area around a goal's mouth; other areas, an end zone say, are open to all).
+// Where a player may stand: inside the bounds and its team's side, if the field gives it one; a
+// goalkeeper in its goal area, anyone else out of every goal area (an area around a goal's
+// mouth; other areas, an end zone say, are open to all).
 Vec2 TeamBots::allowed(const Bot& b, Vec2 p) const {
   p = {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
+  if (b.side >= 0) p = to_area_edge(field_.areas[size_t(b.side)], p, 0.3f, true);
   if (b.keeper) return b.own_area >= 0 ? to_area_edge(field_.areas[size_t(b.own_area)], p, 0.3f, true) : p;
   for (size_t a = 0; a < field_.areas.size(); ++a)
     if (goal_area_[a]) p = to_area_edge(field_.areas[a], p, -0.3f, false);
@@ -268,11 +315,11 @@ Vec2 TeamBots::pass_velocity(Bot& b, Vec2 from, Vec2 to, double most) {
 }
 
 // On a field with height: the throw `velocity` (its heading and the thrower's error in it) as an
-// arc from the hand through `aim`: at a hoop a shot dropping in at kShotElevation, give or take
-// the thrower's aim; to a teammate the flattest throw at that speed, arriving at chest height.
-Throw TeamBots::arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, bool at_goal) {
-  const Goal* hoop = at_goal && b.their_goal >= 0 && field_.goals[size_t(b.their_goal)].hoop()
-                         ? &field_.goals[size_t(b.their_goal)] : nullptr;
+// arc from the hand through `aim`: at a hoop (`goal`, -1 for none) a shot dropping in at
+// kShotElevation, give or take the thrower's aim; else the flattest throw at that speed,
+// arriving at chest height.
+Throw TeamBots::arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, int goal) {
+  const Goal* hoop = goal >= 0 && field_.goals[size_t(goal)].hoop() ? &field_.goals[size_t(goal)] : nullptr;
   const Vec2 arm = field_.release_point(b.body, from, aim);
   const Vec3 hand{arm.x, arm.y, field_.reach_of(b.body)};
   const float speed = length(velocity);
@@ -289,7 +336,9 @@ Throw TeamBots::arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, bool at_goal) {
 }
 
 // The holder steps toward the goal it attacks (if any), up to a shooting distance, and when its
-// moment comes shoots or passes.
+// moment comes shoots or passes. The sport's aim comes first: at a point the ball is sent to
+// arrive there as a pass does, at a goal or a wall it is shot hard (docs/lua-api.md, "Simulated
+// players and hints").
 Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   const Player& me = players[size_t(b.body)];
   const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : me.position;
@@ -301,25 +350,34 @@ Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   const bool forced = t >= b.got_ball + most_hold(b) - b.skill.reaction;
   Vec2 aim;
   Vec2 velocity;
-  bool at_goal = false;
-  if (me.aim.kind == Aim::Kind::Point || me.aim.kind == Aim::Kind::Goal) {
-    aim = me.aim.kind == Aim::Kind::Point ? me.aim.point : centre(field_.goals[size_t(me.aim.index)]);
-    velocity = pass_velocity(b, me.position, aim, shot);
-  } else if (open_shot(b, players, aim)) {
+  int shot_at = -1;  // the goal shot at
+  auto shoot = [&] {
     std::normal_distribution<double> noise(0, b.skill.throw_noise);
     velocity = float(shot) * rotated(unit(aim - me.position), noise(b.rng));
-    at_goal = true;
+  };
+  if (me.aim.kind == Aim::Kind::Point) {
+    aim = me.aim.point;
+    velocity = pass_velocity(b, me.position, aim, shot);
+  } else if (me.aim.kind == Aim::Kind::Goal) {
+    aim = centre(field_.goals[size_t(me.aim.index)]), shot_at = me.aim.index;
+    shoot();
+  } else if (me.aim.kind == Aim::Kind::Wall) {
+    aim = nearest_on_wall(field_, me.aim.index, me.position);
+    shoot();
+  } else if (open_shot(b, players, aim)) {
+    shoot();
+    shot_at = b.their_goal;
   } else if (open_teammate(b, players, aim, forced) >= 0) {
     velocity = pass_velocity(b, me.position, aim, shot);
   } else if (forced) {  // nobody to pass to at all (a team of one): at the goal, from wherever
     velocity = pass_velocity(b, me.position, goal, shot);
-    aim = goal, at_goal = b.their_goal >= 0;
+    aim = goal, shot_at = b.their_goal;
   } else {
     return step;  // nobody open yet: look again next frame
   }
   // A player who kicks plays the ball along the ground; with height, anyone else throws in an arc.
   const bool arcs = field_.has_height() && !field_.bodies[size_t(b.body)].kicks;
-  throws_.push_back(arcs ? arc(b, me.position, aim, velocity, at_goal) : Throw{b.body, velocity});
+  throws_.push_back(arcs ? arc(b, me.position, aim, velocity, shot_at) : Throw{b.body, velocity});
   b.got_ball = -1;
   return step;
 }
@@ -414,7 +472,7 @@ Vec2 TeamBots::keeping(const Bot& b, std::span<const Player> players) const {
 Vec2 TeamBots::chasing(const Bot& b, std::span<const Player> players, bool& chase) const {
   chase = false;
   const std::string& team = field_.bodies[size_t(b.body)].team;
-  const bool loose = length(b.ball.velocity) < kLoose;
+  const bool loose = lies_loose(b.ball);
   double first = 1e30;
   Vec2 where = b.ball.at;
   int who = -1;
@@ -422,15 +480,17 @@ Vec2 TeamBots::chasing(const Bot& b, std::span<const Player> players, bool& chas
     if (field_.bodies[size_t(o.body)].team != team || (o.body == b.ball.thrower && !loose)) continue;
     const Vec2 from = players[size_t(o.body)].position;
     const float reach = field_.bodies[size_t(o.body)].radius;
-    Vec2 at = b.ball.at, velocity = b.ball.velocity;
+    Ball ball = b.ball;
+    const Vec2& at = ball.at;
     for (double s = 0; s <= kLook; s += kLookStep) {
-      if (s > 0) fly(at, velocity, kLookStep);
+      if (s > 0) fly(ball, kLookStep);
       if (allowed(o, at).x != at.x || allowed(o, at).y != at.y) continue;  // not its ground
+      if (!within_reach(ball, o.body)) continue;  // over its head
       if (length(at - from) - reach <= o.skill.run_speed * s || (loose && s + kLookStep > kLook)) {
         if (s < first) first = s, who = o.body, where = at;
         break;
       }
-      if (length(velocity) < 0.05f) {
+      if (length(ball.velocity) < 0.05f && ball.up == 0 && ball.z <= field_.ball_radius) {
         // It lies still: a loose ball is whoever's gets there first, however long the run (a
         // bot that broke off here left a ball lying loose until the match stalled).
         const double arrive = s + std::max(0.0, double(length(at - from) - reach) / o.skill.run_speed);
@@ -462,7 +522,7 @@ Vec2 TeamBots::decide(Bot& b, double t, std::span<const Player> players) {
     case Ball::State::Flying: {
       bool chase = false;
       const Vec2 p = chasing(b, players, chase);
-      if (chase && length(b.ball.velocity) < kLoose && length(p - b.pos) < kSearched) {
+      if (chase && lies_loose(b.ball) && length(p - b.pos) < kSearched) {
         // There, and no ball: a loose ball's cloud may lie spread over metres, so look somewhere
         // else about the place where it was told to lie, as a player would.
         std::uniform_real_distribution<double> turn(0, 6.283185307), out(0.3, kSearch);
@@ -484,7 +544,7 @@ const std::vector<BodyInput>& TeamBots::move(double t, double dt, std::span<cons
   throws_.clear();
   for (Bot& b : bots_) {
     act_on_due(b.heard, t, [&](const Heard& h) { imagine(b, h); });
-    if (b.ball.state == Ball::State::Flying) fly(b.ball.at, b.ball.velocity, dt);
+    if (b.ball.state == Ball::State::Flying) fly(b.ball, dt);
   }
   for (size_t k = 0; k < bots_.size(); ++k) {
     Bot& b = bots_[k];

@@ -1,9 +1,11 @@
 // Simulated players for sports of holding, throwing and catching (fields whose bodies catch): team
 // handball, or any "A vs B" sport built the same way. Like the mallet bots they know the field
-// (goals, goal areas, its friction) and what the announcer said, and they see where everyone
-// stands, as players on a court do; they never see the particles. Who holds the ball they know
-// only from the announcements, and a thrown ball only as the announcer's "Anna throws" and the
-// direction they saw her throw in.
+// (goals, goal areas, its friction and gravity) and what the announcer said, and they see where
+// everyone stands, as players on a court do; they never see the particles. Who holds the ball they
+// know only from the announcements, and a thrown ball only as the announcer's "Anna throws" and
+// the direction (and, with height, the steepness) they saw her throw in. Under gravity a ball
+// flies on without slowing until it comes down, bounces and rolls, and it can be caught only
+// below a player's reach: a lob over a player's head is run after, not waited for.
 //
 // The holder looks for a shot, else for an open teammate (one who calls for the ball counts
 // more), and throws before the sport's three seconds are up. Teammates run into space around the
@@ -12,7 +14,10 @@
 // area, between the ball and the goal. A flying ball draws whoever of each team can reach its
 // path first; a loose one (the announcer's `loose`: where it lies), the nearest of each team,
 // who looks about the place it was told to lie when the ball is not where it imagined. Field
-// players stay out of goal areas; goalkeepers stay in their own. Players who kick (soccer) dribble
+// players stay out of goal areas (around a goal's mouth on the floor, not under a hoop);
+// goalkeepers stay in their own. A field may give each team a
+// side (a box area named after the team that holds no goal: a court's half beyond a net): that
+// team's players keep to it and leave a ball beyond it to the others. Players who kick (soccer) dribble
 // for longer before they must let go, and are marked and pressed from further off, since a ball
 // along the ground meets every foot on its line.
 #pragma once
@@ -53,14 +58,16 @@ class TeamBots final : public SimulatedPlayers {
     enum class State : uint8_t { None, Held, Flying } state = State::None;
     int holder = -1;    // Held: the body holding it
     int thrower = -1;   // Flying: who threw it (-1: dropped, or off a wall)
-    Vec2 at, velocity;  // Flying: where it was and how fast, as imagined
+    Vec2 at, velocity;  // Flying: where it was and how fast across the field, as imagined
     Vec2 told;          // where the announcer last placed it
+    float z = 0, up = 0;  // Flying, on a field with height: how high it is and how fast it rises
   };
   struct Heard {
     double at;  // when the bot acts on it
     EventKind type;
     int actor;
     Vec2 where, velocity;
+    float height, up;
   };
   struct Bot {
     int body;
@@ -68,6 +75,7 @@ class TeamBots final : public SimulatedPlayers {
     bool keeper;
     int own_goal = -1, their_goal = -1;  // goal indices (-1: none)
     int own_area = -1;                   // the goal area it keeps (a goalkeeper's), -1 for none
+    int side = -1;                       // the area its team keeps to (its side of a court), -1: the whole field
     Vec2 pos, home, spot;                // where it is, starts, and stands in attack
     Ball ball;
     double got_ball = -1;                // when it learnt it holds the ball
@@ -80,7 +88,10 @@ class TeamBots final : public SimulatedPlayers {
   };
 
   void imagine(Bot& b, const Heard& h);
-  void fly(Vec2& at, Vec2& velocity, double dt) const;
+  void fly(Ball& ball, double dt) const;
+  double airborne(Ball& ball, double dt) const;
+  bool lies_loose(const Ball& ball) const;
+  bool within_reach(const Ball& ball, int body) const;
   Vec2 decide(Bot& b, double t, std::span<const Player> players);
   Vec2 holding(Bot& b, double t, std::span<const Player> players);
   Vec2 attacking(const Bot& b, double t, std::span<const Player> players) const;
@@ -92,7 +103,7 @@ class TeamBots final : public SimulatedPlayers {
   float shooting_distance(const Bot& b) const;
   int open_teammate(Bot& b, std::span<const Player> players, Vec2& aim, bool forced);
   Vec2 pass_velocity(Bot& b, Vec2 from, Vec2 to, double most);
-  Throw arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, bool at_goal);
+  Throw arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, int goal);
   float clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to, float speed, bool keepers) const;
   Vec2 allowed(const Bot& b, Vec2 p) const;
   Vec2 holder_position(const Bot& b, std::span<const Player> players) const;

@@ -1,11 +1,16 @@
 // Simulated team players on courts of their sport: players who kick play the ball along the
-// ground, a keeper throws (on the futsal test pitch, tests/sports/futsal/field.lua); markers of
-// players who kick leave their passes a chance (rules/soccer).
+// ground, a keeper throws (on the futsal test pitch, tests/sports/futsal/field.lua), a lob is run
+// after; players keep to their side of a court (tests/sports/court); markers of players who kick
+// leave their passes a chance (rules/soccer).
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
 
 #include "field_loader.h"
 #include "game/bots.h"
 #include "game/game.h"
+#include "game/team_bots.h"
 #include "../quantum/test_scenes.h"
 #include "recorder.h"
 #include "session.h"
@@ -15,40 +20,155 @@ namespace {
 
 using test::Recorder;
 
+// A match on a sport's field (a folder under the source tree, such as tests/sports/futsal)
+// between simulated players of skill 0.6 who hear its events; the test steps it.
+struct BotsMatch {
+  explicit BotsMatch(const std::string& sport)
+      : field(lua::load_field(QUANTUM_SOURCE_DIR "/" + sport)), match(field, config(), rules),
+        bots(game::make_bots(field, std::vector<double>(field.bodies.size(), 0.6), 7, config().throw_speed)) {
+    rules.act = [this](const game::GameEvent& e, game::Match&) { bots->hear(e); };
+  }
+  static game::MatchConfig config() {
+    game::MatchConfig c;
+    c.particles = 300;
+    c.seed = 4;
+    c.seconds = 60;
+    return c;
+  }
+  // The match stops telling the bots before they go.
+  ~BotsMatch() { rules.act = [](const game::GameEvent&, game::Match&) {}; }
+  // A frame of the bots' moves; their throws are made when `let_go`, else only kept in throws().
+  void step(bool let_go) {
+    const std::vector<BodyInput>& moves = bots->move(match.time(), 1.0 / 60, match.players());
+    if (let_go)
+      for (const game::Throw& t : bots->throws()) match.let_go(t);
+    match.step(moves);
+  }
+
+  Field field;
+  Recorder rules;
+  game::Match match;
+  std::unique_ptr<game::SimulatedPlayers> bots;
+};
+
 TEST(TeamBots, PlayersWhoKickPlayAlongTheGroundAndTheKeeperThrows) {
-  const Field field = lua::load_field(QUANTUM_SOURCE_DIR "/tests/sports/futsal");
-  game::MatchConfig config;
-  config.particles = 300;
-  config.seed = 4;
-  config.seconds = 60;
   for (const char* who : {"Ann", "Kim"}) {
-    Recorder rules;
-    game::Match match(field, config, rules);
-    const std::unique_ptr<game::SimulatedPlayers> bots =
-        game::make_bots(field, std::vector<double>(field.bodies.size(), 0.6), 7, config.throw_speed);
-    rules.act = [&](const game::GameEvent& e, game::Match&) { bots->hear(e); };
-    const int k = test::body_named(field, who);
-    match.give(k);
+    BotsMatch m("tests/sports/futsal");
+    const int k = test::body_named(m.field, who);
+    m.match.give(k);
     const Recorder::Seen* released = nullptr;
     for (int frame = 0; frame < 5 * 60 && !released; ++frame) {
-      const std::vector<BodyInput>& moves = bots->move(match.time(), 1.0 / 60, match.players());
-      for (const game::Throw& t : bots->throws()) match.let_go(t);
-      match.step(moves);
-      for (const Recorder::Seen& s : rules.seen)
+      m.step(true);
+      for (const Recorder::Seen& s : m.rules.seen)
         if (s.event.type == game::EventKind::Kick || s.event.type == game::EventKind::Throw) released = &s;
     }
     ASSERT_NE(released, nullptr) << who << " let go within 5 s";
     EXPECT_EQ(released->actor, who);
-    const bool kicks = field.bodies[size_t(k)].kicks;
+    const bool kicks = m.field.bodies[size_t(k)].kicks;
     EXPECT_EQ(released->event.type, kicks ? game::EventKind::Kick : game::EventKind::Throw) << who;
-    const Cloud& c = match.world().cloud();
+    const Cloud& c = m.match.world().cloud();
     ASSERT_GT(c.size(), 0u);
     size_t on_floor = 0;
-    for (size_t i = 0; i < c.size(); ++i) on_floor += c.z[i] == field.ball_radius && c.vz[i] == 0;
+    for (size_t i = 0; i < c.size(); ++i) on_floor += c.z[i] == m.field.ball_radius && c.vz[i] == 0;
     if (kicks) EXPECT_EQ(on_floor, c.size()) << "a kick along the ground: every particle rolls";
     else EXPECT_EQ(on_floor, 0u) << "a keeper's throw leaves the hand";
-    rules.act = [](const game::GameEvent&, game::Match&) {};
   }
+}
+
+// Under gravity a lob flies over the players under its path: the teammate under it runs on to
+// where it comes down within reach (flat, it would have stopped to meet it where it passes
+// overhead, 2 to 3 m behind its start). Ann lobs from (-3, 0) at 6 m/s across and 8 m/s up;
+// Bo stands at (3, 2) and the ball passes over him at about 4.9 m, out of his 1.8 m reach,
+// and comes down to it near x = 6.8.
+TEST(TeamBots, ALobOverAPlayersHeadIsRunAfterToWhereItComesDown) {
+  BotsMatch m("tests/sports/futsal");
+  const int ann = test::body_named(m.field, "Ann"), bo = test::body_named(m.field, "Bo");
+  m.match.give(ann);
+  m.match.let_go({ann, {6, 0}, 8});
+  ASSERT_EQ(m.rules.seen.back().event.type, game::EventKind::Kick);
+  const float start = m.match.players()[size_t(bo)].position.x;
+  for (int frame = 0; frame < 60; ++frame) m.step(false);
+  EXPECT_GT(m.match.players()[size_t(bo)].position.x, start + 2.0f) << "Bo runs on under the lob";
+}
+
+// The sport's aim reads alike for every kind of simulated player (docs/lua-api.md): at a point
+// the holder sends the ball to arrive there at passing pace, at a goal it shoots at its hardest.
+// Kim, the futsal keeper, holds near (9, 0) and is aimed at a point 6 m off, then at the goal a
+// metre behind him (his own: any goal is shot at hard, where a pass that near would be slow).
+TEST(TeamBots, TheSportsAimIsAPassToAPointAndAShotAtAGoal) {
+  const float shot = float(BotsMatch::config().throw_speed * game::team_skill(0.6).throw_speed);
+  struct Case {
+    game::Aim aim;
+    Vec2 toward;
+    bool hard;
+  };
+  const Case cases[] = {
+      {{game::Aim::Kind::Point, -1, {5, 4}}, {5, 4}, false},
+      {{game::Aim::Kind::Goal, 1, {}}, {10, 0}, true},
+  };
+  for (const Case& c : cases) {
+    BotsMatch m("tests/sports/futsal");
+    const int kim = test::body_named(m.field, "Kim");
+    m.match.set_aim(kim, c.aim);
+    m.match.give(kim);
+    std::optional<game::Throw> thrown;
+    for (int frame = 0; frame < 5 * 60 && !thrown; ++frame) {
+      m.step(false);
+      if (!m.bots->throws().empty()) thrown = m.bots->throws().front();
+    }
+    ASSERT_TRUE(thrown.has_value()) << "Kim lets go within 5 s";
+    const Vec2 from = m.match.players()[size_t(kim)].position;
+    const Vec2 want{c.toward.x - from.x, c.toward.y - from.y};
+    const double off = std::abs(std::atan2(thrown->velocity.y, thrown->velocity.x) - std::atan2(want.y, want.x));
+    EXPECT_LT(off, 0.15) << "thrown toward the aim";
+    const float speed = std::hypot(thrown->velocity.x, thrown->velocity.y);
+    if (c.hard) EXPECT_GT(speed, 0.8f * shot) << "a shot at the goal: nearly its hardest, only the arc's rise taken off";
+    else EXPECT_LT(speed, 0.8f * shot) << "a pass to the point, not a shot";
+  }
+}
+
+// A field that gives each team a side (a box area named after it, holding no goal) keeps that
+// team's players in it: on tests/sports/court, a ball that lies loose on Red's side is Bo's
+// (Red) to fetch, and Ada (Blue) waits on her side of the net however near she is.
+TEST(TeamBots, PlayersKeepToTheirSideOfTheCourt) {
+  BotsMatch m("tests/sports/court");
+  const int ada = test::body_named(m.field, "Ada"), bo = test::body_named(m.field, "Bo");
+  game::GameEvent loose;
+  loose.type = game::EventKind::Loose;
+  loose.at = {1.0f, 0};
+  m.bots->hear(loose);
+  float furthest = -1e9f;
+  for (int frame = 0; frame < 180; ++frame) {
+    m.step(false);
+    furthest = std::max(furthest, m.match.players()[size_t(ada)].position.x);
+  }
+  EXPECT_LE(furthest, 0.0f) << "Ada stays on Blue's side";
+  EXPECT_LT(std::abs(m.match.players()[size_t(bo)].position.x - 1.0f), 1.0f) << "Bo goes for the ball";
+}
+
+// The area under a hoop is no goal area: its mouth is in the air. A ball lying loose inside
+// basketball's arc, 2 m from the basket, is fetched (before, every player stayed outside the arc
+// and the ball lay there until the match stalled).
+TEST(TeamBots, ABallLyingUnderTheHoopIsFetched) {
+  // The bots alone, walking where they decide: a match would drop its own ball at the start.
+  const Field field = lua::load_field(QUANTUM_SOURCE_DIR "/rules/basketball");
+  const std::unique_ptr<game::SimulatedPlayers> bots =
+      game::make_bots(field, std::vector<double>(field.bodies.size(), 0.6), 7, 8.0);
+  std::vector<game::Player> players(field.bodies.size());
+  for (size_t k = 0; k < players.size(); ++k) players[k].team = field.bodies[k].team, players[k].position = field.bodies[k].start;
+  game::GameEvent loose;
+  loose.type = game::EventKind::Loose;
+  loose.at = {0, 3.6f};
+  bots->hear(loose);
+  float nearest = 1e9f;
+  for (int frame = 0; frame < 4 * 60; ++frame) {
+    const std::vector<BodyInput>& moves = bots->move(frame / 60.0, 1.0 / 60, players);
+    for (size_t k = 0; k < players.size(); ++k) {
+      players[k].position = moves[k].position, players[k].velocity = moves[k].velocity;
+      nearest = std::min(nearest, std::hypot(moves[k].position.x - loose.at.x, moves[k].position.y - loose.at.y));
+    }
+  }
+  EXPECT_LT(nearest, 0.5f) << "someone gets to the ball";
 }
 
 // A kick along the ground is taken by any foot on its line, so a marker who stood as close as a

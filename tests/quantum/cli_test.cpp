@@ -172,6 +172,20 @@ TEST(SimulateScene, ScriptedPlayersStayOnEveryShippedFieldAndWithinItsSpeed) {
   }
 }
 
+// simulate takes the field file's parameters: volleyball's indoor court has six a side, and a
+// parameter the field does not read is refused with the ones it does.
+TEST(Cli, SimulateTakesTheFieldsParameters) {
+  const Outcome indoor = quantum("simulate rules/volleyball --seconds 1 --param players=6");
+  ASSERT_EQ(indoor.status, 0) << indoor.err;
+  EXPECT_NE(indoor.out.find("6 v 6"), std::string::npos) << indoor.out;
+  const Outcome beach = quantum("simulate rules/volleyball --seconds 1");
+  ASSERT_EQ(beach.status, 0) << beach.err;
+  EXPECT_EQ(beach.out.find("6 v 6"), std::string::npos) << beach.out;
+  const Outcome unread = quantum("simulate rules/volleyball --seconds 1 --param points=5");
+  EXPECT_EQ(unread.status, 1);
+  EXPECT_NE(unread.err.find("unknown parameter 'points' (known: net, players)"), std::string::npos) << unread.err;
+}
+
 TEST(Cli, SnapshotIsAPicture) {
   const std::string png = std::filesystem::temp_directory_path() / "quantum_cli_snapshot.png";
   std::filesystem::remove(png);
