@@ -1,5 +1,6 @@
 // What every kind of simulated player shares: the checks of its inputs, and news that reaches it
-// after its reaction time. Internal to core/game.
+// after its reaction time. Internal to core/game: the bots' headers include it for their private
+// members, not for their callers.
 #pragma once
 
 #include <cstddef>
@@ -7,7 +8,23 @@
 #include <string>
 #include <vector>
 
+#include "game/game.h"
+
 namespace quantum::game {
+
+// News of the ball as a simulated player heard it: the event's kind, who, where, and the ball's
+// velocity (with height, how high and how fast rising) after it; acted on at `at`, once its
+// reaction time has passed.
+struct Heard {
+  double at;
+  EventKind type;
+  int actor;
+  Vec2 where, velocity;
+  float height, up;
+};
+inline Heard heard(const GameEvent& e, double reaction) {
+  return {e.t + reaction, e.type, e.actor_index, e.at, e.velocity, e.height, e.up};
+}
 
 // Throws std::invalid_argument "got 3 skills for 4 players" unless there are as many as wanted.
 inline void check_count(size_t got, const char* what, size_t wanted, const char* of) {

@@ -54,7 +54,7 @@ void Bots::hear(const GameEvent& e) {
     case EventKind::Drop: case EventKind::Shot: case EventKind::Intercept: case EventKind::Retouch:
     case EventKind::Bounce: case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead:
     case EventKind::Loose:
-      for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.at, e.velocity});
+      for (Bot& b : bots_) b.heard.push_back(heard(e, b.skill.reaction));
       return;
     default: return;  // nothing about the ball
   }

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "game/bot_common.h"
 #include "game/game.h"
 
 namespace quantum::game {
@@ -56,11 +57,6 @@ class Bots final : public SimulatedPlayers {
 
  private:
   // What a bot keeps of an event: only what is said about the ball.
-  struct Heard {
-    double at;  // when the bot acts on it
-    EventKind type;
-    Vec2 where, velocity;
-  };
   enum class Plan { Home, Approach, Strike, Defend };
   struct Bot {
     int body;

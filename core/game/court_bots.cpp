@@ -89,7 +89,7 @@ void CourtBots::hear(const GameEvent& e) {
     case EventKind::Landing: case EventKind::Loose: case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out:
     case EventKind::Dead:
       for (Bot& b : bots_)
-        b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity, e.height, e.up});
+        b.heard.push_back(heard(e, b.skill.reaction));
       return;
     default: return;  // nothing about the ball
   }

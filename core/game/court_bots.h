@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "game/bots.h"
+#include "game/bot_common.h"
 #include "game/game.h"
 #include "game/team_bots.h"
 
@@ -53,13 +54,6 @@ class CourtBots final : public SimulatedPlayers {
     Vec3 at, velocity;  // at time `since`
     double since = 0;
     int version = 0;    // counts what it heard, so a swing is made once for each
-  };
-  struct Heard {
-    double at;  // when the bot acts on it
-    EventKind type;
-    int actor;
-    Vec2 where, velocity;
-    float height, up;
   };
   struct Bot {
     int body, team;  // team: 0 or 1

@@ -122,7 +122,7 @@ void TeamBots::hear(const GameEvent& e) {
     case EventKind::Pass:
     case EventKind::Intercept: case EventKind::Throw: case EventKind::Kick: case EventKind::Hit: case EventKind::Bounce: case EventKind::Landing:
     case EventKind::Goal: case EventKind::OwnGoal: case EventKind::Out: case EventKind::Dead: case EventKind::Loose:
-      for (Bot& b : bots_) b.heard.push_back({e.t + b.skill.reaction, e.type, e.actor_index, e.at, e.velocity, e.height, e.up});
+      for (Bot& b : bots_) b.heard.push_back(heard(e, b.skill.reaction));
       return;
     default: return;  // nothing about the ball
   }

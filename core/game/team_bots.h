@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "game/bots.h"
+#include "game/bot_common.h"
 #include "game/game.h"
 
 namespace quantum::game {
@@ -61,13 +62,6 @@ class TeamBots final : public SimulatedPlayers {
     Vec2 at, velocity;  // Flying: where it was and how fast across the field, as imagined
     Vec2 told;          // where the announcer last placed it
     float z = 0, up = 0;  // Flying, on a field with height: how high it is and how fast it rises
-  };
-  struct Heard {
-    double at;  // when the bot acts on it
-    EventKind type;
-    int actor;
-    Vec2 where, velocity;
-    float height, up;
   };
   struct Bot {
     int body;
