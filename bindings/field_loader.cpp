@@ -17,7 +17,7 @@ namespace {
 // for its array alone, and is refused by its count, not the budget).
 constexpr Limits kFieldLimits{64u << 20, 100'000'000, 1.0};
 
-// The two corners { {x0, y0}, {x1, y1} } on top of the stack (bounds, a box area), popped.
+// The two corners { {x0, y0}, {x1, y1} } on top of the stack (bounds, a box area, a zone), popped.
 void read_corners(const Reader& r, const std::string& place, Vec2& low, Vec2& high) {
   lua_State* L = r.L;
   if (!lua_istable(L, -1) || lua_objlen(L, -1) != 2) r.fail(place, "expected two corners { {x0, y0}, {x1, y1} }");
@@ -127,7 +127,7 @@ Field read_field(Reader& r, int top) {
     f.spots.push_back(spot);
   });
   r.array(top, "bodies", "", limits::kMaxBodies, [&](int b, const std::string& place) {
-    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "hits", "kicks", "role", "track", "reach"});
+    r.only_keys(b, place, {"name", "team", "radius", "at", "catches", "hits", "kicks", "role", "track", "reach", "zone"});
     BodySpec body;
     body.team = r.string(b, "team", place, "", true);
     body.name = r.string(b, "name", place, body.team + " body", false);
@@ -139,6 +139,10 @@ Field read_field(Reader& r, int top) {
     body.role = r.string(b, "role", place, "", false);
     body.track = r.string(b, "track", place, "", false);
     body.reach = to_float(r.number(b, "reach", place, 0, false));
+    if (r.field(b, "zone")) {
+      read_corners(r, place + ".zone", body.zone_min, body.zone_max);
+      body.zoned = true;
+    }
     f.bodies.push_back(body);
   });
   r.array(top, "areas", "", limits::kMaxAreas, [&](int a, const std::string& place) {

@@ -112,16 +112,21 @@ void set_list(lua_State* L, const char* key, const Items& items, Fill fill) {
   raw_set(L, key);
 }
 
+// { {x0, y0}, {x1, y1} }: a rectangle as field files give it.
+void push_corners(lua_State* L, Vec2 low, Vec2 high) {
+  lua_createtable(L, 2, 0);
+  push_point(L, low);
+  lua_rawseti(L, -2, 1);
+  push_point(L, high);
+  lua_rawseti(L, -2, 2);
+}
+
 }  // namespace
 
 void push_field(lua_State* L, const Field& f) {
   lua_newtable(L);
   set(L, "name", f.name);
-  lua_createtable(L, 2, 0);
-  push_point(L, f.bounds_min);
-  lua_rawseti(L, -2, 1);
-  push_point(L, f.bounds_max);
-  lua_rawseti(L, -2, 2);
+  push_corners(L, f.bounds_min, f.bounds_max);
   raw_set(L, "bounds");
   set(L, "ball_radius", f.ball_radius), set(L, "friction", f.friction);
   set_list(L, "goals", f.goals, [&](const Goal& g) {
@@ -145,6 +150,10 @@ void push_field(lua_State* L, const Field& f) {
     raw_set(L, "hits");
     lua_pushboolean(L, b.kicks);
     raw_set(L, "kicks");
+    if (b.zoned) {
+      push_corners(L, b.zone_min, b.zone_max);
+      raw_set(L, "zone");
+    }
   });
   push_strings(L, f.wall_names);
   raw_set(L, "walls");

@@ -232,10 +232,12 @@ Vec2 TeamBots::holder_position(const Bot& b, std::span<const Player> players) co
   return 0.5f * (field_.bounds_min + field_.bounds_max);
 }
 
-// Where a player may stand: inside the bounds and its team's side, if the field gives it one; a
-// goalkeeper in its goal area, anyone else out of every goal area (an area around a goal's
-// mouth; other areas, an end zone say, are open to all).
-Vec2 TeamBots::allowed(const Bot& b, Vec2 p) const {
+// Where a player may stand: inside the bounds, its zone (`in_zone`, if the field gives it one)
+// and its team's side (likewise); a goalkeeper in its goal area, anyone else out of every goal
+// area (an area around a goal's mouth; other areas, an end zone say, are open to all).
+Vec2 TeamBots::allowed(const Bot& b, Vec2 p, bool in_zone) const {
+  const BodySpec& spec = field_.bodies[size_t(b.body)];
+  if (in_zone && spec.zoned) p = {std::clamp(p.x, spec.zone_min.x, spec.zone_max.x), std::clamp(p.y, spec.zone_min.y, spec.zone_max.y)};
   p = {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
   if (b.side >= 0) p = to_area_edge(field_.areas[size_t(b.side)], p, 0.3f, true);
   if (b.keeper) return b.own_area >= 0 ? to_area_edge(field_.areas[size_t(b.own_area)], p, 0.3f, true) : p;
@@ -468,7 +470,8 @@ Vec2 TeamBots::keeping(const Bot& b, std::span<const Player> players) const {
 }
 
 // A flying or loose ball: whoever of the team reaches its imagined path first goes for it (the
-// thrower leaves its own throw to the others). `chase` says whether that is this bot.
+// thrower leaves its own throw to the others). A ball in flight is played in one's zone; a loose
+// one anywhere, lest it lie where no zone reaches. `chase` says whether that is this bot.
 Vec2 TeamBots::chasing(const Bot& b, std::span<const Player> players, bool& chase) const {
   chase = false;
   const std::string& team = field_.bodies[size_t(b.body)].team;
@@ -484,7 +487,7 @@ Vec2 TeamBots::chasing(const Bot& b, std::span<const Player> players, bool& chas
     const Vec2& at = ball.at;
     for (double s = 0; s <= kLook; s += kLookStep) {
       if (s > 0) fly(ball, kLookStep);
-      if (allowed(o, at).x != at.x || allowed(o, at).y != at.y) continue;  // not its ground
+      if (allowed(o, at, !loose).x != at.x || allowed(o, at, !loose).y != at.y) continue;  // not its ground
       if (!within_reach(ball, o.body)) continue;  // over its head
       if (length(at - from) - reach <= o.skill.run_speed * s || (loose && s + kLookStep > kLook)) {
         if (s < first) first = s, who = o.body, where = at;
@@ -501,7 +504,7 @@ Vec2 TeamBots::chasing(const Bot& b, std::span<const Player> players, bool& chas
   }
   if (who != b.body) return b.pos;
   chase = true;
-  return allowed(b, where);
+  return allowed(b, where, !loose);
 }
 
 Vec2 TeamBots::decide(Bot& b, double t, std::span<const Player> players) {
@@ -527,7 +530,7 @@ Vec2 TeamBots::decide(Bot& b, double t, std::span<const Player> players) {
         // else about the place where it was told to lie, as a player would.
         std::uniform_real_distribution<double> turn(0, 6.283185307), out(0.3, kSearch);
         b.ball.at = b.ball.told + float(out(b.rng)) * rotated(Vec2{1, 0}, turn(b.rng));
-        return allowed(b, b.ball.at);
+        return allowed(b, b.ball.at, false);
       }
       if (chase) return p;
       if (b.keeper) return keeping(b, players);

@@ -17,7 +17,9 @@
 // players stay out of goal areas (around a goal's mouth on the floor, not under a hoop);
 // goalkeepers stay in their own. A field may give each team a
 // side (a box area named after the team that holds no goal: a court's half beyond a net): that
-// team's players keep to it and leave a ball beyond it to the others. Players who kick (soccer) dribble
+// team's players keep to it and leave a ball beyond it to the others. A body's `zone` (a rectangle:
+// its role's part of the field, a back's own two thirds) is kept to likewise, but for a loose ball,
+// which is anyone's wherever it lies. Players who kick (soccer) dribble
 // for longer before they must let go, and are marked and pressed from further off, since a ball
 // along the ground meets every foot on its line.
 #pragma once
@@ -99,7 +101,7 @@ class TeamBots final : public SimulatedPlayers {
   Vec2 pass_velocity(Bot& b, Vec2 from, Vec2 to, double most);
   Throw arc(Bot& b, Vec2 from, Vec2 aim, Vec2 velocity, int goal);
   float clearance(const Bot& b, std::span<const Player> players, Vec2 from, Vec2 to, float speed, bool keepers) const;
-  Vec2 allowed(const Bot& b, Vec2 p) const;
+  Vec2 allowed(const Bot& b, Vec2 p, bool in_zone = true) const;
   Vec2 holder_position(const Bot& b, std::span<const Player> players) const;
   bool team_has_ball(const Bot& b) const;
   double most_hold(const Bot& b) const;  // s it may hold the ball before it must let go

@@ -213,6 +213,12 @@ void finish_field(Field& f) {
       throw FieldError(place, "a body either catches or hits the ball, not both (one touch holds it, the other sends it on)");
     if (f.bodies[i].kicks && !f.bodies[i].catches)
       throw FieldError(place, "a body that kicks must catch: it holds the ball at its feet until it kicks");
+    if (f.bodies[i].zoned) {
+      check_point(f.bodies[i].zone_min, place + ".zone");
+      check_point(f.bodies[i].zone_max, place + ".zone");
+      if (!(f.bodies[i].zone_min.x < f.bodies[i].zone_max.x && f.bodies[i].zone_min.y < f.bodies[i].zone_max.y))
+        throw FieldError(place + ".zone", "the first corner must be below and left of the second ({x0, y0}, {x1, y1})");
+    }
   }
   check_range(f.rehit, 0.0f, 10.0f, "rehit");
   for (size_t i = 0; i < f.bodies.size(); ++i)

@@ -76,6 +76,10 @@ struct BodySpec {
   // Fields with height: the body is a vertical cylinder up to this height (m), the highest its
   // hands get standing; a throw leaves its hand there. 0 takes kDefaultReach.
   float reach = 0;
+  // The rectangle a simulated team player keeps to (its role's part of the field: a back's own
+  // two thirds), corners zone_min and zone_max; the core ignores it.
+  bool zoned = false;
+  Vec2 zone_min, zone_max;
 
   const std::string& tracked_as() const { return track.empty() ? name : track; }
 };

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <optional>
+#include <span>
 
 #include "field_loader.h"
 #include "game/bots.h"
@@ -146,28 +147,63 @@ TEST(TeamBots, PlayersKeepToTheirSideOfTheCourt) {
   EXPECT_LT(std::abs(m.match.players()[size_t(bo)].position.x - 1.0f), 1.0f) << "Bo goes for the ball";
 }
 
-// The area under a hoop is no goal area: its mouth is in the air. A ball lying loose inside
-// basketball's arc, 2 m from the basket, is fetched (before, every player stayed outside the arc
-// and the ball lay there until the match stalled).
-TEST(TeamBots, ABallLyingUnderTheHoopIsFetched) {
-  // The bots alone, walking where they decide: a match would drop its own ball at the start.
-  const Field field = lua::load_field(QUANTUM_SOURCE_DIR "/rules/basketball");
+// The bots of `field` alone, told that the ball lies loose `at`, walking where they decide for
+// `frames` (a match would put its own ball in play); `each` sees the players after every frame.
+template <class Each>
+void walk_after_a_loose_ball(const Field& field, Vec2 at, int frames, Each each) {
   const std::unique_ptr<game::SimulatedPlayers> bots =
       game::make_bots(field, std::vector<double>(field.bodies.size(), 0.6), 7, 8.0);
   std::vector<game::Player> players(field.bodies.size());
   for (size_t k = 0; k < players.size(); ++k) players[k].team = field.bodies[k].team, players[k].position = field.bodies[k].start;
   game::GameEvent loose;
   loose.type = game::EventKind::Loose;
-  loose.at = {0, 3.6f};
+  loose.at = at;
   bots->hear(loose);
-  float nearest = 1e9f;
-  for (int frame = 0; frame < 4 * 60; ++frame) {
+  for (int frame = 0; frame < frames; ++frame) {
     const std::vector<BodyInput>& moves = bots->move(frame / 60.0, 1.0 / 60, players);
-    for (size_t k = 0; k < players.size(); ++k) {
-      players[k].position = moves[k].position, players[k].velocity = moves[k].velocity;
-      nearest = std::min(nearest, std::hypot(moves[k].position.x - loose.at.x, moves[k].position.y - loose.at.y));
-    }
+    for (size_t k = 0; k < players.size(); ++k) players[k].position = moves[k].position, players[k].velocity = moves[k].velocity;
+    each(std::span<const game::Player>(players));
   }
+}
+
+// A body's zone is its role's part of the field. On tests/sports/futsal Ann, a back, keeps to her
+// own half (x <= 0): while Bo holds the ball up the pitch she holds back, where Blue's attack
+// would otherwise take her to about x = 4. A loose ball is anyone's: one lying beyond her half,
+// nearer her than Bo, she fetches (else it could lie where no zone reaches until the match stalls).
+TEST(TeamBots, APlayerKeepsToItsZoneButFetchesALooseBall) {
+  {
+    BotsMatch m("tests/sports/futsal");
+    const int ann = test::body_named(m.field, "Ann"), bo = test::body_named(m.field, "Bo");
+    ASSERT_TRUE(m.field.bodies[size_t(ann)].zoned);
+    m.match.give(bo);
+    float furthest = -1e9f;
+    for (int frame = 0; frame < 3 * 60; ++frame) {
+      m.step(false);
+      furthest = std::max(furthest, m.match.players()[size_t(ann)].position.x);
+    }
+    EXPECT_LE(furthest, 0.0f) << "Ann holds her half while Blue attacks";
+    EXPECT_GT(furthest, -1.0f) << "...up at its edge";
+  }
+  const Field field = lua::load_field(QUANTUM_SOURCE_DIR "/tests/sports/futsal");
+  const int ann = test::body_named(field, "Ann");
+  float furthest = -1e9f;
+  walk_after_a_loose_ball(field, {0.5f, -5.5f}, 3 * 60, [&](std::span<const game::Player> players) {
+    furthest = std::max(furthest, players[size_t(ann)].position.x);
+  });
+  EXPECT_GT(furthest, 0.2f) << "Ann goes beyond her half for a loose ball";
+}
+
+// The area under a hoop is no goal area: its mouth is in the air. A ball lying loose inside
+// basketball's arc, 2 m from the basket, is fetched (before, every player stayed outside the arc
+// and the ball lay there until the match stalled).
+TEST(TeamBots, ABallLyingUnderTheHoopIsFetched) {
+  const Vec2 ball{0, 3.6f};
+  float nearest = 1e9f;
+  walk_after_a_loose_ball(lua::load_field(QUANTUM_SOURCE_DIR "/rules/basketball"), ball, 4 * 60,
+                          [&](std::span<const game::Player> players) {
+                            for (const game::Player& p : players)
+                              nearest = std::min(nearest, std::hypot(p.position.x - ball.x, p.position.y - ball.y));
+                          });
   EXPECT_LT(nearest, 0.5f) << "someone gets to the ball";
 }
 

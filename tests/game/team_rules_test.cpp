@@ -123,6 +123,15 @@ TEST(TeamRules, TheFieldIsReadableFromTheRules) {
   EXPECT_EQ(p.errors, "");
 }
 
+TEST(TeamRules, APlayersZoneIsReadableFromTheRules) {
+  const Played p = play(court_with("zone", R"(
+  local ann, bo = game.field().players[1], game.field().players[2]
+  assert(ann.name == "Ann" and ann.zone[1][1] == -10 and ann.zone[1][2] == -6, "Ann's zone from its first corner")
+  assert(ann.zone[2][1] == 0 and ann.zone[2][2] == 6, "...to its second: Blue's half")
+  assert(bo.zone == nil, "Bo has none: the whole field"))", "", "../tests/sports/futsal"));
+  EXPECT_EQ(p.errors, "");
+}
+
 TEST(TeamRules, ParamsSizeTheFieldAndUnknownOnesAreRefused) {
   const std::string folder = court_with("params", R"(
   local f = game.field()

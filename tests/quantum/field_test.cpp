@@ -108,6 +108,23 @@ TEST_F(FieldFile, ABoxAreaIsARectangleAndLandingsNeedHeight) {
             std::string::npos);
 }
 
+TEST_F(FieldFile, ABodysZoneIsARectangle) {
+  const Field f = lua::load_field(write(R"(return { spots = { { at = {0, 0} } }, bounds = { {-10, -6}, {10, 6} }, bodies = {
+    { name = "Ann", team = "a", radius = 0.5, at = {-3, 0}, zone = { {-10, -6}, {0, 6} } },
+    { name = "Bo", team = "a", radius = 0.5, at = {3, 0} } } })"));
+  ASSERT_EQ(f.bodies.size(), 2u);
+  EXPECT_TRUE(f.bodies[0].zoned);
+  EXPECT_EQ(f.bodies[0].zone_min.x, -10.0f);
+  EXPECT_EQ(f.bodies[0].zone_max.y, 6.0f);
+  EXPECT_FALSE(f.bodies[1].zoned) << "no zone: the whole field";
+  EXPECT_NE(error_for(R"(return { spots = { { at = {0, 0} } }, bodies = { { team = "a", radius = 1, at = {0, 0}, zone = { {1, 1}, {0, 2} } } } })")
+                .find("bodies[1] (a body).zone: the first corner must be below and left of the second"),
+            std::string::npos);
+  EXPECT_NE(error_for(R"(return { spots = { { at = {0, 0} } }, bodies = { { team = "a", radius = 1, at = {0, 0}, zone = "left" } } })")
+                .find("bodies[1].zone: expected two corners"),
+            std::string::npos);
+}
+
 TEST_F(FieldFile, UnknownKeyIsReported) {
   const std::string e = error_for(R"(return { wals = {}, spots = { { at = {0, 0} } } })");
   EXPECT_NE(e.find("unknown key 'wals'"), std::string::npos) << e;
