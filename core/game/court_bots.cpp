@@ -173,7 +173,7 @@ int CourtBots::nearest_mate(const Bot& b, int except, std::span<const Player> pl
 Vec2 CourtBots::on_own_side(const Bot& b, Vec2 p) const {
   const float over = side_of(b.team, p) + field_.bodies[size_t(b.body)].radius + 0.05f;
   if (over > 0) p = p - over * sides_[b.team].toward;
-  return {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
+  return clamped(p, lo_, hi_);
 }
 
 // Who of b's team plays a ball met at `at`: whoever its turn allows that gets there first, never

@@ -22,6 +22,8 @@ inline Vec2 rotated(Vec2 a, double angle) {
   const float c = float(std::cos(angle)), s = float(std::sin(angle));
   return {c * a.x - s * a.y, s * a.x + c * a.y};
 }
+// p moved the least way into the rectangle of corners lo and hi.
+inline Vec2 clamped(Vec2 p, Vec2 lo, Vec2 hi) { return {std::clamp(p.x, lo.x, hi.x), std::clamp(p.y, lo.y, hi.y)}; }
 inline Vec2 centre(const Goal& g) { return {0.5f * (g.a.x + g.b.x), 0.5f * (g.a.y + g.b.y)}; }
 
 // The point of segment a-b nearest p.

@@ -237,13 +237,13 @@ Vec2 TeamBots::holder_position(const Bot& b, std::span<const Player> players) co
 // area (an area around a goal's mouth; other areas, an end zone say, are open to all).
 Vec2 TeamBots::allowed(const Bot& b, Vec2 p, bool in_zone) const {
   const BodySpec& spec = field_.bodies[size_t(b.body)];
-  if (in_zone && spec.zoned) p = {std::clamp(p.x, spec.zone_min.x, spec.zone_max.x), std::clamp(p.y, spec.zone_min.y, spec.zone_max.y)};
-  p = {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
+  if (in_zone && spec.zoned) p = clamped(p, spec.zone_min, spec.zone_max);
+  p = clamped(p, lo_, hi_);
   if (b.side >= 0) p = to_area_edge(field_.areas[size_t(b.side)], p, 0.3f, true);
   if (b.keeper) return b.own_area >= 0 ? to_area_edge(field_.areas[size_t(b.own_area)], p, 0.3f, true) : p;
   for (size_t a = 0; a < field_.areas.size(); ++a)
     if (goal_area_[a]) p = to_area_edge(field_.areas[a], p, -0.3f, false);
-  return {std::clamp(p.x, lo_.x, hi_.x), std::clamp(p.y, lo_.y, hi_.y)};
+  return clamped(p, lo_, hi_);
 }
 
 // How far the nearest opponent's reach stays from a ball flying from `from` to `to` at `speed`,
@@ -487,7 +487,8 @@ Vec2 TeamBots::chasing(const Bot& b, std::span<const Player> players, bool& chas
     const Vec2& at = ball.at;
     for (double s = 0; s <= kLook; s += kLookStep) {
       if (s > 0) fly(ball, kLookStep);
-      if (allowed(o, at, !loose).x != at.x || allowed(o, at, !loose).y != at.y) continue;  // not its ground
+      const Vec2 ground = allowed(o, at, !loose);
+      if (ground.x != at.x || ground.y != at.y) continue;  // not its ground
       if (!within_reach(ball, o.body)) continue;  // over its head
       if (length(at - from) - reach <= o.skill.run_speed * s || (loose && s + kLookStep > kLook)) {
         if (s < first) first = s, who = o.body, where = at;

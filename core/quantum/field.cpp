@@ -108,6 +108,14 @@ void check_point(const Vec2& p, const std::string& place) {
     throw FieldError(place, "coordinates beyond +-1000 m; the field is in metres");
 }
 
+// A rectangle given as two corners (bounds, a box area, a zone): both points, lowest first.
+void check_corners(const Vec2& low, const Vec2& high, const std::string& place) {
+  check_point(low, place);
+  check_point(high, place);
+  if (!(low.x < high.x && low.y < high.y))
+    throw FieldError(place, "the first corner must be below and left of the second ({x0, y0}, {x1, y1})");
+}
+
 void check_range(float v, float lo, float hi, const std::string& place) {
   if (!(v >= lo && v <= hi))
     throw FieldError(place, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
@@ -213,12 +221,7 @@ void finish_field(Field& f) {
       throw FieldError(place, "a body either catches or hits the ball, not both (one touch holds it, the other sends it on)");
     if (f.bodies[i].kicks && !f.bodies[i].catches)
       throw FieldError(place, "a body that kicks must catch: it holds the ball at its feet until it kicks");
-    if (f.bodies[i].zoned) {
-      check_point(f.bodies[i].zone_min, place + ".zone");
-      check_point(f.bodies[i].zone_max, place + ".zone");
-      if (!(f.bodies[i].zone_min.x < f.bodies[i].zone_max.x && f.bodies[i].zone_min.y < f.bodies[i].zone_max.y))
-        throw FieldError(place + ".zone", "the first corner must be below and left of the second ({x0, y0}, {x1, y1})");
-    }
+    if (f.bodies[i].zoned) check_corners(f.bodies[i].zone_min, f.bodies[i].zone_max, place + ".zone");
   }
   check_range(f.rehit, 0.0f, 10.0f, "rehit");
   for (size_t i = 0; i < f.bodies.size(); ++i)
@@ -229,11 +232,13 @@ void finish_field(Field& f) {
                              "]: each tracking id moves one body");
   for (size_t i = 0; i < f.areas.size(); ++i) {
     const std::string place = "areas[" + std::to_string(i + 1) + "] (" + f.areas[i].name + ")";
-    check_point(f.areas[i].a, place);
-    check_point(f.areas[i].b, place);
+    if (f.areas[i].box) {
+      check_corners(f.areas[i].a, f.areas[i].b, place + ".box");
+    } else {
+      check_point(f.areas[i].a, place);
+      check_point(f.areas[i].b, place);
+    }
     check_range(f.areas[i].radius, 0.0f, kMaxCoordinate, place + ".radius");
-    if (f.areas[i].box && !(f.areas[i].a.x < f.areas[i].b.x && f.areas[i].a.y < f.areas[i].b.y))
-      throw FieldError(place + ".box", "the first corner must be below and left of the second ({x0, y0}, {x1, y1})");
   }
   if (f.wall_names.size() > limits::kMaxWalls)
     throw FieldError("walls", "more than " + std::to_string(limits::kMaxWalls) + " named walls");
@@ -258,10 +263,7 @@ void finish_field(Field& f) {
     f.bounds_min = {lo.x - m, lo.y - m};
     f.bounds_max = {hi.x + m, hi.y + m};
   }
-  check_point(f.bounds_min, "bounds");
-  check_point(f.bounds_max, "bounds");
-  if (!(f.bounds_min.x < f.bounds_max.x && f.bounds_min.y < f.bounds_max.y))
-    throw FieldError("bounds", "the first corner must be below and left of the second");
+  check_corners(f.bounds_min, f.bounds_max, "bounds");
   for (size_t i = 0; i < f.spots.size(); ++i) {
     const Vec2 p = f.spots[i].at;
     if (p.x <= f.bounds_min.x || p.x >= f.bounds_max.x || p.y <= f.bounds_min.y || p.y >= f.bounds_max.y)
