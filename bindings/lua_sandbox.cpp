@@ -444,9 +444,11 @@ void Sandbox::print_line(lua_State* L, std::string_view text, size_t whole) {
 
 bool Sandbox::arm(std::string* refused) {
   if (spent_ || time_up_) {
-    if (refused)
-      *refused = (spent_in_.empty() ? std::string() : spent_in_ + ": ") +
-                 "script runs too long: this frame's Lua budget is spent (call skipped)";
+    // A call from inside a running script is refused at that script's line: the watchdog may have
+    // spent the budget between two looks of the hook, before any script error named the place.
+    std::string where = depth_ > 0 ? innermost_script_line(L_) : std::string();
+    if (where.empty() && !spent_in_.empty()) where = spent_in_ + ": ";
+    if (refused) *refused = where + "script runs too long: this frame's Lua budget is spent (call skipped)";
     return false;
   }
   if (depth_ >= kMostNested) {
