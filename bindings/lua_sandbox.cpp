@@ -2,12 +2,15 @@
 
 #include <luajit.h>
 #include <pthread.h>
+#include <linux/futex.h>
 #include <sched.h>
+#include <sys/syscall.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
@@ -212,6 +215,7 @@ struct Sandbox::Lane {
   enum Turn : uint32_t { kIdle, kPosted, kDone, kAbandoned, kStop };
   static constexpr auto kCallerSpins = std::chrono::microseconds(500);
   static constexpr auto kLaneSpins = std::chrono::microseconds(100);
+  static constexpr timespec kCallerNap{0, 2'000'000};
   std::atomic<uint32_t> turn{kIdle};
   void (*job)(void*) = nullptr;  // set before kPosted; the results after kDone
   void* arg = nullptr;
@@ -220,19 +224,36 @@ struct Sandbox::Lane {
   std::atomic<pid_t> tid{0};
   std::thread thread{[this] { loop(); }};
 
-  // The turn once it is no longer `from`: spinning for `spin`, then asleep.
-  uint32_t wait_past(uint32_t from, std::chrono::microseconds spin) const {
+  // The turn once it is no longer `from`: spinning for `spin`, then asleep on the turn's futex,
+  // for `nap` at most at a time when given. Not std::atomic::wait: libstdc++ 12 skips the wake
+  // when its count of sleepers reads 0, and a caller once slept for good beside an idle lane (a
+  // seeded soccer match in a test, hung 20 minutes). Here every change of turn wakes (set), and
+  // the caller, who naps, wakes the lane again after each nap it finds the job still posted, so
+  // a wake gone astray on either side costs a nap, not the match. The idle lane sleeps untimed:
+  // a test holds hundreds of sandboxes, and lanes napping by the hundred took the cores.
+  uint32_t wait_past(uint32_t from, std::chrono::microseconds spin, const timespec* nap = nullptr) const {
     const auto until = std::chrono::steady_clock::now() + spin;
     for (int k = 0;; ++k) {
       if (const uint32_t t = turn.load(std::memory_order_acquire); t != from) return t;
       if (k % 16 == 15 && std::chrono::steady_clock::now() > until) break;
       sched_yield();
     }
-    turn.wait(from, std::memory_order_acquire);
-    for (;;)
+    for (bool napped = false;; napped = true) {
       if (const uint32_t t = turn.load(std::memory_order_acquire); t != from) return t;
-      else turn.wait(t, std::memory_order_acquire);
+      if (napped) wake();
+      syscall(SYS_futex, futex(), FUTEX_WAIT_PRIVATE, from, nap, nullptr, 0);
+    }
   }
+
+  void set(uint32_t t) {
+    turn.store(t, std::memory_order_seq_cst);
+    wake();
+  }
+
+  void wake() const { syscall(SYS_futex, futex(), FUTEX_WAKE_PRIVATE, INT_MAX, nullptr, nullptr, 0); }
+
+  uint32_t* futex() const { return reinterpret_cast<uint32_t*>(const_cast<std::atomic<uint32_t>*>(&turn)); }
+  static_assert(sizeof(std::atomic<uint32_t>) == sizeof(uint32_t) && std::atomic<uint32_t>::is_always_lock_free);
 
   void loop() {
     pthread_setname_np(pthread_self(), kLaneName);
@@ -247,8 +268,7 @@ struct Sandbox::Lane {
         caught = std::current_exception();
       }
       thrown = caught;
-      turn.store(t = kDone, std::memory_order_release);
-      turn.notify_all();
+      set(t = kDone);
     }
   }
 };
@@ -384,8 +404,7 @@ bool Sandbox::abandon(uint64_t seen, double call_cpu) {
   if (!lane_state_.compare_exchange_strong(seen, kAbandoned, std::memory_order_acq_rel)) return false;
   setpriority(PRIO_PROCESS, id_t(lane_->tid.load()), 19);  // it may run on for minutes: the match comes first
   lane_->stuck_cpu = call_cpu;
-  lane_->turn.store(Lane::kAbandoned, std::memory_order_release);
-  lane_->turn.notify_all();
+  lane_->set(Lane::kAbandoned);
   return true;
 }
 
@@ -397,9 +416,8 @@ bool Sandbox::run_on_lane(void (*job)(void*), void* arg) {
   if (abandoned()) return false;
   lane_->job = job;
   lane_->arg = arg;
-  lane_->turn.store(Lane::kPosted, std::memory_order_release);
-  lane_->turn.notify_all();
-  if (lane_->wait_past(Lane::kPosted, Lane::kCallerSpins) == Lane::kDone) {
+  lane_->set(Lane::kPosted);
+  if (lane_->wait_past(Lane::kPosted, Lane::kCallerSpins, &Lane::kCallerNap) == Lane::kDone) {
     if (lane_->thrown) std::rethrow_exception(std::exchange(lane_->thrown, nullptr));
     return true;
   }
@@ -610,8 +628,7 @@ void Sandbox::new_environment(int cache) {
 }
 
 Sandbox::~Sandbox() {
-  lane_->turn.store(Lane::kStop, std::memory_order_release);
-  lane_->turn.notify_all();
+  lane_->set(Lane::kStop);
   lane_->thread.join();
   Watchdog::get().forget(this);
   lua_close(L_);
