@@ -94,8 +94,11 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
   for (Bot& b : bots_)
     for (const Bot& o : bots_)
       if (!o.keeper) (field.bodies[size_t(o.body)].team == field.bodies[size_t(b.body)].team ? b.mates : b.opponents).push_back(o.body);
-  // Attacking places: a fan of points around the opponents' goal, just outside its goal area
-  // (or a third of the field out), one per field player of the team.
+  // Attacking places. With a goal at each end, the team's formation moved up the field: every
+  // field player keeps its start place's depth behind the foremost and its place across, and the
+  // foremost arrives just outside the opponents' goal area (or a third of the field out), so that
+  // backs hold behind forwards as the designer placed them. With one goal for both teams
+  // (basketball's hoop) there is no depth to keep: a fan of places around it.
   for (Bot& b : bots_) {
     if (b.keeper || b.their_goal < 0) continue;
     const Goal& goal = field.goals[size_t(b.their_goal)];
@@ -107,9 +110,19 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
     float radius = 0.3f * (field.bounds_max.x - field.bounds_min.x);
     for (const Area& a : field.areas)
       if (a.team == goal.team) radius = a.radius + 2.0f;
-    const double fan = std::min(0.9, 2.1 / double(mates.size()));
-    const double angle = (double(j) - 0.5 * double(mates.size() - 1)) * fan;
-    const Vec2 p = centre(goal) + radius * rotated(unit(middle - centre(goal)), angle);
+    Vec2 p;
+    if (b.own_goal >= 0) {
+      const Vec2 from = centre(field.goals[size_t(b.own_goal)]), forward = unit(centre(goal) - from);
+      float foremost = -1e30f;
+      for (int m : mates) foremost = std::max(foremost, dot(field.bodies[size_t(m)].start - from, forward));
+      // A formation that starts beyond that line (a small field) holds its start places.
+      b.foremost = foremost, b.front = std::max(length(centre(goal) - from) - radius, foremost);
+      p = b.home + (b.front - foremost) * forward;
+    } else {
+      const double fan = std::min(0.9, 2.1 / double(mates.size()));
+      const double angle = (double(j) - 0.5 * double(mates.size() - 1)) * fan;
+      p = centre(goal) + radius * rotated(unit(middle - centre(goal)), angle);
+    }
     b.spot = {std::clamp(p.x, lo_.x + 0.5f, hi_.x - 0.5f), std::clamp(p.y, lo_.y + 0.5f, hi_.y - 0.5f)};
   }
   moves_.resize(bots_.size());
@@ -384,18 +397,30 @@ Vec2 TeamBots::holding(Bot& b, double t, std::span<const Player> players) {
   return step;
 }
 
-// Running into space: its place around the opponents' goal area, weaving across, away from
-// whoever marks it.
+// Running into space: its attacking place, weaving across, away from whoever marks it.
 Vec2 TeamBots::attacking(const Bot& b, double t, std::span<const Player> players) const {
   const Vec2 goal = b.their_goal >= 0 ? centre(field_.goals[size_t(b.their_goal)]) : b.spot;
-  const Vec2 across = rotated(unit(b.spot - goal), 1.5707963);
-  Vec2 p = b.spot + float(1.2 * std::sin(b.phase + 0.7 * t)) * across;
+  const Vec2 place = attacking_place(b, players);
+  const Vec2 across = rotated(unit(place - goal), 1.5707963);
+  Vec2 p = place + float(1.2 * std::sin(b.phase + 0.7 * t)) * across;
   for (size_t k = 0; k < players.size(); ++k) {
     if (players[k].team == players[size_t(b.body)].team) continue;
     const float d = length(p - players[k].position);
     if (d < kOpen) p = p + (kOpen - d) * unit(p - players[k].position);
   }
   return open_lane(b, allowed(b, p), players);
+}
+
+// A formation goes up the field with the ball, all of it alike: its foremost keep as far ahead of
+// the ball as the front line is from the goal they attack, from their start places (the ball at
+// their own goal) up to that line. A fan round a shared goal stays put.
+Vec2 TeamBots::attacking_place(const Bot& b, std::span<const Player> players) const {
+  if (b.own_goal < 0) return b.spot;
+  const Vec2 from = centre(field_.goals[size_t(b.own_goal)]), to = centre(field_.goals[size_t(b.their_goal)]);
+  const Vec2 forward = unit(to - from);
+  const float ahead = length(to - from) - b.front, ball = dot(holder_position(b, players) - from, forward);
+  const float up = std::clamp(ball + ahead - b.foremost, 0.0f, b.front - b.foremost);
+  return b.home + (up / std::max(b.front - b.foremost, 1e-3f)) * (b.spot - b.home);
 }
 
 // Of a few places across the line from a teammate holding the ball to `p`, the one whose line

@@ -8,8 +8,12 @@
 // below a player's reach: a lob over a player's head is run after, not waited for.
 //
 // The holder looks for a shot, else for an open teammate (one who calls for the ball counts
-// more), and throws before the sport's three seconds are up. Teammates run into space around the
-// opponents' goal area and call for the ball when nobody marks them. The other team marks them
+// more), and throws before the sport's three seconds are up. Teammates run into space and call
+// for the ball when nobody marks them. With a goal at each end the team keeps the formation of
+// its start places, moved up the field with the ball until its foremost stand just outside the
+// opponents' goal area: backs stay behind forwards, and a keeper's throw after a save finds
+// teammates near, where all of them used to wait at the far area's edge. Round one goal for both
+// (a hoop) they take a fan of places. The other team marks them
 // man to man between them and the goal and presses the holder. Goalkeepers keep to their goal
 // area, between the ball and the goal. A flying ball draws whoever of each team can reach its
 // path first; a loose one (the announcer's `loose`: where it lies), the nearest of each team,
@@ -72,7 +76,8 @@ class TeamBots final : public SimulatedPlayers {
     int own_goal = -1, their_goal = -1;  // goal indices (-1: none)
     int own_area = -1;                   // the goal area it keeps (a goalkeeper's), -1 for none
     int side = -1;                       // the area its team keeps to (its side of a court), -1: the whole field
-    Vec2 pos, home, spot;                // where it is, starts, and stands in attack
+    Vec2 pos, home, spot;                // where it is, starts, and stands in full attack
+    float foremost = 0, front = 0;       // how far up from its own goal its team's foremost start, and attack
     Ball ball;
     double got_ball = -1;                // when it learnt it holds the ball
     double throw_at = 0;                 // when it throws at the latest
@@ -91,6 +96,7 @@ class TeamBots final : public SimulatedPlayers {
   Vec2 decide(Bot& b, double t, std::span<const Player> players);
   Vec2 holding(Bot& b, double t, std::span<const Player> players);
   Vec2 attacking(const Bot& b, double t, std::span<const Player> players) const;
+  Vec2 attacking_place(const Bot& b, std::span<const Player> players) const;
   Vec2 open_lane(const Bot& b, Vec2 p, std::span<const Player> players) const;
   Vec2 defending(const Bot& b, std::span<const Player> players) const;
   Vec2 keeping(const Bot& b, std::span<const Player> players) const;
