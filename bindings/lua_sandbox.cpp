@@ -1,11 +1,11 @@
 #include "lua_sandbox.h"
 
+#include <linux/futex.h>
 #include <luajit.h>
 #include <pthread.h>
-#include <linux/futex.h>
 #include <sched.h>
-#include <sys/syscall.h>
 #include <sys/resource.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -462,11 +462,13 @@ void Sandbox::print_line(lua_State* L, std::string_view text, size_t whole) {
 
 bool Sandbox::arm(std::string* refused) {
   if (spent_ || time_up_) {
-    // A call from inside a running script is refused at that script's line: the watchdog may have
-    // spent the budget between two looks of the hook, before any script error named the place.
-    std::string where = depth_ > 0 ? innermost_script_line(L_) : std::string();
-    if (where.empty() && !spent_in_.empty()) where = spent_in_ + ": ";
-    if (refused) *refused = where + "script runs too long: this frame's Lua budget is spent (call skipped)";
+    if (refused) {
+      // A call from inside a running script is refused at that script's line: the watchdog may
+      // have spent the budget between two looks of the hook, before any script error named the place.
+      std::string where = depth_ > 0 ? innermost_script_line(L_) : std::string();
+      if (where.empty() && !spent_in_.empty()) where = spent_in_ + ": ";
+      *refused = where + "script runs too long: this frame's Lua budget is spent (call skipped)";
+    }
     return false;
   }
   if (depth_ >= kMostNested) {

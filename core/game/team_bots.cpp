@@ -112,18 +112,18 @@ TeamBots::TeamBots(const Field& field, std::vector<double> skills, uint64_t seed
       if (a.team == goal.team) radius = a.radius + 2.0f;
     Vec2 p;
     if (b.own_goal >= 0) {
-      const Vec2 from = centre(field.goals[size_t(b.own_goal)]), forward = unit(centre(goal) - from);
+      const Axis axis = attack_axis(b);
       float foremost = -1e30f;
-      for (int m : mates) foremost = std::max(foremost, dot(field.bodies[size_t(m)].start - from, forward));
+      for (int m : mates) foremost = std::max(foremost, dot(field.bodies[size_t(m)].start - axis.from, axis.forward));
       // A formation that starts beyond that line (a small field) holds its start places.
-      b.foremost = foremost, b.front = std::max(length(centre(goal) - from) - radius, foremost);
-      p = b.home + (b.front - foremost) * forward;
+      b.foremost = foremost, b.front = std::max(axis.length - radius, foremost);
+      p = b.home + (b.front - foremost) * axis.forward;
     } else {
       const double fan = std::min(0.9, 2.1 / double(mates.size()));
       const double angle = (double(j) - 0.5 * double(mates.size() - 1)) * fan;
       p = centre(goal) + radius * rotated(unit(middle - centre(goal)), angle);
     }
-    b.spot = {std::clamp(p.x, lo_.x + 0.5f, hi_.x - 0.5f), std::clamp(p.y, lo_.y + 0.5f, hi_.y - 0.5f)};
+    b.spot = clamped(p, lo_ + Vec2{0.5f, 0.5f}, hi_ - Vec2{0.5f, 0.5f});
   }
   moves_.resize(bots_.size());
   throws_.reserve(bots_.size());
@@ -411,14 +411,19 @@ Vec2 TeamBots::attacking(const Bot& b, double t, std::span<const Player> players
   return open_lane(b, allowed(b, p), players);
 }
 
+// From b's own goal toward the one it attacks (both goals given): the line a formation moves on.
+TeamBots::Axis TeamBots::attack_axis(const Bot& b) const {
+  const Vec2 from = centre(field_.goals[size_t(b.own_goal)]), to = centre(field_.goals[size_t(b.their_goal)]);
+  return {from, unit(to - from), length(to - from)};
+}
+
 // A formation goes up the field with the ball, all of it alike: its foremost keep as far ahead of
 // the ball as the front line is from the goal they attack, from their start places (the ball at
 // their own goal) up to that line. A fan round a shared goal stays put.
 Vec2 TeamBots::attacking_place(const Bot& b, std::span<const Player> players) const {
   if (b.own_goal < 0) return b.spot;
-  const Vec2 from = centre(field_.goals[size_t(b.own_goal)]), to = centre(field_.goals[size_t(b.their_goal)]);
-  const Vec2 forward = unit(to - from);
-  const float ahead = length(to - from) - b.front, ball = dot(holder_position(b, players) - from, forward);
+  const Axis axis = attack_axis(b);
+  const float ahead = axis.length - b.front, ball = dot(holder_position(b, players) - axis.from, axis.forward);
   const float up = std::clamp(ball + ahead - b.foremost, 0.0f, b.front - b.foremost);
   return b.home + (up / std::max(b.front - b.foremost, 1e-3f)) * (b.spot - b.home);
 }

@@ -97,6 +97,11 @@ class TeamBots final : public SimulatedPlayers {
   Vec2 holding(Bot& b, double t, std::span<const Player> players);
   Vec2 attacking(const Bot& b, double t, std::span<const Player> players) const;
   Vec2 attacking_place(const Bot& b, std::span<const Player> players) const;
+  struct Axis {
+    Vec2 from, forward;
+    float length;
+  };
+  Axis attack_axis(const Bot& b) const;
   Vec2 open_lane(const Bot& b, Vec2 p, std::span<const Player> players) const;
   Vec2 defending(const Bot& b, std::span<const Player> players) const;
   Vec2 keeping(const Bot& b, std::span<const Player> players) const;
