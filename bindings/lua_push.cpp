@@ -185,6 +185,12 @@ void fill_fate(lua_State* L, const game::FateView& f, const Field& field) {
   char via[256];
   set(L, "via", std::string_view(via, write_via(f.fate, field, via, sizeof via)));
   set(L, "mass", f.mass), set(L, "tweaked", f.tweaked), set(L, "count", double(f.count));
+  // A pooled table may hold another fate's player: one that ends at no player has none.
+  if (at_body(f.fate.kind)) lua_pushlstring(L, f.actor.data(), f.actor.size());
+  else lua_pushnil(L);
+  raw_set(L, "player");
+  lua_pushboolean(L, f.contact);
+  raw_set(L, "contact");
   subtable(L, "path");
   refill_list(L, f.fate.path_len, [&](size_t i) {
     const std::string& wall = field.wall_names[f.fate.path[i]];

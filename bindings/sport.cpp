@@ -523,20 +523,26 @@ void Sport::set_factor(const std::string& kind, double value) {
   });
 }
 
-void Sport::factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) {
-  zeroed_by_.reserve(std::max<size_t>(256, fates.size()));  // as Match's fate buffers: room for a busy moment
+void Sport::factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out,
+                    game::FactorTerms& terms) {
+  zeroed_by_.reserve(std::max(kBusyFateGroups, fates.size()));  // as Match's fate buffers: room for a busy moment
   zeroed_by_.assign(fates.size(), kNotZeroed);
   bool scripted = false;
   if (!disabled_ && !sandbox_->spent()) {
     try {
-      sandbox_->protect([&] { script_factors(fates, match, out); });
+      sandbox_->protect([&] { script_factors(fates, match, out, terms); });
       scripted = true;
     } catch (const ScriptError& e) {
       if (!stuck(match)) match.report_error(std::string(e.what()) + " (this frame's modifiers skipped)");
     }
   }
-  if (!scripted)  // the scripts could not run: the factors by kind as last read
-    for (size_t k = 0; k < fates.size(); ++k) out[k] = by_kind_[int(fates[k].fate.kind)];
+  if (!scripted) {  // the scripts could not run: the factors by kind as last read
+    terms.clear();
+    for (size_t k = 0; k < fates.size(); ++k) {
+      out[k] = by_kind_[int(fates[k].fate.kind)];
+      terms.add(k, {game::FactorTerm::Source::Sport, 0, -1, {}, 0, false, out[k]});
+    }
+  }
   for (size_t k = 0; k < fates.size(); ++k)
     if (out[k] == 0 && zeroed_by_[k] == kNotZeroed && by_kind_[int(fates[k].fate.kind)] == 0) zeroed_by_[k] = kKindFactor;
   double kept = 0, mass = 0;
@@ -544,10 +550,17 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
   // Particles' fates share the ball, which must go somewhere; tackles are chances of their own,
   // and none at all is a frame like any other.
   const bool tackles = !fates.empty() && fates[0].fate.kind == FateKind::Tackle;
-  if (mass > 0 && kept == 0 && !tackles) report_zeroing(fates, match), std::fill(out.begin(), out.end(), 1.0);
+  // Contacts (mass 0) keep their factors: a player given 0 never gets the ball, whatever the fates.
+  if (mass > 0 && kept == 0 && !tackles) {
+    report_zeroing(fates, match);
+    for (size_t k = 0; k < fates.size(); ++k)
+      if (fates[k].mass > 0) out[k] = 1;
+    terms.skip();
+  }
 }
 
-void Sport::script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) {
+void Sport::script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out,
+                           game::FactorTerms& terms) {
   lua_State* L = sandbox_->L();
   const Acting reading(*this, match, false);
   lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
@@ -577,6 +590,7 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
   for (size_t k = 0; k < fates.size(); ++k) {
     const game::FateView& f = fates[k];
     double factor = by_kind_[int(f.fate.kind)];
+    terms.add(k, {game::FactorTerm::Source::Sport, 0, -1, {}, 0, false, factor});
     if (factor == 0) zeroed_by_[k] = kKindFactor;
     if (n_modifiers > 0 || !match.powerups().empty()) {
       fate_tables_.push(L, k);
@@ -600,11 +614,13 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
           return at + "modifiers[" + std::to_string(i) + "] returned ";
         });
         factor = times(factor, m);
+        terms.add(k, {game::FactorTerm::Source::Modifier, int(i), -1, {}, 0, false, m});
         if (m == 0 && zeroed_by_[k] == kNotZeroed) zeroed_by_[k] = modifier_code(i);
       }
       lua_pop(L, 1);
     }
-    out[k] = times(factor, powerup_factors(k, match, zeroed_by_[k]));
+    powerup_factors(k, match, factor, terms);
+    out[k] = factor;
   }
 }
 
@@ -863,9 +879,9 @@ void Sport::grant_protected(game::Match& match, int player, const std::string& n
   match.grant(player, name, seconds, std::move(params));
 }
 
-double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
+void Sport::powerup_factors(size_t fate, game::Match& match, double& factor, game::FactorTerms& terms) {
   lua_State* L = sandbox_->L();
-  double factor = 1;
+  int& zeroed_by = zeroed_by_[fate];
   for (size_t j = 0; j < match.powerups().size(); ++j) {
     const game::ActivePowerup& a = match.powerups()[j];
     if (disabled_powerups_.count(a.name) || sandbox_->spent()) continue;
@@ -894,11 +910,13 @@ double Sport::powerup_factors(size_t fate, game::Match& match, int& zeroed_by) {
         return at + "power-up " + a.name + ": factor returned ";
       });
       factor = times(factor, f);
+      const auto strength = a.params.find("strength");
+      terms.add(fate, {game::FactorTerm::Source::Powerup, a.name_id, a.player, {},
+                       strength == a.params.end() ? 0 : strength->second, strength != a.params.end(), f});
       if (f == 0 && zeroed_by == kNotZeroed) zeroed_by = powerup_code(j);
     }
     lua_settop(L, top);
   }
-  return factor;
 }
 
 void Sport::reload_powerup(const std::string& name) {

@@ -98,7 +98,8 @@ class Sport final : public game::Rules {
   // sport's state: a disabled sport's power-ups stop too.) A script stuck in one instruction
   // (the sandbox abandoned) disables the sport at once.
   static constexpr int kOverrunsToDisable = 3;
-  void factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out) override;
+  void factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out,
+               game::FactorTerms& terms) override;
   void on_event(const game::GameEvent& event, game::Match& match) override;
   void tick(game::Match& match) override;
   void begin_frame(game::Match& match) override;
@@ -188,8 +189,10 @@ class Sport final : public game::Rules {
   static constexpr int kNotZeroed = -1, kKindFactor = 0;
   static int modifier_code(size_t i) { return int(i); }           // 1-based, as Lua counts
   static int powerup_code(size_t j) { return -2 - int(j); }
-  double powerup_factors(size_t fate, game::Match& match, int& zeroed_by);
-  void script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out);
+  // Multiplies the active power-ups' factors for fates[fate] into `factor`, each a term.
+  void powerup_factors(size_t fate, game::Match& match, double& factor, game::FactorTerms& terms);
+  void script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out,
+                      game::FactorTerms& terms);
   void run_handler(const game::GameEvent& e, game::Match& match);
   void run_timers(game::Match& match);
   void grant_protected(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);

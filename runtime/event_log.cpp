@@ -83,20 +83,84 @@ const char* kind_of(Target t) {
 
 }  // namespace
 
-void write_decision(std::ostream& out, const Decision& d, std::span<const FateGroup> fates, const Field& field) {
+namespace {
+
+const char* source_name(game::FactorTerm::Source s) {
+  switch (s) {
+    case game::FactorTerm::Source::Sport: return "sport";
+    case game::FactorTerm::Source::Modifier: return "modifier";
+    case game::FactorTerm::Source::Powerup: return "powerup";
+    case game::FactorTerm::Source::Handicap: return "handicap";
+  }
+  return "?";
+}
+
+// "factor" and "factors" of terms.of(k), when the terms cover k.
+void write_factor(JsonLine& line, double factor, const DrawTerms& terms, size_t k, const Field& field) {
+  line.exact("factor", factor);
+  if (k >= terms.terms.fates()) return;
+  line.array("factors");
+  for (const game::FactorTerm& t : terms.terms.of(k)) {
+    line.object().field("source", source_name(t.source));
+    switch (t.source) {
+      case game::FactorTerm::Source::Sport: break;
+      case game::FactorTerm::Source::Modifier: line.field("index", t.index); break;
+      case game::FactorTerm::Source::Powerup:
+        if (t.index >= 0 && size_t(t.index) < terms.powerups.size()) line.field("name", terms.powerups[size_t(t.index)]);
+        if (t.player >= 0) line.field("holder", field.bodies[size_t(t.player)].name);
+        if (t.has_strength) line.exact("strength", t.strength);
+        break;
+      case game::FactorTerm::Source::Handicap:
+        if (t.player >= 0) line.field("player", field.bodies[size_t(t.player)].name);
+        else line.field("team", t.team);
+        break;
+    }
+    line.exact("value", t.value).close();
+  }
+  line.close();
+}
+
+}  // namespace
+
+void write_decision(std::ostream& out, const Decision& d, const DrawTerms& terms, const Field& field) {
   JsonLine line(out);
-  line.field("t", d.t).array("draw");
-  for (const Decision::Option& o : d.options)
-    line.object().field("kind", kind_of(o.target)).field("actor", target_name(o.target, field)).field("p", o.chance)
-        .field("p_newtonian", o.chance_newtonian).field("particles", uint64_t(o.particles)).close();
-  line.close().field("outcome", d.realized < 0 ? std::string_view("none") : target_name(d.options[size_t(d.realized)].target, field));
+  line.exact("t", d.t).exact("u", d.u).array("draw");
+  for (size_t k = 0; k < d.options.size(); ++k) {
+    const Decision::Option& o = d.options[k];
+    line.object().field("kind", kind_of(o.target)).field("actor", target_name(o.target, field))
+        .exact("p", o.chance).exact("p_newtonian", o.chance_newtonian).field("particles", uint64_t(o.particles));
+    if (o.target.kind == TargetKind::Tackle) {
+      write_factor(line, o.factor, terms, k, field);
+      line.close();
+      continue;
+    }
+    line.exact("mass", o.mass);
+    if (const int c = contact_index(o.target, field); c >= 0)
+      write_factor(line, o.factor, terms, terms.contacts_from + size_t(c), field);
+    line.exact("weight", o.weight).array("groups");
+    for (uint32_t s = o.first_share; s < o.first_share + o.shares; ++s) {
+      const Decision::Share& share = d.shares[s];
+      line.array().exact(share.fate == Cloud::kNoFate ? -1.0 : double(share.fate)).exact(share.mass)
+          .exact(double(share.particles)).close();
+    }
+    line.close().close();
+  }
+  line.close();
+  const bool tackles = !d.options.empty() && d.options[0].target.kind == TargetKind::Tackle;
+  if (!tackles)
+    line.object("rest").exact("mass", d.rest_mass).exact("weight", d.rest_weight).close().field("all_met", d.all_met);
+  line.field("outcome", d.realized < 0 ? std::string_view("none") : target_name(d.options[size_t(d.realized)].target, field));
+  if (terms.terms.skipped()) line.field("factors_skipped", true);
   line.array("fates");
-  for (const FateGroup& g : fates) {
+  for (size_t g = 0; g < d.fates.size(); ++g) {
+    const FateGroup& group = d.fates[g];
     char via[256];
-    const Fate& f = g.fate;
+    const Fate& f = group.fate;
     line.object().field("kind", to_string(f.kind)).field("actor", fate_actor(f, field))
         .field("via", std::string_view(via, write_via(f, field, via, sizeof via)))
-        .field("mass", g.mass).field("tweaked", g.tweaked_mass).field("particles", uint64_t(g.count)).close();
+        .exact("mass", group.mass).exact("tweaked", group.tweaked_mass).field("particles", uint64_t(group.count));
+    write_factor(line, d.fate_factors[g], terms, g < terms.contacts_from ? g : terms.terms.fates(), field);
+    line.close();
   }
   line.end();
 }

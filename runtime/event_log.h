@@ -20,10 +20,21 @@ namespace quantum::runtime {
 void write_events(std::ostream& out, std::span<const game::GameEvent> events, std::span<const game::Said> said,
                   std::span<const audio::PhraseFate> fates = {});
 
-// One JSON object per draw the engine made (docs/decisions.md): {"t", "draw": [{"kind", "actor",
-// "p", "p_newtonian", "particles"}, ...], "outcome", "fates": [{"kind", "actor", "via", "mass",
-// "tweaked", "particles"}, ...]}. `fates` are the groups the draw's chances were tweaked from.
-void write_decision(std::ostream& out, const Decision& d, std::span<const FateGroup> fates, const Field& field);
+// What a draw's factors were made of: the terms of its fates' factors (Decision::fates, in
+// order), of its contacts' from `contacts_from` (World::contact_fates' order), or of each
+// tackle's; power-ups named by FactorTerm::index into `powerups`.
+struct DrawTerms {
+  const game::FactorTerms& terms;
+  size_t contacts_from = 0;
+  std::span<const std::string> powerups;
+};
+
+// One JSON object per draw the engine made, with everything its chances were made of
+// (docs/decisions.md, "A draw"): {"t", "u", "draw": [{"kind", "actor", "p", "p_newtonian",
+// "particles", "mass", "factor", "factors", "weight", "groups"}, ...], "rest", "all_met",
+// "outcome", "factors_skipped", "fates": [{"kind", "actor", "via", "mass", "tweaked", "particles",
+// "factor", "factors"}, ...]}. Numbers in full.
+void write_decision(std::ostream& out, const Decision& d, const DrawTerms& terms, const Field& field);
 
 // "   0:03.42  Blue shoots", one line per phrase; with fates, one not heard in full is marked:
 // "   0:03.42  Blue shoots  [cut after 0.31 of 0.72 s by: Goal for Red!]".

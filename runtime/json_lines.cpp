@@ -1,6 +1,7 @@
 #include "json_lines.h"
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -74,6 +75,24 @@ JsonLine& JsonLine::field(const char* name, double number) {
   if (std::isfinite(v)) std::snprintf(buf, sizeof buf, "%.15g", v == 0 ? 0.0 : v);
   else std::snprintf(buf, sizeof buf, "null");
   out_ << buf;
+  return *this;
+}
+
+JsonLine& JsonLine::field(const char* name, bool value) {
+  key(name);
+  out_ << (value ? "true" : "false");
+  return *this;
+}
+
+JsonLine& JsonLine::exact(const char* name, double number) {
+  key(name);
+  char buf[32];
+  if (!std::isfinite(number)) {
+    out_ << "null";
+    return *this;
+  }
+  const char* end = std::to_chars(buf, buf + sizeof buf, number == 0 ? 0.0 : number).ptr;
+  out_ << std::string_view(buf, size_t(end - buf));
   return *this;
 }
 

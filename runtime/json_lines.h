@@ -1,5 +1,5 @@
 // JSON lines, written straight to a stream: one object per line, numbers rounded to micrometres
-// and microseconds (plenty for a field, and logs stay diff-able). No allocation, so a match can
+// and microseconds (plenty for a field, and logs stay diff-able) unless written exact. No allocation, so a match can
 // log every event from its frame loop.
 #pragma once
 
@@ -20,6 +20,11 @@ class JsonLine {
   JsonLine& field(const char* key, double number);
   JsonLine& field(const char* key, uint64_t number);
   JsonLine& field(const char* key, int number) { return field(key, uint64_t(number)); }
+  JsonLine& field(const char* key, bool value);
+  // A number in full: the shortest decimal that reads back as the same double (the decision log,
+  // which a checker recomputes); with no key, as an array's next item. Not finite: null.
+  JsonLine& exact(const char* key, double number);
+  JsonLine& exact(double number) { return exact(nullptr, number); }
   // Opens an array or an object as the value of `key` (or, inside an array, as its next item).
   JsonLine& array(const char* key = nullptr);
   JsonLine& object(const char* key = nullptr);

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
+#include <ostream>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -25,7 +26,8 @@ namespace {
 constexpr char kMagic[] = "QGFRAMES3\n";
 constexpr char kFlatThrows[] = "QGFRAMES2\n";
 
-// FNV-1a of a file's bytes: enough to tell a changed file from the recorded one.
+}  // namespace
+
 std::string fingerprint(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   uint64_t h = 1469598103934665603ull;
@@ -34,6 +36,8 @@ std::string fingerprint(const fs::path& file) {
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
   return hex;
 }
+
+namespace {
 
 // Copies every file under `from` (but the specs) to `to`; returns the copies, relative to `root`.
 std::vector<std::pair<fs::path, fs::path>> copy_tree(const fs::path& from, const fs::path& to) {
@@ -81,7 +85,63 @@ void write_json(const fs::path& file, const nlohmann::json& j) {
   if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
 }
 
+// Every file under `from` but the specs.
+std::vector<fs::path> files_under(const fs::path& from) {
+  std::vector<fs::path> out;
+  if (!fs::is_directory(from)) return out;
+  for (auto it = fs::recursive_directory_iterator(from); it != fs::recursive_directory_iterator(); ++it) {
+    if (it->is_directory() && it->path().filename() == "spec") {
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (it->is_regular_file()) out.push_back(it->path());
+  }
+  return out;
+}
+
 }  // namespace
+
+std::map<fs::path, fs::path> sport_trees(const lua::Sport& sport) {
+  const fs::path folder = fs::absolute(sport.folder()).lexically_normal();
+  const fs::path engine = fs::absolute(sport.engine()).lexically_normal();
+  std::map<fs::path, fs::path> trees{{folder, fs::path("sport") / folder.filename()},
+                                     {engine / "powerups", "engine/powerups"},
+                                     {engine / "lib", "engine/lib"}};
+  trees.emplace(folder.parent_path() / "powerups", "sport/powerups");  // unless the engine's own
+  return trees;
+}
+
+void write_decision_header(std::ostream& out, const SessionOptions& o, const lua::Sport& sport, const game::Match& match) {
+  nlohmann::json files = nlohmann::json::array();
+  std::map<std::string, std::string> hashes;  // by path, in an order a recording's replay keeps
+  for (const auto& [original, place] : sport_trees(sport))
+    for (const fs::path& file : files_under(original))
+      hashes[(place / fs::relative(file, original)).generic_string()] = fingerprint(file);
+  for (const auto& [path, hash] : hashes) files.push_back({{"path", path}, {"fnv1a", hash}});
+  nlohmann::json players = nlohmann::json::array();
+  for (const game::Player& p : match.players())
+    players.push_back({{"name", p.name}, {"team", p.team}, {"skill", p.skill ? nlohmann::json(*p.skill) : nlohmann::json()},
+                       {"handicap", p.handicap}});
+  nlohmann::json factors = nlohmann::json::object();
+  for (FateKind k : kFateKinds) factors[to_string(k)] = sport.factor(to_string(k));
+  const game::MatchConfig& c = match.config();
+  const nlohmann::json header = {{"format", "quantum decisions"},
+                                 {"version", kDecisionLogVersion},
+                                 {"engine", engine_version()},
+                                 {"sport", fs::absolute(sport.folder()).lexically_normal().filename().string()},
+                                 {"files", files},
+                                 {"seed", c.seed},
+                                 {"seconds", c.seconds},
+                                 {"fps", c.fps},
+                                 {"particles", c.particles},
+                                 {"tackle_rate", c.tackle_rate},
+                                 {"balance", {{"per_goal", c.balance_per_goal}, {"most", c.balance_most}}},
+                                 {"params", sport.params().pairs()},
+                                 {"factor_overrides", o.factors},
+                                 {"factors", factors},
+                                 {"players", players}};
+  out << header.dump() << '\n';
+}
 
 Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Sport& sport,
                    std::span<const game::Player> players)
@@ -90,11 +150,7 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
     throw std::runtime_error("--record " + dir.string() + ": exists already (a recording goes into a new folder)");
   make_output_folder("--record", dir);
   const fs::path folder = fs::absolute(sport.folder()).lexically_normal();
-  const fs::path engine = fs::absolute(sport.engine()).lexically_normal();
-  places_[folder] = dir / "sport" / folder.filename();
-  places_[engine / "powerups"] = dir / "engine" / "powerups";
-  places_[engine / "lib"] = dir / "engine" / "lib";
-  if (!places_.count(folder.parent_path() / "powerups")) places_[folder.parent_path() / "powerups"] = dir / "sport" / "powerups";
+  for (const auto& [original, place] : sport_trees(sport)) places_[original] = dir / place;
   nlohmann::json files = nlohmann::json::array();
   for (const auto& [original, copy] : places_)
     for (const auto& [from, to] : copy_tree(original, copy))

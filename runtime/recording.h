@@ -39,6 +39,20 @@ struct SessionOptions;
 // The engine's version, as `git describe` gave it when it was built ("unknown" without git).
 const char* engine_version();
 
+// FNV-1a (64 bits, hex) of a file's bytes: enough to tell a changed file from a recorded one.
+std::string fingerprint(const std::filesystem::path& file);
+
+// The folders a match's scripts come from, each with its place in a recording: the sport's own,
+// the power-ups beside it, and the engine's power-ups and rules/lib.
+std::map<std::filesystem::path, std::filesystem::path> sport_trees(const lua::Sport& sport);
+
+// The decision log's format (docs/decisions.md): 2 has a header line; 1 (before it) had none.
+inline constexpr int kDecisionLogVersion = 2;
+// The decision log's first line: the engine, the sport's files and their hashes, and everything
+// that shapes the match (seed, settings, factors, the players with their skills and handicaps).
+void write_decision_header(std::ostream& out, const SessionOptions& options, const lua::Sport& sport,
+                           const game::Match& match);
+
 class Recorder {
  public:
   // Creates `dir` (it must not exist, or be empty), copies the sport's files and writes

@@ -98,6 +98,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   if (o.watch || replay) reloader_ = std::make_unique<lua::Reloader>(*sport_, settings.factors, !replay);
   log_ = std::make_unique<LineFile>("--events", o.events);
   decisions_ = std::make_unique<LineFile>("--decisions", o.decisions);
+  if (decisions_->stream()) write_decision_header(*decisions_->stream(), settings, *sport_, *match_);
   audio_ = std::make_unique<MatchAudio>(o.audio, sport_->audio(), errors_);
   // People are listening, playing or watching: then the match runs in real time.
   real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
@@ -171,7 +172,9 @@ bool Session::frame() {
     if (!paused_) {
       for (const game::Throw& t : players_->throws()) m.let_go(t);
       m.step(players_->bodies());
-      if (decisions_->stream() && m.decision()) write_decision(*decisions_->stream(), *m.decision(), m.decision_fates(), m.field());
+      if (decisions_->stream() && m.decision())
+        write_decision(*decisions_->stream(), *m.decision(), {m.decision_terms(), m.decision_contacts_from(), m.powerup_names()},
+                       m.field());
     }
   }
   tell();

@@ -1,7 +1,9 @@
 #include "simulate.h"
 
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <map>
 
@@ -13,6 +15,7 @@
 #include "scenes.h"
 #include "event_log.h"
 #include "picture.h"
+#include "recording.h"
 
 namespace quantum::tools {
 namespace {
@@ -20,12 +23,42 @@ namespace {
 constexpr double kRespawnDelay = 1.0;     // s between a goal and the next drop
 constexpr double kRepredictEvery = 0.5;   // s: fates drift as the cloud spreads and mallets move
 
-// Fates of the current cloud, tweaked with the options' factors, into `report`.
-void retweak(World& world, const KindFactors& factors, FateReport& report) {
+// Fates of the current cloud into `report`, and the contacts, weighed with the options' factors
+// by kind: each the one term of its factor in `terms`, for the decision log.
+void retweak(World& world, const KindFactors& factors, FateReport& report, game::FactorTerms& terms) {
   report.groups.clear();
-  if (!world.live() || world.cloud().empty()) return;
-  world.predict(report);
-  world.tweak(report, factors_by_kind(report, factors));
+  terms.clear();
+  std::vector<double> weights;
+  if (world.live() && !world.cloud().empty()) {
+    world.predict(report);
+    weights = factors_by_kind(report, factors);
+    world.tweak(report, weights);
+  }
+  std::vector<Fate> contacts;
+  world.contact_fates(contacts);
+  const std::vector<double> contact_weights = factors_by_kind(contacts, factors);
+  world.set_contact_factors(contact_weights);
+  weights.insert(weights.end(), contact_weights.begin(), contact_weights.end());
+  for (size_t k = 0; k < weights.size(); ++k) terms.add(k, {game::FactorTerm::Source::Sport, 0, -1, {}, 0, false, weights[k]});
+}
+
+// The decision log's first line (docs/decisions.md): a scene has no sport, rules or players'
+// skills, so it names the field file and the factors by kind.
+void write_header(std::ostream& out, const SimulateOptions& o, const Field& field) {
+  namespace fs = std::filesystem;
+  const fs::path file = fs::is_directory(o.field) ? fs::path(o.field) / "field.lua" : fs::path(o.field);
+  nlohmann::json factors = nlohmann::json::object(), players = nlohmann::json::array();
+  for (FateKind k : kFateKinds) factors[to_string(k)] = factor_by_kind(k, o.factors);
+  for (const BodySpec& b : field.bodies)
+    players.push_back({{"name", b.name}, {"team", b.team}, {"skill", nullptr}, {"handicap", 1}});
+  const nlohmann::json header = {{"format", "quantum decisions"}, {"version", runtime::kDecisionLogVersion},
+                                 {"engine", runtime::engine_version()}, {"sport", ""},
+                                 {"field", field.name},
+                                 {"files", {{{"path", file.filename().string()}, {"fnv1a", runtime::fingerprint(file)}}}},
+                                 {"seed", o.seed}, {"seconds", o.seconds}, {"fps", o.fps}, {"particles", o.particles},
+                                 {"tackle_rate", 0}, {"balance", {{"per_goal", 0}, {"most", 1}}}, {"params", o.params},
+                                 {"factor_overrides", nlohmann::json::object()}, {"factors", factors}, {"players", players}};
+  out << header.dump() << '\n';
 }
 
 // The spot a ball restarts from: the conceding team's after a goal, the nearest after out.
@@ -148,7 +181,9 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   for (const BodySpec& b : world.field().bodies) standing.push_back({b.start, {0, 0}});
 
   runtime::LineFile log("--events", o.events), decisions("--decisions", o.decisions);
+  if (decisions.stream()) write_header(*decisions.stream(), o, world.field());
   FateReport report;  // the fates the draws are tweaked by
+  game::FactorTerms terms;  // what each of their factors and the contacts' is made of
   runtime::Picture picture(world.field());
   cv::Mat image;
 
@@ -189,7 +224,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       if (world.holder() == thrower) pass_on(world, thrower, events), shot = true;
       throw_at = -1;
     }
-    if (shot) retweak(world, o.factors, report);
+    if (shot) retweak(world, o.factors, report, terms);
     // The picture of a shot is taken as it leaves the hand.
     if (shot && !o.snapshot.empty() && !have_snapshot_moment) {
       picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
@@ -198,7 +233,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
     }
     world.step(dt, shooter >= 0 ? std::span<const BodyInput>(standing) : scripted_mallets(world.field(), world.time() + dt),
                events);
-    if (decisions.stream() && world.decision()) runtime::write_decision(*decisions.stream(), *world.decision(), report.groups, world.field());
+    if (decisions.stream() && world.decision())
+      runtime::write_decision(*decisions.stream(), *world.decision(), {terms, report.groups.size(), {}}, world.field());
     const bool decided = !events.empty();
     flush();
     log.say_failure(std::cerr);
@@ -209,7 +245,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       respawn_to = 0;
     }
     if (decided || world.time() >= next_tweak) {
-      retweak(world, o.factors, report);
+      retweak(world, o.factors, report, terms);
       next_tweak = world.time() + kRepredictEvery;
     }
     // The picture is taken right after the last realized hit: a fresh shot fanning out.

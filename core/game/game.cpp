@@ -82,17 +82,34 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   // first busy frames from allocating.
   events_.reserve(64);
   said_.reserve(64);
-  // Fate groups: a few dozen in a busy moment, seldom more; room for many more keeps a busier
-  // moment than any before from allocating in its frame (the prediction, its views and factors).
-  constexpr size_t kFateGroups = 256;
+  // Room for a busy moment's fate groups keeps a busier moment than any before from allocating
+  // in its frame (the prediction, its views, factors and their terms).
+  constexpr size_t kFateGroups = kBusyFateGroups;
   report_.groups.reserve(kFateGroups);
-  views_.reserve(kFateGroups);
-  factors_.reserve(kFateGroups);
-  decision_fates_.reserve(kFateGroups);
+  // The contacts' views and factors follow the fates'.
+  const size_t contacts = world_.field().bodies.size() + world_.field().goals.size() + world_.field().areas.size() + 2;
+  contact_fates_.reserve(contacts);
+  views_.reserve(kFateGroups + contacts);
+  factors_.reserve(kFateGroups + contacts);
+  for (FactorTerms* t : {&terms_, &decision_terms_, &scratch_terms_}) t->reserve(kFateGroups + contacts, 2 * (kFateGroups + contacts));
   challenges_.reserve(world_.field().bodies.size());
   report_.group_of.reserve(2 * size_t(config.particles));  // one a particle, as World::predict's own fates
   respawn(config.first_spot, 0);
   if (config.first_holder >= 0) check_catcher(config.first_holder), respawn_holder_ = config.first_holder;
+}
+
+void FactorTerms::add(size_t fate, const FactorTerm& term) {
+  while (first_.size() < fate + 2) first_.push_back(first_.back());
+  terms_.push_back(term);
+  ++first_.back();
+}
+
+std::span<const FactorTerm> FactorTerms::of(size_t fate) const {
+  return {terms_.data() + first_[fate], first_[fate + 1] - first_[fate]};
+}
+
+void FactorTerms::swap(FactorTerms& other) noexcept {
+  terms_.swap(other.terms_), first_.swap(other.first_), std::swap(skipped_, other.skipped_);
 }
 
 void Match::check_player(int k) const {
@@ -272,7 +289,9 @@ void Match::grant(int player, const std::string& name, double seconds, std::map<
   if (player < 0 || player >= int(players_.size())) throw std::invalid_argument("grant: no player " + std::to_string(player));
   if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("grant: seconds must be in (0, 3600]");
   std::erase_if(powerups_, [&](const ActivePowerup& p) { return p.player == player && p.name == name; });
-  powerups_.push_back({name, player, time() + seconds, std::move(params)});
+  auto known = std::find(powerup_names_.begin(), powerup_names_.end(), name);
+  if (known == powerup_names_.end()) known = powerup_names_.insert(known, name);
+  powerups_.push_back({name, player, time() + seconds, std::move(params), int(known - powerup_names_.begin())});
   powerup_event(EventKind::Powerup, player, name);
 }
 
@@ -382,12 +401,11 @@ void Match::step(std::span<const BodyInput> input) {
       hand_over(std::exchange(respawn_holder_, -1));
     } else {
       world_.drop(respawn_spot_, core_events_);
-      report_.groups.clear();  // the new ball has no prediction yet
+      retweak();  // the new ball's fates, and its contacts' factors with nobody its last toucher
     }
   }
   world_.step(dt, input, core_events_);
-  decision_fates_.clear();
-  if (world_.decision()) decision_fates_.assign(report_.groups.begin(), report_.groups.end());
+  if (world_.decision()) decision_terms_ = terms_, decision_contacts_from_ = contacts_from_;
   // No tackle in the frame a catch was decided: one draw a frame, and the catch comes first.
   else if (world_.holder() >= 0 && config_.tackle_rate > 0) contest(input);
   for (size_t k = 0; k < players_.size(); ++k)
@@ -636,31 +654,64 @@ void Match::contest(std::span<const BodyInput> input) {
   }
   if (views_.empty()) return;
   factors_.assign(views_.size(), 1.0);
-  rules_->factors(views_, *this, factors_);
+  decision_terms_.clear();
+  rules_->factors(views_, *this, factors_, decision_terms_);
+  add_handicaps(decision_terms_);
   challenges_.clear();
   double total = 0;
   for (size_t k = 0; k < views_.size(); ++k) {
-    const double chance = -std::expm1(-config_.tackle_rate * factors_[k] * handicap_for(views_[k]) * frame);
-    challenges_.push_back({views_[k].fate.target, chance, views_[k].mass});
+    const double chance = -std::expm1(-config_.tackle_rate * factors_[k] * frame);
+    challenges_.push_back({views_[k].fate.target, chance, views_[k].mass, factors_[k]});
     total += chance;
   }
   // Several sure tackles at once: one of them happens, each as likely as its share.
   if (total > 1)
     for (Challenge& c : challenges_) c.chance /= total;
-  for (size_t k = 0; k < views_.size(); ++k)
-    decision_fates_.push_back({views_[k].fate, views_[k].mass, challenges_[k].chance, 0, 0});
   world_.challenge(challenges_, core_events_);
 }
 
+void Match::add_handicaps(FactorTerms& terms) {
+  scratch_terms_.clear();
+  if (terms.skipped()) scratch_terms_.skip();
+  for (size_t k = 0; k < views_.size(); ++k) {
+    const std::span<const FactorTerm> given = k < terms.fates() ? terms.of(k) : std::span<const FactorTerm>{};
+    for (const FactorTerm& t : given) scratch_terms_.add(k, t);
+    if (given.empty()) scratch_terms_.add(k, {FactorTerm::Source::Sport, 0, -1, {}, 0, false, factors_[k]});
+    const FateView& v = views_[k];
+    const double h = handicap_for(v);
+    if (h == 1) continue;
+    factors_[k] *= h;
+    const int player = at_body(v.fate.kind) ? v.fate.target
+                       : last_toucher_ >= 0 && players_[size_t(last_toucher_)].team == v.favours ? last_toucher_
+                                                                                                 : -1;
+    scratch_terms_.add(k, {FactorTerm::Source::Handicap, 0, player, player < 0 ? v.favours : std::string_view{}, 0, false, h});
+  }
+  terms.swap(scratch_terms_);
+}
+
 void Match::retweak() {
-  world_.predict(report_);
+  const bool live = world_.live();
   views_.clear();
-  for (const FateGroup& g : report_.groups) views_.push_back(view(g));
+  if (live) {
+    world_.predict(report_);
+    for (const FateGroup& g : report_.groups) views_.push_back(view(g));
+  } else {
+    report_.groups.clear();
+  }
+  contacts_from_ = views_.size();
+  world_.contact_fates(contact_fates_);
+  for (const Fate& f : contact_fates_) {
+    views_.push_back(view(FateGroup{f, 0, 0, 0, 0}));
+    views_.back().contact = true;
+  }
   factors_.assign(views_.size(), 1.0);
-  rules_->factors(views_, *this, factors_);
-  for (size_t k = 0; k < views_.size(); ++k) factors_[k] *= handicap_for(views_[k]);
+  terms_.clear();
+  rules_->factors(views_, *this, factors_, terms_);
+  add_handicaps(terms_);
+  const std::span<const double> factors(factors_);
   try {
-    world_.tweak(report_, factors_);
+    if (live) world_.tweak(report_, factors.first(contacts_from_));
+    world_.set_contact_factors(factors.subspan(contacts_from_));
   } catch (const std::invalid_argument& e) {
     report_error(std::string("fate factors refused: ") + e.what());
   }

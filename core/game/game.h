@@ -81,21 +81,60 @@ struct FateView {
   double mass = 0;             // Newtonian probability
   double tweaked = 0;          // probability after the current factors
   uint32_t count = 0;
+  // The ball meeting `actor` now, whatever was predicted (World::set_contact_factors): no
+  // particle's fate, so mass, tweaked and count are 0.
+  bool contact = false;
 
   const char* kind() const { return to_string(fate.kind); }
 };
 
 class Match;
 
+// One term of a fate's factor, by where it came from: the decision log splits every factor by
+// them (docs/decisions.md). A factor is its terms multiplied in order, the product stopping at
+// kMostFactor after each, and the handicap (always last) times that.
+struct FactorTerm {
+  enum class Source : uint8_t { Sport, Modifier, Powerup, Handicap };
+  Source source = Source::Sport;
+  int index = 0;        // Modifier: its place in sport.modifiers (from 1); Powerup: its name (Match::powerup_names)
+  int player = -1;      // Powerup: its holder; Handicap: the player (-1: the mean of the team `team`)
+  std::string_view team;
+  double strength = 0;  // Powerup: its strength parameter, when has_strength
+  bool has_strength = false;
+  double value = 1;
+};
+
+// The terms of a list of fates' factors, fate after fate; `skipped` when the rules' factors were
+// all 0 and the fates were given 1 instead (Rules::factors).
+class FactorTerms {
+ public:
+  void clear() { terms_.clear(), first_.assign(1, 0), skipped_ = false; }
+  // Terms are added fate by fate, in order: add(k, ...) after add(k - 1, ...).
+  void add(size_t fate, const FactorTerm& term);
+  std::span<const FactorTerm> of(size_t fate) const;
+  size_t fates() const { return first_.size() - 1; }
+  bool skipped() const { return skipped_; }
+  void skip() { skipped_ = true; }
+  void reserve(size_t fates, size_t terms) { first_.reserve(fates + 1), terms_.reserve(terms); }
+  void swap(FactorTerms& other) noexcept;
+
+ private:
+  std::vector<FactorTerm> terms_;
+  std::vector<uint32_t> first_{0};  // fate k's terms start at first_[k]; past the last fate, its end
+  bool skipped_ = false;
+};
+
 // A sport's rules. The host calls them outside the frame's hot loop; they may fail, and the host
 // reports and skips a failed rule instead of stopping the match.
 class Rules {
  public:
   virtual ~Rules() = default;
-  // Writes one multiplier per fate into `out` (fate factor x modifiers; the host adds the
-  // handicaps), each finite and >= 0. Reads the match; a failing modifier is reported through
+  // Writes one multiplier per fate into `out` (fate factor x modifiers x power-ups; the host
+  // adds the handicaps), each finite and >= 0, and its terms into `terms` (cleared by the host);
+  // a fate given no terms is taken as one of the sport's of the whole factor. Fates with mass 0
+  // are contacts (World::contact_fates). Reads the match; a failing modifier is reported through
   // match.report_error.
-  virtual void factors(std::span<const FateView> fates, Match& match, std::span<double> out) = 0;
+  virtual void factors(std::span<const FateView> fates, Match& match, std::span<double> out, FactorTerms& terms) = 0;
   // Reacts to an event through the match's actions (say, award, respawn, finish).
   virtual void on_event(const GameEvent& event, Match& match) = 0;
   // Once a frame, after its events: what the rules scheduled for this time (timers).
@@ -178,6 +217,7 @@ struct ActivePowerup {
   int player = -1;  // body index
   double until = 0;
   std::map<std::string, double> params;
+  int name_id = -1;  // Match::powerup_names()[name_id] is `name`: a factor's term names it by this
 };
 
 struct RallyStats {
@@ -345,10 +385,15 @@ class Match {
   // The current fates as the rules see them (fresh prediction; empty when no ball is live).
   std::vector<FateView> fates() const;
 
-  // The last frame's draw (null when nothing met anything), and the fates its chances came
-  // from: the prediction and tweak of the frame before (none right after a drop).
+  // The last frame's draw (null when nothing met anything), with the fates its chances came
+  // from (Decision::fates), and the terms of every factor it was weighed with: its fates' in
+  // order, then from decision_contacts_from() its contacts' (World::contact_fates' order); for
+  // a draw of tackles, each tackle's in the draw's order.
   const Decision* decision() const { return world_.decision(); }
-  std::span<const FateGroup> decision_fates() const { return decision_fates_; }
+  const FactorTerms& decision_terms() const { return decision_terms_; }
+  size_t decision_contacts_from() const { return decision_contacts_from_; }
+  // Every power-up's name granted so far, by the id its factors' terms give (FactorTerm::index).
+  std::span<const std::string> powerup_names() const { return powerup_names_; }
   // The prediction this frame's tweak made: the groups, and each live particle's group (views
   // and pictures colour the cloud by fate with it).
   const FateReport& report() const { return report_; }
@@ -372,6 +417,9 @@ class Match {
   void retweak();
   void contest(std::span<const BodyInput> input);  // the opponents within reach may take the held ball
   double handicap_for(const FateView& v) const;     // of the player an outcome favours
+  // Completes the rules' factors of views_ into factors_ and `terms`: a fate they gave no terms
+  // becomes one term of the sport's, and the handicap multiplies in as the last term.
+  void add_handicaps(FactorTerms& terms);
   FateView view(const FateGroup& g) const;
 
   World world_;
@@ -390,8 +438,11 @@ class Match {
   FateReport report_;              // this frame's prediction, refilled in place
   std::vector<FateView> views_;
   std::vector<Challenge> challenges_;  // this frame's tries to take the held ball (room kept)
-  std::vector<FateGroup> decision_fates_;
+  std::vector<Fate> contact_fates_;
   std::vector<double> factors_;
+  FactorTerms terms_, decision_terms_, scratch_terms_;  // the tweak in force's, the last draw's
+  size_t contacts_from_ = 0, decision_contacts_from_ = 0;
+  std::vector<std::string> powerup_names_;  // every power-up granted, by FactorTerm::index
   RallyStats stats_;
   double respawn_at_ = -1;
   int respawn_spot_ = 0;

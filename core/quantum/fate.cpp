@@ -330,24 +330,33 @@ std::string_view fate_actor(const Fate& f, const Field& field) {
   return {};
 }
 
+double factor_by_kind(FateKind kind, const KindFactors& k) {
+  switch (kind) {
+    case FateKind::Goal: return k.goal;
+    case FateKind::OwnGoal: return k.own_goal;
+    case FateKind::Body: return k.body;
+    case FateKind::Out:
+    case FateKind::Landing: return k.out;
+    case FateKind::Field: return k.field;
+    case FateKind::Catch:
+    case FateKind::Pass:
+    case FateKind::Intercept:
+    case FateKind::Pickup:
+    case FateKind::Tackle: return k.catches;
+    case FateKind::Hit: return k.hits;
+  }
+  return 1;
+}
+
 std::vector<double> factors_by_kind(const FateReport& report, const KindFactors& k) {
   std::vector<double> out;
-  for (const FateGroup& g : report.groups) {
-    switch (g.fate.kind) {
-      case FateKind::Goal: out.push_back(k.goal); break;
-      case FateKind::OwnGoal: out.push_back(k.own_goal); break;
-      case FateKind::Body: out.push_back(k.body); break;
-      case FateKind::Out:
-      case FateKind::Landing: out.push_back(k.out); break;
-      case FateKind::Field: out.push_back(k.field); break;
-      case FateKind::Catch:
-      case FateKind::Pass:
-      case FateKind::Intercept:
-      case FateKind::Pickup:
-      case FateKind::Tackle: out.push_back(k.catches); break;
-      case FateKind::Hit: out.push_back(k.hits); break;
-    }
-  }
+  for (const FateGroup& g : report.groups) out.push_back(factor_by_kind(g.fate.kind, k));
+  return out;
+}
+
+std::vector<double> factors_by_kind(std::span<const Fate> fates, const KindFactors& k) {
+  std::vector<double> out;
+  for (const Fate& f : fates) out.push_back(factor_by_kind(f.kind, k));
   return out;
 }
 
@@ -472,9 +481,9 @@ void World::predict(FateReport& report, float horizon) const {
 }
 
 void GroupIndex::clear() {
-  // Room for 256 fates at half load: more than a busy moment has, so a busier one than any before
+  // Room for a busy moment's fates at half load, so a busier one than any before
   // does not rehash (allocate) in its frame.
-  if (keys.empty()) keys.resize(512), groups.resize(512);
+  if (keys.empty()) keys.resize(2 * kBusyFateGroups), groups.resize(2 * kBusyFateGroups);
   std::fill(groups.begin(), groups.end(), 0u);
   used = 0;
 }
@@ -512,15 +521,22 @@ void World::tweak(FateReport& report, std::span<const double> factors) {
     if (!(std::isfinite(factors[k]) && factors[k] >= 0))
       throw std::invalid_argument("fate factor " + std::to_string(k) + " must be a finite number >= 0");
   double sum = 0;
+  fate_mass_.assign(factors.size(), 0.0);
   for (size_t i = 0; i < cloud_.size(); ++i) {
-    cloud_.tw[i] = cloud_.w[i] * factors[report.group_of[i]];
+    const uint32_t g = report.group_of[i];
+    cloud_.tw[i] = cloud_.w[i] * factors[g];
+    cloud_.fate[i] = g;
+    fate_mass_[g] += cloud_.w[i];
     sum += cloud_.tw[i];
   }
   if (!(sum > 0)) {
     cloud_.reset_tweak();
+    forget_tweak();
     throw std::invalid_argument("fate factors leave every particle with zero weight");
   }
-  cloud_.tmass = sum;
+  cloud_.tmass = tmass_full_ = sum;
+  tweak_groups_.assign(report.groups.begin(), report.groups.end());
+  tweak_factors_.assign(factors.begin(), factors.end());
   for (FateGroup& group : report.groups) group.tweaked_mass = 0;
   for (size_t i = 0; i < cloud_.size(); ++i) report.groups[report.group_of[i]].tweaked_mass += cloud_.tw[i] / sum;
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -57,6 +58,11 @@ struct FateGroup {
   uint32_t representative = 0;  // heaviest particle of the group: World::predict_path draws its way
 };
 
+// Fate groups a busy moment may have: buffers of groups (the prediction's, the tweak's, a draw's,
+// the rules' views) are made this large up front, so that a match does not allocate in the frame
+// of a busier moment than any before. A 20,000-particle air hockey match passed 256.
+inline constexpr size_t kBusyFateGroups = 1024;
+
 struct FateReport {
   float horizon = 0;
   uint64_t cloud_version = 0;       // the cloud this report describes; tweak() checks it
@@ -78,6 +84,8 @@ size_t write_via(const Fate& fate, const Field& field, char* out, size_t size);
 struct KindFactors {
   double goal = 5, own_goal = 0.1, body = 5, out = 1, field = 1, catches = 5, hits = 5;
 };
+double factor_by_kind(FateKind kind, const KindFactors& factors);
 std::vector<double> factors_by_kind(const FateReport& report, const KindFactors& factors);
+std::vector<double> factors_by_kind(std::span<const Fate> fates, const KindFactors& factors);  // contacts
 
 }  // namespace quantum

@@ -41,6 +41,20 @@ std::string_view target_name(Target t, const Field& f) {
   return "out";
 }
 
+int contact_index(Target t, const Field& f) {
+  const int bodies = int(f.bodies.size()), goals = int(f.goals.size());
+  switch (t.kind) {
+    case TargetKind::Body: return t.index;
+    case TargetKind::Goal: return bodies + t.index;
+    case TargetKind::Out: return bodies + goals;
+    case TargetKind::Landing: return bodies + goals + 1 + t.index;
+    case TargetKind::Wall:
+    case TargetKind::Tackle:
+    case TargetKind::Crushed: break;
+  }
+  return -1;
+}
+
 EventActor actor_of(const Event& e, const Field& f) {
   switch (e.type) {
     case EventType::Drop: return {f.spots[e.actor].name, f.spots[e.actor].team};
@@ -75,6 +89,14 @@ World::World(Field field, WorldConfig config, std::unique_ptr<Backend> backend)
   internals_->targets = {int(field_.bodies.size()), int(field_.goals.size()), int(field_.wall_names.size()),
                          field_.landings ? int(field_.areas.size()) + 1 : 0};
   internals_->tally.resize(size_t(internals_->targets.size()));
+  contact_factor_.assign(internals_->tally.size(), 1.0);
+  // What a draw tells of its making (Decision), with room for a busy moment's fate groups, so
+  // that a match's frames do not allocate for it.
+  constexpr size_t kFateGroups = kBusyFateGroups;
+  for (auto* v : {&tweak_factors_, &fate_mass_, &decision_.fate_factors}) v->reserve(kFateGroups);
+  tweak_groups_.reserve(kFateGroups), decision_.fates.reserve(kFateGroups);
+  share_at_.reserve(internals_->tally.size() * (kFateGroups + 1));
+  decision_.shares.reserve(8 * kFateGroups);
   decision_.options.reserve(internals_->tally.size());
   internals_->resting.resize(field_.bodies.size());
   const bool tall = field_.has_height();
@@ -116,6 +138,50 @@ void World::clear_purgatory() {
   for (PurgatorySlot& slot : purgatory_) slot.touched.clear(), slot.body.clear();
 }
 
+void World::forget_tweak() {
+  tweak_groups_.clear(), tweak_factors_.clear(), fate_mass_.clear();
+  tmass_full_ = cloud_.tmass;
+}
+
+void World::sum_fate_mass() {
+  fate_mass_.assign(tweak_groups_.size(), 0.0);
+  for (size_t i = 0; i < cloud_.size(); ++i)
+    if (cloud_.fate[i] != Cloud::kNoFate) fate_mass_[cloud_.fate[i]] += cloud_.w[i];
+  tmass_full_ = cloud_.tmass;
+}
+
+void World::contact_fates(std::vector<Fate>& out) const {
+  std::vector<uint8_t>& body_kind = internals_->body_kind;
+  std::vector<uint8_t>& own = internals_->own_goal;
+  endings(body_kind, own);
+  out.clear();
+  for (size_t k = 0; k < body_kind.size(); ++k) out.push_back({FateKind(body_kind[k]), int(k)});
+  for (size_t g = 0; g < own.size(); ++g) out.push_back({own[g] ? FateKind::OwnGoal : FateKind::Goal, int(g)});
+  out.push_back({FateKind::Out, -1});
+  for (int a = 0; a < internals_->targets.landings; ++a) out.push_back({FateKind::Landing, a - 1});
+}
+
+std::vector<double> World::contact_factors() const {
+  const size_t before_walls = size_t(internals_->targets.bodies + internals_->targets.goals + 1);
+  std::vector<double> out(contact_factor_.begin(), contact_factor_.begin() + long(before_walls));
+  out.insert(out.end(), contact_factor_.begin() + long(before_walls) + internals_->targets.walls, contact_factor_.end());
+  return out;
+}
+
+void World::set_contact_factors(std::span<const double> factors) {
+  const TargetSlots& targets = internals_->targets;
+  const size_t walls = size_t(targets.walls), n = contact_factor_.size() - walls;
+  if (factors.size() != n)
+    throw std::invalid_argument("got " + std::to_string(factors.size()) + " contact factors for " + std::to_string(n) +
+                                " contacts");
+  for (size_t k = 0; k < n; ++k)
+    if (!(std::isfinite(factors[k]) && factors[k] >= 0))
+      throw std::invalid_argument("contact factor " + std::to_string(k) + " must be a finite number >= 0");
+  // Bodies, goals and out come before the walls' slots, the landings after them.
+  const size_t before_walls = size_t(targets.bodies + targets.goals + 1);
+  for (size_t k = 0; k < n; ++k) contact_factor_[k < before_walls ? k : k + walls] = factors[k];
+}
+
 void World::drop(int spot, std::vector<Event>& events) {
   if (spot < 0 || spot >= int(field_.spots.size()))
     throw std::invalid_argument("no respawn spot " + std::to_string(spot) + " (the field has " +
@@ -126,6 +192,7 @@ void World::drop(int spot, std::vector<Event>& events) {
   if (field_.has_height()) cloud_.push(Vec3{at.x, at.y, field_.ball_radius}, Vec3{}, 1, 1);
   else cloud_.push(at.x, at.y, 0, 0, 1, 1);
   clear_purgatory();
+  forget_tweak();
   live_ = true;
   holder_ = -1;
   last_touch_ = -1;
@@ -151,6 +218,7 @@ void World::give(int body) {
     throw std::invalid_argument(field_.bodies[body].name + " cannot hold the ball: its field body does not catch");
   cloud_.clear();
   clear_purgatory();
+  forget_tweak();
   live_ = false;
   holder_ = body;
   last_touch_ = body;  // whoever throws it next passes it, or loses it to the other team
@@ -199,6 +267,7 @@ void World::release(int body, Vec3 velocity, ThrowSpread spread, std::vector<Eve
   release_at({at.x, at.y, hand}, velocity, spread, kick && tall);
   cloud_.normalize();
   clear_purgatory();
+  forget_tweak();
   live_ = true;
   holder_ = -1;
   last_touch_ = body;
@@ -262,10 +331,12 @@ void World::set_cloud(Cloud c) {
     if (detail::settle(g, nullptr, 0, 0, m, false).kind != detail::HitKind::None || m.x != c.x[i] || m.y != c.y[i])
       throw std::invalid_argument(which + "overlaps a wall");
   }
+  c.fate.assign(c.size(), Cloud::kNoFate);
   c.normalize();
   if (c.empty() || c.mass != 1) throw std::invalid_argument("the cloud needs particles with positive total weight");
   cloud_ = std::move(c);
   clear_purgatory();
+  forget_tweak();
   live_ = true;
   holder_ = -1;
   ++version_;
@@ -470,13 +541,19 @@ void World::challenge(std::span<const Challenge> challengers, std::vector<Event>
   if (challengers.empty()) return;
   const double u = rng_.uniform();
   decision_.t = time_;
+  decision_.u = u;
   decision_.options.clear();
+  decision_.shares.clear(), decision_.fates.clear(), decision_.fate_factors.clear();
+  decision_.rest_mass = decision_.rest_weight = 0;
+  decision_.all_met = false;
   decision_.realized = -1;
   double cumulative = 0;
   for (const Challenge& c : challengers) {
     cumulative += c.chance;
     if (decision_.realized < 0 && u < cumulative) decision_.realized = int(decision_.options.size());
-    decision_.options.push_back({Target{TargetKind::Tackle, uint16_t(c.body)}, c.chance, c.chance_newtonian, 0});
+    Decision::Option o{Target{TargetKind::Tackle, uint16_t(c.body)}, c.chance, c.chance_newtonian, 0};
+    o.factor = c.factor;
+    decision_.options.push_back(o);
   }
   decided_step_ = step_;
   if (decision_.realized < 0) return;
@@ -523,6 +600,12 @@ void World::decide(float dt, std::optional<bool> loose_seen, std::vector<Event>&
   std::fill(tally.begin(), tally.end(), Tally{});
   PurgatorySlot& slot = purgatory_[step_ % config_.purgatory_frames];
   removed_.clear();
+  // Which fate groups each option's particles came from, for the log: a place per target and
+  // group (the last for particles of no group), filled as met and reset after.
+  const size_t fates = tweak_groups_.size() + 1;
+  share_at_.resize(size_t(n_targets) * fates, -1);
+  decision_.shares.clear();
+  const double* contact = contact_factor_.data();
   // Contacts are scattered over a cloud of up to millions: fetch a few ahead, or every one of
   // them waits for memory.
   constexpr size_t kAhead = 8;
@@ -530,59 +613,99 @@ void World::decide(float dt, std::optional<bool> loose_seen, std::vector<Event>&
     if (k + kAhead < contacts_.size()) {
       const uint32_t ahead = contacts_[k + kAhead].particle;
       for (const void* p : {(const void*)&cloud_.w[ahead], (const void*)&cloud_.tw[ahead], (const void*)&cloud_.x[ahead],
-                            (const void*)&cloud_.y[ahead], (const void*)&cloud_.vx[ahead], (const void*)&cloud_.vy[ahead]})
+                            (const void*)&cloud_.y[ahead], (const void*)&cloud_.vx[ahead], (const void*)&cloud_.vy[ahead],
+                            (const void*)&cloud_.fate[ahead]})
         __builtin_prefetch(p);
     }
     const Contact& c = contacts_[k];
     removed_.push_back(c.particle);
     if (c.target.kind == TargetKind::Crushed) continue;
-    Tally& t = tally[size_t(targets.slot(c.target))];
-    const double w = cloud_.w[c.particle];
-    t.tweaked += cloud_.tw[c.particle], t.newtonian += w, ++t.count;
+    const int at = targets.slot(c.target);
+    Tally& t = tally[size_t(at)];
+    const double w = cloud_.w[c.particle], carried = cloud_.tw[c.particle];
+    t.tweaked += c.target.kind == TargetKind::Wall ? carried : w * contact[at];
+    t.carried += carried, t.newtonian += w, ++t.count;
     t.cx += w * cloud_.x[c.particle], t.cy += w * cloud_.y[c.particle];
     if (c.target.kind == TargetKind::Body) slot.touched.push_from(cloud_, c.particle), slot.body.push_back(c.target.index);
+    const uint32_t fate = cloud_.fate[c.particle];
+    int32_t& share = share_at_[size_t(at) * fates + (fate == Cloud::kNoFate ? fates - 1 : fate)];
+    if (share < 0) share = int32_t(decision_.shares.size()), decision_.shares.push_back({fate, 0, 0});
+    decision_.shares[size_t(share)].mass += w, ++decision_.shares[size_t(share)].particles;
   }
-  // The chance that the ball met target k is the tweaked mass that met it. When nothing is left
-  // in the field something must have happened, so the draw is conditioned on the contacts.
+  // The chance that the ball met target k is the weight that met it over the cloud's, where the
+  // particles that met something count with their option's weight. When nothing is left in the
+  // field something must have happened, so the draw is conditioned on the contacts.
   const bool nothing_left = removed_.size() == cloud_.size();
-  double total = cloud_.tmass, total_newtonian = cloud_.mass;
-  if (nothing_left) {
-    total = total_newtonian = 0;
-    for (const Tally& t : tally) total += t.tweaked, total_newtonian += t.newtonian;
-  }
+  double options = 0, carried = 0, options_newtonian = 0;
+  for (const Tally& t : tally) options += t.tweaked, carried += t.carried, options_newtonian += t.newtonian;
+  const double rest = nothing_left ? 0 : std::max(0.0, cloud_.tmass - carried);
+  const double total = rest + options;
+  const double total_newtonian = nothing_left ? options_newtonian : cloud_.mass;
   int realized = -1;
+  const double u = rng_.uniform();
   if (total > 0) {
-    const double u = rng_.uniform() * total;
+    const double drawn = u * total;
     double cumulative = 0;
     for (int k = 0; k < n_targets && realized < 0; ++k) {
       if (tally[k].count == 0) continue;
       cumulative += tally[k].tweaked;
-      if (u < cumulative) realized = k;
+      if (drawn < cumulative) realized = k;
     }
-    // Rounding may leave u a hair above the sum when the contacts are all there is.
+    // Rounding may leave the draw a hair above the sum when the contacts are all there is.
     if (realized < 0 && nothing_left)
       for (int k = n_targets; k-- > 0 && realized < 0;)
-        if (tally[k].count > 0) realized = k;
+        if (tally[k].count > 0 && tally[k].tweaked > 0) realized = k;
   }
-  // What the draw was about, for whoever asks why (the decision log, a view).
+  // What the draw was about and what made it, for whoever asks why (the decision log, a view).
+  const double unit = cloud_.mass;  // the log's masses are fractions of the cloud
   decision_.t = time_;
+  decision_.u = u;
   decision_.options.clear();
   decision_.realized = -1;
-  for (int k = 0; k < n_targets && total > 0; ++k) {
+  decision_.all_met = nothing_left;
+  decision_.rest_mass = (cloud_.mass - options_newtonian) / unit;
+  decision_.rest_weight = rest / unit;
+  decision_.fates.assign(tweak_groups_.begin(), tweak_groups_.end());
+  decision_.fate_factors.assign(tweak_factors_.begin(), tweak_factors_.end());
+  for (size_t g = 0; g < decision_.fates.size(); ++g) {
+    decision_.fates[g].mass = fate_mass_[g] / unit;
+    decision_.fates[g].tweaked_mass = decision_.fates[g].mass * tweak_factors_[g] / (cloud_.tmass / unit);
+  }
+  // The shares in option order, each option's together.
+  std::vector<Decision::Share>& shares = decision_.shares;
+  const size_t met = shares.size();
+  for (int k = 0; k < n_targets; ++k) {
     if (tally[k].count == 0) continue;
     if (k == realized) decision_.realized = int(decision_.options.size());
-    decision_.options.push_back({targets.at(k), tally[k].tweaked / total,
-                                 total_newtonian > 0 ? tally[k].newtonian / total_newtonian : 0, tally[k].count});
+    Decision::Option o{targets.at(k), total > 0 ? tally[k].tweaked / total : 0,
+                       total_newtonian > 0 ? tally[k].newtonian / total_newtonian : 0, tally[k].count};
+    o.mass = tally[k].newtonian / unit, o.weight = tally[k].tweaked / unit, o.factor = contact[k];
+    o.first_share = uint32_t(shares.size() - met);
+    for (size_t g = 0; g < fates; ++g) {
+      int32_t& share = share_at_[size_t(k) * fates + g];
+      if (share < 0) continue;
+      Decision::Share copy = shares[size_t(share)];
+      copy.mass /= unit;
+      shares.push_back(copy);
+      share = -1;
+      ++o.shares;
+    }
+    decision_.options.push_back(o);
   }
+  shares.erase(shares.begin(), shares.begin() + long(met));
   decided_step_ = step_;
   if (realized < 0) {
+    for (uint32_t i : removed_)
+      if (cloud_.fate[i] != Cloud::kNoFate) fate_mass_[cloud_.fate[i]] -= cloud_.w[i];
     cloud_.remove_sorted(removed_);
     if (cloud_.empty()) {
       remove_ball();
-    } else if (!(cloud_.mass > 1e-3 && cloud_.tmass > 1e-3)) {
+    } else if (!(cloud_.mass > 1e-3 && cloud_.tmass > 1e-3 * tmass_full_)) {
       // The sums are kept by subtraction; re-sum once they have shrunk a thousandfold, long
       // before rounding could show in the normalized weights (a pass every few hundred steps).
-      cloud_.normalize();
+      const double scale = cloud_.normalize();
+      for (double& m : fate_mass_) m /= scale;
+      tmass_full_ = cloud_.tmass;
     }
     return;
   }
@@ -636,6 +759,7 @@ void World::decide(float dt, std::optional<bool> loose_seen, std::vector<Event>&
 void World::remove_ball() {
   cloud_.clear();
   clear_purgatory();
+  forget_tweak();
   live_ = false;
   holder_ = -1;
   ++version_;
@@ -698,6 +822,7 @@ void World::realize_body(int body, float dt) {
   }
   std::swap(cloud_, scratch_);
   clear_purgatory();
+  forget_tweak();
   last_touch_ = body;
   ++version_;
   if (cloud_.empty()) {  // every particle of the shot went in or out while catching up
@@ -726,6 +851,7 @@ void World::realize_bounce(Target wall) {
   clear_purgatory();
   ++version_;
   cloud_.normalize();
+  sum_fate_mass();
   refill(false);
 }
 
@@ -746,10 +872,12 @@ void World::split_round(bool jitter) {
   const bool tall = cloud_.tall();
   for (auto* v : {&cloud_.x, &cloud_.y, &cloud_.vx, &cloud_.vy}) v->resize(target);
   for (auto* v : {&cloud_.w, &cloud_.tw}) v->resize(target);
+  cloud_.fate.resize(target);
   if (tall) cloud_.z.resize(target), cloud_.vz.resize(target);
   float *x = cloud_.x.data(), *y = cloud_.y.data(), *vx = cloud_.vx.data(), *vy = cloud_.vy.data();
   float *z = cloud_.z.data(), *vz = cloud_.vz.data();
   double *w = cloud_.w.data(), *tw = cloud_.tw.data();
+  uint32_t* fate = cloud_.fate.data();
   size_t end = n;
   // Resume where the last round stopped: particles near the front were split already, and
   // scanning past them every step would cost a pass over the cloud.
@@ -765,13 +893,14 @@ void World::split_round(bool jitter) {
       const float rx = c * cvx - s * cvy, ry = s * cvx + c * cvy;
       cvx = rx, cvy = ry;
     }
-    x[end] = x[i], y[end] = y[i], vx[end] = cvx, vy[end] = cvy, w[end] = w[i], tw[end] = tw[i];
+    x[end] = x[i], y[end] = y[i], vx[end] = cvx, vy[end] = cvy, w[end] = w[i], tw[end] = tw[i], fate[end] = fate[i];
     if (tall) z[end] = z[i], vz[end] = vz[i];
     ++end;
   }
   // Halving a particle and adding its copy keeps both sums as they were.
   for (auto* v : {&cloud_.x, &cloud_.y, &cloud_.vx, &cloud_.vy}) v->resize(end);
   for (auto* v : {&cloud_.w, &cloud_.tw}) v->resize(end);
+  cloud_.fate.resize(end);
   if (tall) cloud_.z.resize(end), cloud_.vz.resize(end);
   ++version_;
 }

@@ -66,16 +66,34 @@ struct ThrowSpread {
 };
 
 // One step's draw: what the particles met, each with the chance that the ball met it, and what
-// was realized. Chances are over the mass the draw was made against (the live cloud; when
-// nothing was left in the field, the contacts alone), tweaked and Newtonian.
+// was realized, with everything those chances were made of (the decision log writes it all, so
+// that anyone can check a draw from the file: docs/decisions.md). Masses and weights are
+// fractions of the cloud's Newtonian mass at the draw.
 struct Decision {
+  // The particles of one fate group (an index into `fates`, or Cloud::kNoFate) that met an option.
+  struct Share {
+    uint32_t fate;
+    double mass;
+    uint32_t particles;
+  };
   struct Option {
     Target target;
     double chance, chance_newtonian;
     uint32_t particles;
+    double mass = 0, weight = 0;  // Newtonian weight, and the weight it counts with in the draw
+    double factor = 1;            // its contact factor (World::set_contact_factors); a wall's is unused
+    uint32_t first_share = 0, shares = 0;  // its fate groups: shares[first_share, first_share + shares)
   };
   double t = 0;
+  double u = 0;                 // the uniform number drawn, in [0, 1)
   std::vector<Option> options;  // in the order the draw adds them up
+  std::vector<Share> shares;
+  // The fate groups of the tweak in force (World::tweak; none when the cloud is new since), with
+  // `mass` the group's Newtonian mass at the draw, and the factor each was given.
+  std::vector<FateGroup> fates;
+  std::vector<double> fate_factors;
+  double rest_mass = 0, rest_weight = 0;  // the particles that met nothing
+  bool all_met = false;         // nothing was left in the field: the chances are over the options alone
   int realized = -1;            // index into options; -1: nothing happened, the ball flies on
 };
 
@@ -84,6 +102,7 @@ struct Decision {
 struct Challenge {
   int body;
   double chance, chance_newtonian;
+  double factor = 1;  // what made chance of chance_newtonian, for the decision log
 };
 
 // Who an event is about, by the field's names: the spot (drop), the body (hit, catch, throw), the
@@ -96,6 +115,8 @@ EventActor actor_of(const Event& e, const Field& field);
 // What a draw's option is, by the field's names: the body, goal or wall; the area of a landing
 // ("floor" outside every area); "out" for the bounds.
 std::string_view target_name(Target target, const Field& field);
+// A draw's option's place among World::contact_fates: -1 for a wall or a tackle.
+int contact_index(Target target, const Field& field);
 
 struct BodyInput {
   Vec2 position, velocity;
@@ -240,6 +261,18 @@ class World {
   // from the result. Updates the groups' tweaked masses. The report must be of the current cloud.
   void tweak(FateReport& report, std::span<const double> group_factors);
 
+  // The fate of meeting each body, each goal, the bounds and, on a field of landings, the floor
+  // outside every area and each area, now and directly (a wall ends no fate), in that order.
+  void contact_fates(std::vector<Fate>& out) const;
+  // One factor per contact fate, in contact_fates' order. The particles that meet a body, a goal,
+  // the bounds or a landing area count in a draw with their Newtonian weight times its factor,
+  // whatever fate they were predicted: a player moves onto particles predicted elsewhere, and a
+  // player given 0 must never get the ball. Those bouncing off a wall keep their fate's weight (a
+  // bounce ends no fate). Every factor is 1 until set; the factors outlive the cloud (a drop, a
+  // throw). Throws std::invalid_argument for a wrong count or a factor not finite and >= 0.
+  void set_contact_factors(std::span<const double> factors);
+  std::vector<double> contact_factors() const;  // in contact_fates' order
+
   const Field& field() const { return field_; }
   const WorldConfig& config() const { return config_; }
   const Cloud& cloud() const { return cloud_; }
@@ -283,6 +316,8 @@ class World {
   void refill(bool jitter);
   void split_round(bool jitter);
   void clear_purgatory();
+  void forget_tweak();     // the cloud is new: no particle has a fate
+  void sum_fate_mass();    // fate_mass_ from the cloud
   void own_goals(std::vector<uint8_t>& own) const;  // per goal: 1 when the last toucher's team defends it
   // Per body, the FateKind of meeting it (see FateKind); per goal, whether it is an own goal.
   void endings(std::vector<uint8_t>& body_kind, std::vector<uint8_t>& own) const;
@@ -301,11 +336,17 @@ class World {
   std::vector<HitPlan> planned_;     // per body: its next hit's plan
   std::vector<double> pass_until_;   // per body: the ball passes through it until then (after its hit)
   std::vector<BodyMotion> motion_;
+  // The tweak in force: its groups, their factors and Newtonian weight in the cloud now (kept as
+  // particles leave), and the contact factors per decision target (walls unused).
+  std::vector<FateGroup> tweak_groups_;
+  std::vector<double> tweak_factors_, fate_mass_, contact_factor_;
+  std::vector<int32_t> share_at_;  // decide()'s scratch: per target and fate, its place in decision_.shares
   std::vector<Contact> contacts_;
   std::vector<uint32_t> removed_;
   DecisionRng rng_;
   Decision decision_;
   uint64_t decided_step_ = 0;
+  double tmass_full_ = 1;  // the cloud's tweaked mass when last summed exactly
   double time_ = 0;
   float last_dt_ = 1.0f / 60;  // the next step is taken to be as long as the last
   uint64_t step_ = 0;

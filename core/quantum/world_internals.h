@@ -16,7 +16,9 @@
 namespace quantum {
 
 struct Tally {
-  double tweaked = 0, newtonian = 0, cx = 0, cy = 0;
+  // tweaked: what the option weighs in the draw; carried: the tweaked weight its particles
+  // brought from their fates (the rest's weight is the cloud's less every option's).
+  double tweaked = 0, carried = 0, newtonian = 0, cx = 0, cy = 0;
   uint32_t count = 0;
 };
 
@@ -125,7 +127,7 @@ struct ChunkGroups {
 struct WorldInternals {
   explicit WorldInternals(const Field& field)
       : geometry(field), sky(field), tall(field.has_height()), flights(tall ? 0 : 4), flights3(tall ? 4 : 0) {
-    tallies.reserve(512);
+    tallies.reserve(kBusyFateGroups);
     if (tall) tall_tracer.emplace(detail::Tall{geometry, sky});
     else flat_tracer.emplace(detail::Flat{geometry});
   }

@@ -10,7 +10,7 @@ return {
   end,
   factor = function(fate, holder, game, p)
     local dvx, dvy = holder.vx - p.vx, holder.vy - p.vy
-    if fate.kind == "body" and fate.actor == holder.name and math.sqrt(dvx * dvx + dvy * dvy) > p.slip then
+    if fate.player == holder.name and math.sqrt(dvx * dvx + dvy * dvy) > p.slip then
       return p.strength
     end
   end,

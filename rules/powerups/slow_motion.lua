@@ -5,6 +5,6 @@ return {
   defaults = { strength = 0.2, limit = 1.0 },
   phrases = { start = "Slow motion for {player}", over = "{player} is back to full speed" },
   factor = function(fate, holder, game, p)
-    if fate.kind == "body" and fate.actor == holder.name and holder.speed > p.limit then return p.strength end
+    if fate.player == holder.name and holder.speed > p.limit then return p.strength end
   end,
 }

@@ -5,6 +5,6 @@ return {
   defaults = { strength = 0.2, still = 0.1 },
   phrases = { start = "{player} is stunned: stay put", over = "{player} can move again" },
   factor = function(fate, holder, game, p)
-    if fate.kind == "body" and fate.actor == holder.name and holder.speed > p.still then return p.strength end
+    if fate.player == holder.name and holder.speed > p.still then return p.strength end
   end,
 }

@@ -14,7 +14,7 @@ namespace {
 
 // Rules that do nothing: the match is only there for what the players' input reads of it.
 struct NoRules final : game::Rules {
-  void factors(std::span<const game::FateView>, game::Match&, std::span<double> out) override {
+  void factors(std::span<const game::FateView>, game::Match&, std::span<double> out, game::FactorTerms&) override {
     std::fill(out.begin(), out.end(), 1.0);
   }
   void on_event(const game::GameEvent&, game::Match&) override {}

@@ -19,7 +19,7 @@ struct Recorder final : game::Rules {
   std::vector<Seen> seen;
   std::function<void(const game::GameEvent&, game::Match&)> act = [](const game::GameEvent&, game::Match&) {};
 
-  void factors(std::span<const game::FateView>, game::Match&, std::span<double>) override {}
+  void factors(std::span<const game::FateView>, game::Match&, std::span<double>, game::FactorTerms&) override {}
   void on_event(const game::GameEvent& e, game::Match& m) override {
     seen.push_back({e, std::string(e.actor)});
     act(e, m);

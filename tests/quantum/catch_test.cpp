@@ -140,13 +140,9 @@ TEST(Catch, RealizedCatchesFollowTheTweakedProbabilities) {
   std::vector<Event> thrown;
   scene.release(ben, {9, 0}, ThrowSpread{0.08f, 0.1f}, thrown);
   FateReport report = scene.predict(3.0f);
-  std::vector<double> factors;
-  for (const FateGroup& g : report.groups)
-    factors.push_back(g.fate.kind == FateKind::Pass        ? 6
-                      : g.fate.kind == FateKind::Intercept ? 4
-                      : g.fate.kind == FateKind::Out       ? 0.5
-                                                           : 1);
-  scene.tweak(report, factors);
+  test::tweak_by(scene, report, [](const Fate& fate) {
+    return fate.kind == FateKind::Pass ? 6 : fate.kind == FateKind::Intercept ? 4 : fate.kind == FateKind::Out ? 0.5 : 1;
+  });
   EXPECT_NEAR(test::weight_sum(scene.cloud()), 1.0, 1e-9);
   EXPECT_NEAR(test::tweaked_sum(scene.cloud()), 1.0, 1e-9);
 
@@ -163,7 +159,8 @@ TEST(Catch, RealizedCatchesFollowTheTweakedProbabilities) {
   const int kWorlds = 4000;
   std::map<std::string, double> seen;
   for (int seed = 0; seed < kWorlds; ++seed) {
-    const std::unique_ptr<World> scene_of_seed = test::scene_world(f, config, uint64_t(seed) + 1, in, scene.cloud(), ben);
+    const std::unique_ptr<World> scene_of_seed = test::scene_world(f, config, uint64_t(seed) + 1, in, scene.cloud(), ben,
+                                                                    scene.contact_factors());
     World& world = *scene_of_seed;
     std::vector<Event> events;
     for (int s = 0; s < 180 && events.empty(); ++s) world.step(kDt, in, events);

@@ -206,9 +206,7 @@ TEST(Height, RealizedShotsFollowTheTweakedProbabilities) {
   World scene(f, config);
   shoot_from_five_metres(f, in, maya, scene);
   FateReport report = scene.predict(3.0f);
-  std::vector<double> factors;
-  for (const FateGroup& g : report.groups) factors.push_back(g.fate.kind == FateKind::Goal ? 3 : 1);
-  scene.tweak(report, factors);
+  test::tweak_by(scene, report, [](const Fate& fate) { return fate.kind == FateKind::Goal ? 3 : 1; });
 
   auto what_of = [&](const Fate& fate) -> std::string {
     if (fate.kind == FateKind::Goal) return "basket";
@@ -227,7 +225,8 @@ TEST(Height, RealizedShotsFollowTheTweakedProbabilities) {
   const int kWorlds = 2000;
   std::map<std::string, double> seen;
   for (int seed = 0; seed < kWorlds; ++seed) {
-    const std::unique_ptr<World> scene_of_seed = test::scene_world(f, config, uint64_t(seed) + 1, in, scene.cloud(), maya);
+    const std::unique_ptr<World> scene_of_seed = test::scene_world(f, config, uint64_t(seed) + 1, in, scene.cloud(), maya,
+                                                                    scene.contact_factors());
     World& world = *scene_of_seed;
     std::vector<Event> events;
     std::string outcome = "none";

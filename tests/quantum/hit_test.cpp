@@ -175,9 +175,7 @@ TEST(Hit, RealizedHitsFollowTheTweakedProbabilities) {
   scene.place_bodies(standing(f));
   scene.set_cloud(fan);
   FateReport report = scene.predict(3.0f);
-  std::vector<double> factors;
-  for (const FateGroup& g : report.groups) factors.push_back(g.fate.kind == FateKind::Hit ? g.fate.target == 0 ? 3 : 1 : 0.5);
-  scene.tweak(report, factors);
+  test::tweak_by(scene, report, [](const Fate& fate) { return fate.kind == FateKind::Hit ? fate.target == 0 ? 3 : 1 : 0.5; });
   auto what = [&](FateKind kind, int target) { return kind == FateKind::Hit ? f.bodies[size_t(target)].name : "out"; };
   std::map<std::string, double> expected;
   for (const FateGroup& g : report.groups) {
@@ -188,7 +186,7 @@ TEST(Hit, RealizedHitsFollowTheTweakedProbabilities) {
   const int kWorlds = 2000;
   std::map<std::string, double> seen;
   for (int seed = 0; seed < kWorlds; ++seed) {
-    const auto world = test::scene_world(f, config, uint64_t(seed) + 1, standing(f), scene.cloud(), -1);
+    const auto world = test::scene_world(f, config, uint64_t(seed) + 1, standing(f), scene.cloud(), -1, scene.contact_factors());
     const Event e = first_event(*world, standing(f));
     ASSERT_TRUE(e.type == EventType::Hit || e.type == EventType::Out) << "seed " << seed;
     seen[what(e.type == EventType::Hit ? FateKind::Hit : FateKind::Out, e.actor)] += 1;

@@ -131,10 +131,9 @@ TEST(Landing, RealizedLandingsFollowTheTweakedProbabilities) {
   scene.place_bodies(aside());
   scene.set_cloud(all);
   FateReport report = scene.predict(5.0f);
-  std::vector<double> factors;
-  for (const FateGroup& g : report.groups)
-    factors.push_back(g.fate.kind != FateKind::Landing ? 1 : g.fate.target == red ? 3 : g.fate.target < 0 ? 0.5 : 1);
-  scene.tweak(report, factors);
+  test::tweak_by(scene, report, [&](const Fate& fate) {
+    return fate.kind != FateKind::Landing ? 1 : fate.target == red ? 3 : fate.target < 0 ? 0.5 : 1;
+  });
   auto where = [&](int a) { return a < 0 ? std::string("outside") : f.areas[size_t(a)].name; };
   std::map<std::string, double> expected;
   for (const FateGroup& g : report.groups) {
@@ -144,7 +143,8 @@ TEST(Landing, RealizedLandingsFollowTheTweakedProbabilities) {
   const int kWorlds = 2000;
   std::map<std::string, double> seen;
   for (int seed = 0; seed < kWorlds; ++seed) {
-    const std::unique_ptr<World> world = test::scene_world(f, config, uint64_t(seed) + 1, aside(), scene.cloud(), 0);
+    const std::unique_ptr<World> world = test::scene_world(f, config, uint64_t(seed) + 1, aside(), scene.cloud(), 0,
+                                                                 scene.contact_factors());
     const Event e = first_ending(*world);
     ASSERT_EQ(e.type, EventType::Landing) << "seed " << seed;
     seen[where(e.actor)] += 1;

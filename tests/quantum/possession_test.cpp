@@ -80,9 +80,7 @@ TEST(Pickup, RealizedPickupsFollowTheTweakedProbabilities) {
   scene.set_last_touch(test::body_named(f, "Bo"));
   ASSERT_TRUE(scene.loose());
   FateReport report = scene.predict(10.0f);
-  std::vector<double> factors;
-  for (const FateGroup& g : report.groups) factors.push_back(g.fate.kind == FateKind::Pickup && g.fate.target == cy ? 3 : 1);
-  scene.tweak(report, factors);
+  test::tweak_by(scene, report, [&](const Fate& fate) { return fate.kind == FateKind::Pickup && fate.target == cy ? 3 : 1; });
   auto what = [&](bool picked, int who) { return picked ? f.bodies[size_t(who)].name : std::string("none"); };
   std::map<std::string, double> expected;
   for (const FateGroup& g : report.groups) {
@@ -93,7 +91,8 @@ TEST(Pickup, RealizedPickupsFollowTheTweakedProbabilities) {
   const int kWorlds = 2000;
   std::map<std::string, double> seen;
   for (int seed = 0; seed < kWorlds; ++seed) {
-    const auto world = test::scene_world(f, config, uint64_t(seed) + 1, bodies, scene.cloud(), test::body_named(f, "Bo"));
+    const auto world = test::scene_world(f, config, uint64_t(seed) + 1, bodies, scene.cloud(), test::body_named(f, "Bo"),
+                                         scene.contact_factors());
     const Event e = first_catch(*world, bodies);
     ASSERT_EQ(e.type, EventType::Pickup) << "seed " << seed;
     seen[what(true, e.actor)] += 1;

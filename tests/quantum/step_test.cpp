@@ -139,14 +139,18 @@ TEST(Step, MovingMalletTransfersItsVelocity) {
 }
 
 // A column of resting particles in front of Blue's goal that Blue's mallet sweeps up through.
-// Their tweaked weight is zero, so every draw is a rejection and purgatory and deletion can be
-// watched; one far-away particle carries all the tweaked weight.
+// Their tweaked weight is zero and so is the mallet's contact factor, so every draw is a
+// rejection and purgatory and deletion can be watched; one far-away particle carries all the
+// tweaked weight.
 struct Sweep {
   explicit Sweep(uint32_t purgatory_frames) : world(test::quiet_airhockey(), config(purgatory_frames)) {
     Cloud c;
     c.push(0.5f, 0, 0, 0, 1, 1);
     for (int i = 1; i < 100; ++i) c.push(-0.6f, -0.3f + 0.006f * float(i), 0, 0, 1, 0);
     world.set_cloud(c);
+    std::vector<double> contacts = world.contact_factors();
+    contacts[0] = 0;  // Blue's mallet
+    world.set_contact_factors(contacts);
   }
   static WorldConfig config(uint32_t frames) {
     WorldConfig c;

@@ -51,15 +51,33 @@ inline std::vector<BodyInput> parked_in_corner(const Field& f, const std::map<st
 }
 
 // A world of seed `seed` set up as a scene: the bodies placed, the ball replaced by `cloud`,
-// `last_touch` the last to touch it. For statistical tests that replay one scene many times.
+// `last_touch` the last to touch it, the contacts weighed by `contact_factors` (none: 1). For
+// statistical tests that replay one scene many times.
 inline std::unique_ptr<World> scene_world(const Field& f, WorldConfig config, uint64_t seed,
-                                          const std::vector<BodyInput>& bodies, const Cloud& cloud, int last_touch) {
+                                          const std::vector<BodyInput>& bodies, const Cloud& cloud, int last_touch,
+                                          const std::vector<double>& contact_factors = {}) {
   config.seed = seed;
   auto world = std::make_unique<World>(f, config);
   world->place_bodies(bodies);
   world->set_cloud(cloud);
   world->set_last_touch(last_touch);
+  if (!contact_factors.empty()) world->set_contact_factors(contact_factors);
   return world;
+}
+
+// Tweaks the scene's fates and weighs its contacts with factor_of(fate) alike: with the bodies
+// where prediction has them, a particle meets what it was predicted to and weighs what its fate
+// did, so the realized outcomes follow the tweaked fates.
+template <class FactorOf>
+void tweak_by(World& world, FateReport& report, FactorOf factor_of) {
+  std::vector<double> factors;
+  for (const FateGroup& g : report.groups) factors.push_back(factor_of(g.fate));
+  world.tweak(report, factors);
+  std::vector<Fate> contacts;
+  world.contact_fates(contacts);
+  factors.clear();
+  for (const Fate& c : contacts) factors.push_back(factor_of(c));
+  world.set_contact_factors(factors);
 }
 
 inline Field airhockey() { return lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey"); }

@@ -215,6 +215,7 @@ TEST(Allocations, AHandballMatchAllocatesNothingPerFrame) {
 // Twenty times the particles, and no sound: the core's buffers are sized by the cloud, not by
 // what a frame happens to meet.
 TEST(Allocations, ALargerCloudAllocatesNothingEither) {
+  tracing = true;
   const Measured m = measure(20'000, "none");
   EXPECT_GT(m.frames_with_events, 20u);
   EXPECT_EQ(m.cxx, 0u);
