@@ -1,6 +1,7 @@
-// The `quantum` command. Exit codes, the same for every subcommand: 0 done, 1 bad input (a
-// mistyped command or option, a bad value, a file or sport that cannot be read or written), 2
-// rule specs that failed (quantum test).
+// The `quantum` command. Exit codes: 0 done, 1 bad input (a mistyped command or option, a bad
+// value, a file or sport that cannot be read or written), 2 rule specs that failed (quantum test).
+// `quantum audit` answers for the logs it checks instead: 1 a log that fails, 2 a file that is no
+// log it can read.
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -19,6 +20,7 @@
 #include "output_files.h"
 #include "recording.h"
 
+#include "audit.h"
 #include "balance.h"
 #include "desk.h"
 #include "listen.h"
@@ -226,6 +228,14 @@ int main(int argc, char** argv) {
   listen->add_option("MATCH.wav", listen_wav, "the match's sound (quantum play --audio wav:FILE)")->required();
   listen->add_option("EVENTS.jsonl", listen_events, "its event log (quantum play --events FILE)")->required();
 
+  std::vector<std::string> audit_files;
+  CLI::App* audit = app.add_subcommand("audit", "check decision logs (docs/decisions.md): the draws' arithmetic, their "
+                                                "outcomes against their chances, and the events");
+  // Not CLI::ExistingFile: a file that cannot be read is the audit's own exit 2.
+  audit->add_option("FILES", audit_files, "decision logs (--decisions) and their event logs (--events): the first "
+                                          "event log goes with the first decision log")
+      ->required();
+
   // A mistyped command or option is named, with the nearest one; any parse error exits 1.
   for (CLI::App* command : app.get_subcommands({})) command->allow_extras();
   try {
@@ -262,6 +272,7 @@ int main(int argc, char** argv) {
   game.command = command_line;
   try {
     if (test->parsed()) return quantum::tools::run_specs(spec_paths);
+    if (audit->parsed()) return quantum::tools::audit(audit_files, std::cout, std::cerr, isatty(STDERR_FILENO));
     if (track->parsed()) quantum::tools::track(tracking, std::cout);
     if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
     if (balance->parsed()) {

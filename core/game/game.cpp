@@ -678,6 +678,7 @@ void Match::add_handicaps(FactorTerms& terms) {
     for (const FactorTerm& t : given) scratch_terms_.add(k, t);
     if (given.empty()) scratch_terms_.add(k, {FactorTerm::Source::Sport, 0, -1, {}, 0, false, factors_[k]});
     const FateView& v = views_[k];
+    if (terms.skipped() && !v.contact) continue;  // the fates' factors are all 1 in a skipped frame
     const double h = handicap_for(v);
     if (h == 1) continue;
     factors_[k] *= h;

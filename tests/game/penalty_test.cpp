@@ -48,7 +48,11 @@ Touches play(const std::string& sport, uint64_t seed, bool penalized) {
       if (d->realized == int(i)) ++t.realized;
     }
   }
-  EXPECT_EQ(errors.str().find("error"), std::string::npos) << sport << " seed " << seed << ": " << errors.str();
+  // A ball whose every fate ends at the penalized player makes the frame's fates' factors
+  // skipped, which the rules report; nothing else may go wrong.
+  std::istringstream lines(errors.str());
+  for (std::string line; std::getline(lines, line);)
+    EXPECT_NE(line.find("this frame's factors are skipped"), std::string::npos) << sport << " seed " << seed << ": " << line;
   return t;
 }
 
