@@ -763,8 +763,9 @@ Content content_of(const std::string& path) {
     return Content::Decisions;
   }
   if (first.contains("draw"))
-    throw Unreadable(path + ": a version-1 decision log (no header line: from an engine before 0.42); audit needs "
-                            "version 2: play the match again with --decisions");
+    throw Unreadable(path + ": a version-1 decision log (no header line: written before 2026-11-29); audit needs "
+                            "version 2: play the match again with --decisions (a recorded one: quantum replay DIR "
+                            "--decisions FILE)");
   if (first.contains("type")) return Content::Events;
   throw Unreadable(path + ": neither a decision log (its first line has \"format\":\"quantum decisions\") nor an "
                           "events log (lines with \"type\")");
