@@ -334,14 +334,24 @@ TEST(Cli, EveryFileOnAFullDiskIsToldAtOnceAndTheOthersAreCompleted) {
 }
 
 TEST(Cli, PlayRecordsTheMatchToAWav) {
-  const std::string wav = std::filesystem::temp_directory_path() / ("quantum_match_" + std::to_string(getpid()) + ".wav");
-  const Outcome r = quantum("play rules/airhockey --seconds 8 --quiet --audio wav:" + wav);
+  const std::string stem = std::filesystem::temp_directory_path() / ("quantum_match_" + std::to_string(getpid()));
+  const std::string wav = stem + ".wav", events = stem + ".jsonl";
+  const Outcome r = quantum("play rules/airhockey --seconds 8 --quiet --audio wav:" + wav + " --events " + events);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err, "");
-  // 44.1 kHz 16-bit stereo: 176,400 bytes a second, for the match and the last phrase ringing out.
-  const auto bytes = std::filesystem::file_size(wav);
-  EXPECT_GT(bytes, 8 * 176400u);
-  EXPECT_LT(bytes, 12 * 176400u);
+  // The sound lasts as long as the match and its last phrase, ringing out: when that ends, the
+  // events log says (a goal in the last second is called after the whistle).
+  double last_phrase = 0;
+  std::ifstream log(events);
+  for (std::string line; std::getline(log, line);)
+    for (const nlohmann::json& p : nlohmann::json::parse(line).value("phrases", nlohmann::json::array()))
+      if (p.contains("end")) last_phrase = std::max(last_phrase, p.at("end").get<double>());
+  // 44.1 kHz 16-bit stereo: 176,400 bytes a second.
+  const double seconds = double(std::filesystem::file_size(wav)) / 176400;
+  EXPECT_GT(seconds, 8);
+  EXPECT_GE(seconds, last_phrase - 0.05);
+  EXPECT_LT(seconds, std::max(8.0, last_phrase) + 1.0) << "the last phrase ends at " << last_phrase << " s";
+  std::filesystem::remove(wav), std::filesystem::remove(events);
 }
 
 // `quantum track` on a synthetic recording: one JSON object per depth frame, nobody while the

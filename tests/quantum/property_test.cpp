@@ -35,7 +35,7 @@ void play(World& world, double seconds, Check check) {
     check(world, events);
     if (world.live() && s % 20 == 0) {
       FateReport r = world.predict();
-      world.tweak(r, factors_by_kind(r, KindFactors{}));
+      test::tweak_by(world, r, [](const Fate& fate) { return factor_by_kind(fate.kind, KindFactors{}); });
       check(world, events);
     }
   }
