@@ -554,7 +554,7 @@ void Sport::factors(std::span<const game::FateView> fates, game::Match& match, s
   if (mass > 0 && kept == 0 && !tackles) {
     report_zeroing(fates, match);
     for (size_t k = 0; k < fates.size(); ++k)
-      if (fates[k].mass > 0) out[k] = 1;
+      if (!fates[k].contact) out[k] = 1;
     terms.skip();
   }
 }

@@ -623,15 +623,15 @@ double Match::handicap_now(int k) const {
 
 // The handicap of the player an outcome favours: the one it reaches, or for a goal the shooter
 // when on the favoured team, else that team's mean.
-double Match::handicap_for(const FateView& v) const {
-  if (at_body(v.fate.kind)) return handicap_now(v.fate.target);
-  if (v.favours.empty()) return 1;
-  if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) return handicap_now(last_toucher_);
+Match::Favoured Match::handicap_for(const FateView& v) const {
+  if (at_body(v.fate.kind)) return {handicap_now(v.fate.target), v.fate.target};
+  if (v.favours.empty()) return {};
+  if (last_toucher_ >= 0 && players_[last_toucher_].team == v.favours) return {handicap_now(last_toucher_), last_toucher_};
   double sum = 0;
   int n = 0;
   for (size_t p = 0; p < players_.size(); ++p)
     if (players_[p].team == v.favours) sum += handicap_now(int(p)), ++n;
-  return n > 0 ? sum / n : 1;
+  return {n > 0 ? sum / n : 1, -1};
 }
 
 // A tackle is a hazard, not a flight's end: while an opponent's body touches the holder's, it
@@ -679,13 +679,11 @@ void Match::add_handicaps(FactorTerms& terms) {
     if (given.empty()) scratch_terms_.add(k, {FactorTerm::Source::Sport, 0, -1, {}, 0, false, factors_[k]});
     const FateView& v = views_[k];
     if (terms.skipped() && !v.contact) continue;  // the fates' factors are all 1 in a skipped frame
-    const double h = handicap_for(v);
-    if (h == 1) continue;
-    factors_[k] *= h;
-    const int player = at_body(v.fate.kind) ? v.fate.target
-                       : last_toucher_ >= 0 && players_[size_t(last_toucher_)].team == v.favours ? last_toucher_
-                                                                                                 : -1;
-    scratch_terms_.add(k, {FactorTerm::Source::Handicap, 0, player, player < 0 ? v.favours : std::string_view{}, 0, false, h});
+    const Favoured h = handicap_for(v);
+    if (h.handicap == 1) continue;
+    factors_[k] *= h.handicap;
+    scratch_terms_.add(k, {FactorTerm::Source::Handicap, 0, h.player, h.player < 0 ? v.favours : std::string_view{}, 0,
+                           false, h.handicap});
   }
   terms.swap(scratch_terms_);
 }

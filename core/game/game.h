@@ -131,8 +131,8 @@ class Rules {
   virtual ~Rules() = default;
   // Writes one multiplier per fate into `out` (fate factor x modifiers x power-ups; the host
   // adds the handicaps), each finite and >= 0, and its terms into `terms` (cleared by the host);
-  // a fate given no terms is taken as one of the sport's of the whole factor. Fates with mass 0
-  // are contacts (World::contact_fates). Reads the match; a failing modifier is reported through
+  // a fate given no terms is taken as one of the sport's of the whole factor. Some fates are
+  // contacts (FateView::contact, World::contact_fates). Reads the match; a failing modifier is reported through
   // match.report_error.
   virtual void factors(std::span<const FateView> fates, Match& match, std::span<double> out, FactorTerms& terms) = 0;
   // Reacts to an event through the match's actions (say, award, respawn, finish).
@@ -416,7 +416,12 @@ class Match {
   void tell_rules(size_t event);
   void retweak();
   void contest(std::span<const BodyInput> input);  // the opponents within reach may take the held ball
-  double handicap_for(const FateView& v) const;     // of the player an outcome favours
+  // The handicap of the player an outcome favours, and who that is (-1: its team's mean).
+  struct Favoured {
+    double handicap = 1;
+    int player = -1;
+  };
+  Favoured handicap_for(const FateView& v) const;
   // Completes the rules' factors of views_ into factors_ and `terms`: a fate they gave no terms
   // becomes one term of the sport's, and the handicap multiplies in as the last term.
   void add_handicaps(FactorTerms& terms);
