@@ -1,5 +1,6 @@
 #include "field_loader.h"
 
+#include "engine_paths.h"
 #include "lua_reader.h"
 #include "lua_sandbox.h"
 #include "quantum/limits.h"
@@ -178,7 +179,12 @@ Field read_field(Reader& r, int top) {
 }  // namespace
 
 std::string field_file(const std::string& path) {
-  return std::filesystem::is_directory(path) ? (std::filesystem::path(path) / "field.lua").string() : path;
+  namespace fs = std::filesystem;
+  if (fs::is_directory(path)) return (fs::path(path) / "field.lua").string();
+  // A bare name is a sport's, found as `quantum play` finds it; a path that is not there is
+  // said by load_field.
+  const bool name = path.find('/') == std::string::npos && fs::path(path).extension() != ".lua" && !fs::exists(path);
+  return name ? (find_sport(path) / "field.lua").string() : path;
 }
 
 Field load_field(const std::string& path, Params* params) {

@@ -8,7 +8,7 @@
 
 namespace quantum::lua {
 
-// `path` is a field file or a sport folder holding field.lua. The file runs as text-only Lua in
+// `path` is a field file, or a sport holding field.lua: its folder or its name (engine_paths.h). The file runs as text-only Lua in
 // a sandbox (math, string, table; no require) with an instruction and a memory budget, and must return a
 // table; `param(name, default)` reads `params` (none when null). Throws FieldError whose message
 // names the file and the place, e.g.

@@ -1,5 +1,6 @@
 #include "params.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -16,9 +17,22 @@ bool valid_name(const std::string& name) {
   return true;
 }
 
+std::string default_text(lua_State* L, int idx) {
+  switch (lua_type(L, idx)) {
+    case LUA_TNUMBER: {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.15g", lua_tonumber(L, idx));
+      return text;
+    }
+    case LUA_TBOOLEAN: return lua_toboolean(L, idx) ? "true" : "false";
+    case LUA_TSTRING: return lua_tostring(L, idx);
+    default: return "";
+  }
+}
+
 int param(lua_State* L) {
   const std::string name = check_string(L, 1);
-  const std::string* value = upvalue_self<Params>(L).read(name);
+  const std::string* value = upvalue_self<Params>(L).read(name, default_text(L, 2));
   if (!value) {
     lua_settop(L, 2);  // the default, or nil
     return 1;
@@ -63,14 +77,15 @@ void Params::install(lua_State* L) {
   lua_pop(L, 1);
 }
 
-const std::string* Params::read(const std::string& name) {
-  read_.insert(name);
+const std::string* Params::read(const std::string& name, std::string default_text) {
+  read_.emplace(name, std::move(default_text));
   const auto it = given_.find(name);
   return it == given_.end() ? nullptr : &it->second;
 }
 
 void Params::check_read(const std::string& sport) const {
-  const std::vector<std::string> known(read_.begin(), read_.end());
+  std::vector<std::string> known;
+  for (const auto& [name, default_text] : read_) known.push_back(name);
   for (const auto& [name, value] : given_) {
     if (read_.count(name)) continue;
     if (known.empty()) throw std::invalid_argument("--param " + name + ": " + sport + " reads no parameters");

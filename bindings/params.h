@@ -6,7 +6,6 @@
 #include <lua.hpp>
 
 #include <map>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -32,12 +31,15 @@ class Params {
   // "name=value" for each, in name order: what the command line would say.
   std::vector<std::string> pairs() const;
 
-  // For the Lua function: the value of `name` (noted as read), or null when none was given.
-  const std::string* read(const std::string& name);
+  // For the Lua function: the value of `name` (noted as read, with the default the script gave,
+  // as text), or null when none was given.
+  const std::string* read(const std::string& name, std::string default_text);
+  // Every parameter the scripts read so far, with its default: what `quantum sports` lists.
+  const std::map<std::string, std::string>& read() const { return read_; }
 
  private:
   std::map<std::string, std::string> given_;
-  std::set<std::string> read_;
+  std::map<std::string, std::string> read_;
 };
 
 }  // namespace quantum::lua

@@ -114,11 +114,6 @@ void or_script_error(const std::string& file, Read&& read) {
 
 }  // namespace
 
-fs::path engine_rules_folder() {
-  if (const char* env = std::getenv("QUANTUM_RULES"); env && *env) return env;
-  return QUANTUM_RULES_DIR;
-}
-
 // While a handler, a timer or a power-up's start or stop runs, the rules may act on the match;
 // while factors are computed they may only read it. Nested calls restore what was before.
 class Sport::Acting {
@@ -139,14 +134,14 @@ class Sport::Acting {
 };
 
 Sport::Sport(const std::string& folder, const fs::path& engine, Params params, const Limits& load)
-    : folder_(normal_folder(folder).string()),
+    : folder_(normal_folder(find_sport(folder).string()).string()),
       file_((fs::path(folder_) / "sport.lua").string()),
       engine_(engine),
       powerup_folders_(powerup_folders_of(folder_, engine)),
       module_folders_({fs::path(folder_), engine / "lib"}),
       params_(std::move(params)),
       sandbox_(Sandbox::make(Limits{}, true, module_folders_)) {
-  if (!fs::is_directory(folder)) throw ScriptError(folder + ": no such sport folder");
+  if (!fs::is_directory(folder_)) throw ScriptError(folder_ + ": no such sport folder");
   std::fill(std::begin(by_kind_), std::end(by_kind_), 1.0);
   lua_State* L = sandbox_->L();
   std::string field_file;
@@ -385,7 +380,7 @@ void Sport::read_audio(const Reader& r, int t) {
   lua_State* L = sandbox_->L();
   // A sound file: in the sport's folder, else among the engine's own (sounds/). One in neither is
   // the engine's name for it: the match warns once that it stays silent.
-  const std::vector<fs::path> folders = {fs::path(folder_), QUANTUM_SOUNDS_DIR};
+  const std::vector<fs::path> folders = {fs::path(folder_), engine_sounds_folder()};
   auto resolve = [&](const std::string& name, const std::string& key) {
     std::string looked;
     const fs::path found = confined_path(folders, name, key, looked);

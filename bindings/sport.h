@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "engine_paths.h"
 #include "game/game.h"
 #include "lua_push.h"
 #include "lua_sandbox.h"
@@ -34,10 +35,6 @@ struct SportAudio {
   int keep = 3;            // phrases of this priority or more wait as long as it takes (never stale)
   double wait_for = 1;     // a more urgent phrase lets one ending within this many seconds finish
 };
-
-// Where the engine keeps its own rules: power-ups (rules/powerups) and Lua helpers for sports
-// (rules/lib). The QUANTUM_RULES environment variable overrides the built-in place.
-std::filesystem::path engine_rules_folder();
 
 // What loading sport.lua and the modules it requires may spend before a match: a second of CPU,
 // as a field file gets (on a slow machine, or under the sanitizers, loading alone passed a

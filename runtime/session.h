@@ -30,7 +30,7 @@ class LineFile;
 class Recorder;
 
 struct SessionOptions {
-  std::string sport = "rules/airhockey";
+  std::string sport = "airhockey";
   std::string input = "bots";   // or a tracking source: fakenect:DIR, kinect, video:FILE, camera:N, tuio:PORT
   std::string accel;            // with a tracking source: accelerometer throws, FILE (CSV) or udp:PORT
   float fov = 82;               // with video or camera: its horizontal field of view, degrees

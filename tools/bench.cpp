@@ -27,7 +27,7 @@ namespace {
 using namespace quantum;
 
 const Field& airhockey() {
-  static const Field field = lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  static const Field field = lua::load_field("airhockey");
   return field;
 }
 
@@ -76,7 +76,7 @@ void BM_Box2DStepQuiet(benchmark::State& state) { step_scene(state, true, false)
 // the ring, the board and the floor particles take the exact search, and the rim, the board, the
 // floor and the players draw decisions as in play. A shot that ended is thrown again untimed.
 struct Shot {
-  Field field = lua::load_field(QUANTUM_SOURCE_DIR "/rules/basketball");
+  Field field = lua::load_field("basketball");
   std::vector<BodyInput> players;
   Shot() {
     for (size_t k = 0; k < field.bodies.size(); ++k) players.push_back({field.bodies[k].start, {0, 0}});
@@ -221,7 +221,7 @@ void BM_CloudStream(benchmark::State& state) {
 // as fast as it goes unless a benchmark asks for the clock.
 runtime::SessionOptions endless_match() {
   runtime::SessionOptions o;
-  o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
+  o.sport = "airhockey";
   o.seconds = 86400;  // the longest a match may be
   o.pacing = runtime::SessionOptions::Pacing::Fast;
   return o;

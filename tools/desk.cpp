@@ -4,6 +4,7 @@
 #include <optional>
 #include <ostream>
 
+#include "lua_reader.h"
 #include "picture.h"
 #include "video.h"
 #include "window.h"
@@ -21,9 +22,12 @@ enum Key : int {
 
 // The player a person plays with the mouse: `name`, or the first when "".
 int hand_body(const Field& field, const std::string& name) {
-  for (size_t k = 0; k < field.bodies.size(); ++k)
+  std::vector<std::string> names;
+  for (size_t k = 0; k < field.bodies.size(); ++k) {
     if (name.empty() || field.bodies[k].name == name) return int(k);
-  throw std::invalid_argument("--input mouse:" + name + ": no such player in the field");
+    names.push_back(field.bodies[k].name);
+  }
+  throw std::invalid_argument("--input mouse:" + name + ": " + lua::unknown_key(name, names, "player"));
 }
 
 }  // namespace

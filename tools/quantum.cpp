@@ -28,6 +28,7 @@
 #include "quantum/fate.h"
 #include "simulate.h"
 #include "spec.h"
+#include "sports.h"
 #include "track.h"
 
 namespace {
@@ -76,7 +77,7 @@ int main(int argc, char** argv) {
 
   quantum::tools::SimulateOptions sim;
   CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets (on a field with a hoop: a shooting practice) and report every event");
-  simulate->add_option("FIELD", sim.field, "field file, or a sport folder such as rules/airhockey")->required();
+  simulate->add_option("FIELD", sim.field, "a field file, or a sport: its name (quantum sports) or its folder")->required();
   simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str()->check(number_in(0, kLongest, true));
   simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str()
       ->check(CLI::Range(1u, 10'000'000u));
@@ -96,7 +97,7 @@ int main(int argc, char** argv) {
   bool quiet = false;
   std::string skills, handicaps;
   CLI::App* play = app.add_subcommand("play", "play a match of a sport between simulated players");
-  play->add_option("SPORT", game.sport, "sport folder")->capture_default_str();
+  play->add_option("SPORT", game.sport, "the sport: its name (quantum sports lists them) or its folder")->capture_default_str();
   play->add_option("--input", game.input, "where the players come from: bots (simulated players), mouse[:PLAYER] "
                                          "(you, in the view, against simulated players), or tracking: fakenect:DIR, "
                                          "kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str();
@@ -180,7 +181,7 @@ int main(int argc, char** argv) {
   int matches = 200;
   CLI::App* balance = app.add_subcommand("balance", "play many seeded matches between simulated players and report "
                                                    "win rates and gameflow");
-  balance->add_option("SPORT", study.sport, "sport folder")->capture_default_str();
+  balance->add_option("SPORT", study.sport, "the sport: its name (quantum sports lists them) or its folder")->capture_default_str();
   balance->add_option("--matches", matches, "how many matches (seeds --seed, --seed + 1, ...)")->capture_default_str();
   balance->add_option("--seed", study.seed, "first seed")->capture_default_str()->check(kSeed);
   balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)")
@@ -203,9 +204,13 @@ int main(int argc, char** argv) {
                                                         "--matches, at least 10)")->check(CLI::Range(1, 100'000));
   add_params(balance, study.params);
 
+  CLI::App* sports = app.add_subcommand("sports", "list the sports a name reaches (the current folder, QUANTUM_PATH, "
+                                                 "the engine's), with their players and parameters");
+
   std::vector<std::string> spec_paths;
   CLI::App* test = app.add_subcommand("test", "run Lua rule specs (*_spec.lua) with the scenario API");
-  test->add_option("PATHS", spec_paths, "spec files or folders (default: rules)");
+  test->add_option("PATHS", spec_paths, "spec files or folders, or sports by name (default: rules here, else the "
+                                        "engine's sports)");
 
   quantum::tools::TrackOptions tracking;
   CLI::App* track = app.add_subcommand("track", "print the players a tracking source sees, one JSON object per frame");
@@ -216,7 +221,8 @@ int main(int argc, char** argv) {
                                                "(CSV) or udp:PORT (one per datagram)");
   track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")
       ->capture_default_str()->check(number_in(1, 179));
-  track->add_option("--field", tracking.field, "field file or sport folder: its size and who plays from which end")
+  track->add_option("--field", tracking.field, "a field file or a sport (name or folder): its size and who plays from "
+                                              "which end")
       ->capture_default_str();
   add_setup(track, tracking.field_size, tracking.setup);
   track->add_option("--frames", tracking.frames, "stop after this many frames (default: all)");
@@ -272,6 +278,7 @@ int main(int argc, char** argv) {
   game.command = command_line;
   try {
     if (test->parsed()) return quantum::tools::run_specs(spec_paths);
+    if (sports->parsed()) return quantum::tools::list_sports(std::cout) == 0 ? 0 : 1;
     if (audit->parsed()) return quantum::tools::audit(audit_files, std::cout, std::cerr, isatty(STDERR_FILENO));
     if (track->parsed()) quantum::tools::track(tracking, std::cout);
     if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);

@@ -1,11 +1,16 @@
 #!/usr/bin/env bash
-# Installs every Debian package the project uses (idempotent, non-interactive) and builds Release:
-# every target, or only those named (`tools/setup.sh quantum quantum_tests`). Safe to run again:
-# it installs only what is missing and rebuilds only what changed.
+# Installs the Debian packages the project uses (idempotent, non-interactive) and builds Release:
+# every target, or only those named (`tools/setup.sh quantum quantum_tests`). With --play first,
+# only what a match needs: the engine's build and run packages, not the test tools, and a new
+# build folder configured without the tests (tools/play.sh). Safe to run again: it installs
+# only what is missing and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(
+play=0
+if [ "${1:-}" = "--play" ]; then play=1; shift; fi
+
+engine_packages=(
   build-essential cmake pkg-config
   libbox2d-dev                 # reference physics backend
   libopencv-dev libopencv-contrib-dev  # tracking (ArUco markers), debug snapshots
@@ -13,18 +18,23 @@ packages=(
   libfreenect-dev              # tracking: a live Kinect, and its recording format
   liblo-dev                    # tracking: TUIO over OSC
   libluajit-5.1-dev            # field files and rules
-  lua-busted                   # rule specs (quantum test)
   libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us libsamplerate0-dev  # quantum listen: a speech recognizer
-  gnuplot-nox                  # quantum balance --plot
   libcairo2-dev                # quantum-synth --markers: the markers as a PDF at their printed size
+  libcli11-dev nlohmann-json3-dev
+  libboost-math-dev            # chi-square distribution for the rule specs' statistics
+)
+test_packages=(
+  lua-busted                   # rule specs (quantum test)
+  gnuplot-nox                  # quantum balance --plot
   ffmpeg                       # the desk's videos (--video); ffprobe checks them in the tests
   xvfb xauth imagemagick       # the tests open the desk's window on a virtual display and photograph it
-  libcli11-dev nlohmann-json3-dev
-  libboost-math-dev            # chi-square distribution for the statistical tests
+  file                         # cpack's Debian package (tests/install)
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-dev        # tools/sanitize.sh: the sanitizers and libFuzzer (docs/reliability.md)
 )
+packages=("${engine_packages[@]}")
+if ((!play)); then packages+=("${test_packages[@]}"); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -40,9 +50,13 @@ fi
 
 mkdir -p build
 log=build/setup.log
+configure=(-DCMAKE_BUILD_TYPE=Release)
+# A play leaves a build folder's choice as it was; a new one gets no tests, whose packages it lacks.
+if ((!play)); then configure+=(-DQUANTUM_BUILD_TESTS=ON)
+elif [ ! -f build/CMakeCache.txt ]; then configure+=(-DQUANTUM_BUILD_TESTS=OFF); fi
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
-if ! { cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build -j"$(nproc)" "${targets[@]}"; } >"$log" 2>&1; then
+if ! { cmake -S . -B build "${configure[@]}" && cmake --build build -j"$(nproc)" "${targets[@]}"; } >"$log" 2>&1; then
   cat "$log"
   echo "setup: the build failed (log above, also in $log)" >&2
   exit 1

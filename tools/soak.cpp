@@ -25,7 +25,7 @@ using namespace quantum;
 namespace {
 
 struct SoakOptions {
-  std::string sport = "rules/airhockey";
+  std::string sport = "airhockey";
   double seconds = 3600;       // simulated match time, over as many matches as it takes
   uint32_t particles = 0;      // 0: the sport's
   uint64_t seed = 1;

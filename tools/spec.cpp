@@ -14,12 +14,23 @@
 namespace quantum::tools {
 
 int run_specs(const std::vector<std::string>& given) {
-  const std::vector<std::string> paths = given.empty() ? std::vector<std::string>{"rules"} : given;
-  for (const std::string& p : paths)
-    if (!std::filesystem::exists(p)) {
-      std::cerr << "quantum test: " << p << ": no such file or folder\n";
-      return 1;
+  // A checkout's specs by default, else the engine's own (an installed engine run from anywhere).
+  std::vector<std::string> paths = given;
+  if (paths.empty()) paths.push_back(std::filesystem::is_directory("rules") ? "rules" : lua::engine_rules_folder().string());
+  for (std::string& p : paths) {
+    if (std::filesystem::exists(p)) continue;
+    if (p.find('/') == std::string::npos) {
+      try {
+        p = lua::find_sport(p).string();  // a sport by name: its specs
+        continue;
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "quantum test: " << e.what() << '\n';
+        return 1;
+      }
     }
+    std::cerr << "quantum test: " << p << ": no such file or folder\n";
+    return 1;
+  }
   lua_State* L = luaL_newstate();
   if (!L) throw std::runtime_error("cannot create a Lua state");
   luaL_openlibs(L);

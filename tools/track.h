@@ -13,7 +13,7 @@ struct TrackOptions {
   std::string source;                    // fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT
   std::string accel;                     // with video, camera or tuio: accelerometers, FILE (CSV) or udp:PORT
   float fov = 82;                        // with video or camera: its horizontal field of view, degrees
-  std::string field = "rules/airhockey"; // a field file or sport folder: who plays from which end
+  std::string field = "airhockey";       // a field file or a sport (folder or name): who plays from which end
   std::string field_size;                // "L,W": the field between the markers, instead of what a Kinect measures
   tracking::SetupOptions setup;          // a table that is not the sport's field: an error (strict) or fitted
   int frames = 0;                        // stop after this many frames (0: at the end of the source)

@@ -66,6 +66,14 @@ TEST(Desk, TheViewNeedsADisplayAndSaysSo) {
   EXPECT_NE(out.find("--view needs a display"), std::string::npos) << out;
 }
 
+TEST(Desk, AMouseForNoSuchPlayerListsThePlayers) {
+  const std::string out = output_of("timeout 60 xvfb-run -a " QUANTUM_BINARY " play handball --view --input mouse:Bob "
+                                    "--audio none --quiet 2>&1; echo exit $?");
+  EXPECT_NE(out.find("--input mouse:Bob: unknown player 'Bob' (did you mean 'Ben'? known: Anna, Ben, Clara, Hugo, Ida, "
+                     "Jonas)"), std::string::npos) << out;
+  EXPECT_NE(out.find("exit 1"), std::string::npos) << out;
+}
+
 TEST(Desk, AVideoHasItsFramesItsLengthAndItsSound) {
   const fs::path dir = fs::temp_directory_path() / "quantum_video";
   fs::remove_all(dir);

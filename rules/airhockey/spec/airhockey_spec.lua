@@ -1,6 +1,6 @@
 -- Rule specs for Quantum air hockey: run with `build/quantum test rules/airhockey`.
 -- Field coordinates: Blue defends x = -1, Red defends x = +1; the table is 2 m x 1 m.
-local SPORT = "rules/airhockey"
+local SPORT = "airhockey"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 
 local helpers = require "spec_helpers"
 local first = helpers.first

@@ -2,7 +2,7 @@
 -- The half court: x across (-7.5 to 7.5), y from the baseline (0) to the half-court line (14);
 -- the ring's centre at (0, 1.575), 3.05 m up; the three-point arc 6.75 m from it. Home: Maya,
 -- Noah, Omar; Away: Pia, Quinn, Rosa; each reaches 2.4 m standing.
-local SPORT = "rules/basketball"
+local SPORT = "basketball"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 
 local helpers = require "spec_helpers"
 local outcome = helpers.outcome

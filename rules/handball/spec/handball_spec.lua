@@ -1,7 +1,7 @@
 -- Rule specs for Quantum team handball: run with `build/quantum test rules/handball`.
 -- The default hall: 20 x 10 m, Blue defends x = -10, Red x = +10, goals 3 m wide, goal areas
 -- of 6 m. Blue: Anna (goalkeeper), Ben, Clara; Red: Hugo (goalkeeper), Ida, Jonas.
-local SPORT = "rules/handball"
+local SPORT = "handball"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 
 local helpers = require "spec_helpers"
 local first = helpers.first

@@ -1,6 +1,6 @@
 -- rules/keepaway/spec/keepaway_spec.lua
 -- Rule specs for keep-away: run with `build/quantum test rules/keepaway`.
-local SPORT = "rules/keepaway"
+local SPORT = "keepaway"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 
 local helpers = require "spec_helpers"
 local outcome = helpers.outcome

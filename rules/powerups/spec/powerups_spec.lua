@@ -1,7 +1,7 @@
 -- Rule specs for the power-ups in rules/powerups, played in Quantum air hockey: each one's effect
 -- on the tweaked probabilities, and realized frequencies that follow them (chi-square, 400
 -- seeded runs, rejected only below p = 0.001; see rules/spec_helpers.lua).
-local SPORT = "rules/airhockey"
+local SPORT = "airhockey"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 local helpers = require "spec_helpers"
 
 -- A shot at Red's goal with Red's mallet half in the way; `before` moves or grants first.

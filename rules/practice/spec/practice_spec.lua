@@ -1,5 +1,5 @@
 -- Rule specs for shooting practice: run with `build/quantum test rules/practice`.
-local SPORT = "rules/practice"
+local SPORT = "practice"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 
 local count = require("spec_helpers").count
 

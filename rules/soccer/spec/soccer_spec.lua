@@ -2,7 +2,7 @@
 -- The default pitch: 30 x 18 m, Blue defends x = -15, Red x = +15, goals 3.66 m wide, goal
 -- areas of 5 m. Blue: Alba (goalkeeper), Bruno, Carla, Dario, Elena; Red: Hector (goalkeeper),
 -- Iris, Jorge, Katia, Luca. The spec's players are people: they stand where they are placed.
-local SPORT = "rules/soccer"
+local SPORT = "soccer"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 
 local helpers = require "spec_helpers"
 local first = helpers.first

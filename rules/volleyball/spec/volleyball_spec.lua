@@ -3,7 +3,7 @@
 -- Red: Holly, Iris; serves from (-9, 0) and (9, 0). Indoors (params players = 6): 9 x 9 m a side;
 -- Blue: Ana, Bea, Carla, Dora, Elsa, Fay (Carla in the front middle); Red: Holly, Iris, Jade,
 -- Kira, Lucy, Mia. The spec's players are people: they stand where they are placed.
-local SPORT = "rules/volleyball"
+local SPORT = "volleyball"  -- by name: found here, in QUANTUM_PATH or among the engine's sports
 
 local helpers = require "spec_helpers"
 local first = helpers.first
