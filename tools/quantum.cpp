@@ -7,18 +7,22 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "lua_reader.h"
 #include "output_files.h"
-#include "recording.h"
+#include "version.h"
 
 #include "audit.h"
 #include "balance.h"
@@ -33,9 +37,12 @@
 
 namespace {
 
-// A number in [lo, hi] (or (lo, hi] with `open`): CLI11's own ranges let "nan" through, since no
-// comparison with NaN is true.
-CLI::Validator number_in(double lo, double hi, bool open = false) {
+// The engine's own checks of option values. CLI11's word their errors their own way ("Value 3 not
+// in range 1 to 2"), and its ranges let "nan" through, since no comparison with NaN is true. A
+// check's description names the value it takes, in --help and in "needs a value".
+
+// A number in [lo, hi] (or (lo, hi] with `open`), e.g. "SECONDS in (0, 86400]".
+CLI::Validator number_in(const std::string& name, double lo, double hi, bool open = false) {
   std::ostringstream range;
   range << (open ? "(" : "[") << lo << ", " << hi << "]";
   const std::string interval = range.str();
@@ -46,22 +53,194 @@ CLI::Validator number_in(double lo, double hi, bool open = false) {
         if (number && std::isfinite(v) && (open ? v > lo : v >= lo) && v <= hi) return {};
         return "expected a number in " + interval + ", got '" + text + "'";
       },
-      "FLOAT in " + interval);
+      name + " in " + interval);
 }
 
-// Seeds are 64-bit: "-1" and "18446744073709551616" are not seeds (CLI11 would wrap the one and
-// clamp the other).
-const CLI::Validator kSeed(
-    [](std::string& text) -> std::string {
-      errno = 0;
-      const bool digits = !text.empty() && text.size() <= 20 && text.find_first_not_of("0123456789") == std::string::npos;
-      if (digits) std::strtoull(text.c_str(), nullptr, 10);
-      if (digits && errno == 0) return {};
-      return "expected a whole number from 0 to 18446744073709551615, got '" + text + "'";
-    },
-    "UINT64");
+// A whole number in [lo, hi], in decimal digits only: "-1" and "18446744073709551616" are not
+// seeds (CLI11 would wrap the one and clamp the other).
+CLI::Validator whole_in(const std::string& name, uint64_t lo, uint64_t hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        errno = 0;
+        const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+        const uint64_t v = digits ? std::strtoull(text.c_str(), nullptr, 10) : 0;
+        if (digits && errno == 0 && v >= lo && v <= hi) return {};
+        return "expected a whole number in " + range + ", got '" + text + "'";
+      },
+      name + " in " + range);
+}
+
+// One of a few words, e.g. "fast|box2d".
+CLI::Validator one_of(const std::vector<std::string>& words) {
+  std::string listed, choices;
+  for (size_t k = 0; k < words.size(); ++k) {
+    listed += (k == 0 ? "" : k + 1 == words.size() ? " or " : ", ") + words[k];
+    choices += (k == 0 ? "" : "|") + words[k];
+  }
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        if (std::find(words.begin(), words.end(), text) != words.end()) return {};
+        return "expected " + listed + ", got '" + text + "'";
+      },
+      choices);
+}
+
+// The check's description becomes the value's name: CLI11 would show it after the C++ type's
+// ("FLOAT:FLOAT in [0, 10]").
+CLI::Option* checked(CLI::Option* option, CLI::Validator check) {
+  option->type_name(check.get_description());
+  return option->check(check.description(""));
+}
 
 constexpr double kLongest = 24 * 3600;  // seconds: the longest match
+const CLI::Validator kSeed = whole_in("SEED", 0, UINT64_MAX);
+const CLI::Validator kParticles = whole_in("N", 1, 10'000'000);
+
+// Real command lines, each with what it does: the end of each command's --help (under "" the
+// command's own), and the first one completes "FIELD is missing".
+struct Example {
+  std::string line, what;
+};
+const std::map<std::string, std::vector<Example>> kExamples = {
+    {"",
+     {{"quantum play handball --view --input mouse:Ben", "play Ben in a handball match: the mouse runs, a click throws"},
+      {"quantum simulate basketball --snapshot shot.png", "a shooting practice, drawn from above and from the side"},
+      {"quantum balance airhockey --matches 100", "win rates and gameflow over 100 seeded matches"}}},
+    {"simulate",
+     {{"quantum simulate airhockey --seconds 30 --events -", "30 s of air hockey, every event a JSON line on stdout"},
+      {"quantum simulate basketball --snapshot shot.png", "a shooting practice, drawn from above and from the side"}}},
+    {"play",
+     {{"quantum play handball --view --input mouse:Ben", "play Ben: the mouse runs, a click throws"},
+      {"quantum play airhockey --seconds 60 --audio wav:match.wav", "a minute of air hockey, its sound to match.wav"},
+      {"quantum play soccer --seed 7 --record match", "a match kept in the new folder match, for quantum replay"}}},
+    {"replay",
+     {{"quantum replay match --view", "the match recorded by quantum play ... --record match, again in a window"},
+      {"quantum replay match --until 30 --snapshot match.png", "its picture at 0:30"}}},
+    {"balance",
+     {{"quantum balance airhockey --matches 100", "win rates and gameflow over seeds 1 to 100"},
+      {"quantum balance airhockey --matches 40 --handicap 1.5,1 --csv matches.csv",
+       "blue's mallet with handicap 1.5, every match a CSV row"}}},
+    {"test",
+     {{"quantum test", "every spec under rules (outside a checkout: those of the engine's sports)"},
+      {"quantum test airhockey", "air hockey's specs, found by its name"},
+      {"quantum test rules/airhockey/spec", "the specs in a folder"}}},
+    {"sports",
+     {{"quantum sports", "every sport a name reaches, with its folder, players and parameters"},
+      {"quantum play handball --input mouse:Ben --view", "a sport by its name, a player by one of the names listed"}}},
+    {"track",
+     {{"quantum track fakenect:table --fit-field", "a Kinect recording of a small table (quantum-synth table writes one)"},
+      {"quantum track camera:0 --field handball --accel udp:9000",
+       "hats seen from above by camera 0, throws from the players' accelerometers"}}},
+    {"listen",
+     {{"quantum listen match.wav match.jsonl", "which of the phrases in match.wav a listener would miss"},
+      {"quantum play handball --seconds 40 --audio wav:match.wav --events match.jsonl", "a match that writes the two"}}},
+    {"audit",
+     {{"quantum audit decisions.jsonl events.jsonl", "check a match's draws, and its events against them"},
+      {"quantum play airhockey --decisions decisions.jsonl --events events.jsonl", "a match that writes the two"}}},
+};
+
+std::string examples_footer(const std::vector<Example>& examples) {
+  std::string text = "Examples:";
+  for (const Example& e : examples) text += "\n  # " + e.what + "\n  " + e.line;
+  return text;
+}
+
+const std::string& first_example(const CLI::App& command) {
+  return kExamples.at(command.get_parent() ? command.get_name() : "").front().line;
+}
+
+std::vector<std::string> command_names(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* c : app.get_subcommands({})) names.push_back(c->get_name());
+  return names;
+}
+
+// One form for every bad command line: "quantum play: --threads: expected 1 or 2, got '3'".
+std::string said(const CLI::App& command, const std::string& what) {
+  return "quantum" + (command.get_parent() ? " " + command.get_name() : "") + ": " + what;
+}
+
+std::string names_of(const std::set<CLI::Option*>& options) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : options) names.push_back(o->get_name());
+  return CLI::detail::join(names, " and ");
+}
+
+// The option a CLI11 error is about: the first one its message names as a whole word
+// ("--snapshot-at requires --snapshot" is about --snapshot-at).
+const CLI::Option* named_in(const std::string& message, const CLI::App& command) {
+  const auto in_name = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.'; };
+  const CLI::Option* first = nullptr;
+  size_t first_at = std::string::npos;
+  for (const CLI::Option* o : command.get_options()) {
+    const std::string name = o->get_name();
+    for (size_t at = message.find(name); at != std::string::npos && at < first_at; at = message.find(name, at + 1)) {
+      const size_t end = at + name.size();
+      if ((at > 0 && in_name(message[at - 1])) || (end < message.size() && in_name(message[end]))) continue;
+      first = o, first_at = at;
+    }
+  }
+  return first;
+}
+
+// A command line CLI11 refused, in the engine's words: the command, the option and what it takes.
+// Nothing of CLI11's own wording comes out; the error's kind and the option it names say what
+// went wrong.
+std::string in_own_words(const CLI::App& app, const CLI::ParseError& e) {
+  const std::vector<CLI::App*> chosen = app.get_subcommands();
+  const CLI::App& command = chosen.empty() ? app : *chosen.front();
+  const std::string kind = e.get_name();
+  const CLI::Option* option = named_in(e.what(), command);
+  if (!option) {
+    if (kind != "RequiredError") return said(command, "cannot read this command line");
+    return said(command, "a command is missing (" + CLI::detail::join(command_names(app), ", ") + "; e.g. " +
+                             first_example(command) + ")");
+  }
+  const std::string name = option->get_name(), takes = option->get_type_name();
+  // Every check is one of the engine's own above: its message is already in the engine's words.
+  if (kind == "ValidationError") return said(command, e.what());
+  if (kind == "ArgumentMismatch") return said(command, takes.empty() ? name + " takes no value" : name + " needs a value (" + takes + ")");
+  if (kind == "RequiredError")
+    return said(command, name + " is missing (" + option->get_description() + "; e.g. " + first_example(command) + ")");
+  if (kind == "RequiresError") return said(command, name + " needs " + names_of(option->get_needs()) + " as well");
+  if (kind == "ExcludesError") return said(command, name + " cannot go with " + names_of(option->get_excludes()));
+  const std::string given = option->results().empty() ? "" : option->results().back();
+  if (kind == "ConversionError")
+    return said(command, takes.empty() ? name + " takes no value, got '" + given + "'"
+                                       : name + ": expected " + takes + ", got '" + given + "'");
+  return said(command, name + ": cannot read '" + given + "'");
+}
+
+std::vector<std::string> long_options(const CLI::App& command) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : command.get_options())
+    if (!o->get_lnames().empty()) names.push_back("--" + o->get_lnames().front());
+  return names;
+}
+
+// The first argument when it is neither a command nor an option of quantum's own (--help,
+// --version), named with the nearest one; CLI11 would only say that a command is required.
+std::string unknown_first(const CLI::App& app, const std::string& first) {
+  if (first[0] == '-') {
+    const std::string name = first.substr(0, first.find('='));
+    if (app.get_option_no_throw(name)) return {};
+    return said(app, quantum::lua::unknown_key(name, long_options(app), "option"));
+  }
+  const std::vector<std::string> commands = command_names(app);
+  if (std::find(commands.begin(), commands.end(), first) != commands.end()) return {};
+  return said(app, quantum::lua::unknown_key(first, commands, "command"));
+}
+
+// What a command left over, CLI11 knowing no place for it: an unknown option, named with the
+// nearest one, or a stray argument.
+std::string left_over(const CLI::App& command) {
+  const std::vector<std::string> extra = command.remaining();
+  if (extra.empty()) return {};
+  const std::string& first = extra.front();
+  if (first.rfind("--", 0) != 0) return said(command, "unexpected argument '" + first + "'");
+  return said(command, quantum::lua::unknown_key(first.substr(0, first.find('=')), long_options(command), "option"));
+}
 
 }  // namespace
 
@@ -71,27 +250,33 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", quantum::runtime::engine_version());
+  // Before the commands are added: each takes the help flag from here.
+  app.set_help_flag("-h,--help", "show this help, with examples, and exit");
+  app.set_version_flag("--version", quantum::runtime::version_line(), "show the version, the commit and the build's options");
+  app.get_formatter()->label("SUBCOMMAND", "COMMAND");
   // The last of a repeated option counts: `tools/play.sh --seconds 5` overrides the script's own.
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 
   quantum::tools::SimulateOptions sim;
   CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets (on a field with a hoop: a shooting practice) and report every event");
   simulate->add_option("FIELD", sim.field, "a field file, or a sport: its name (quantum sports) or its folder")->required();
-  simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str()->check(number_in(0, kLongest, true));
-  simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str()
-      ->check(CLI::Range(1u, 10'000'000u));
-  simulate->add_option("--seed", sim.seed, "seed of every random choice")->capture_default_str()->check(kSeed);
-  simulate->add_option("--backend", sim.backend, "fast, or box2d (the reference: one Box2D body per particle)")
-      ->capture_default_str()->check(CLI::IsMember({"fast", "box2d"}));
-  simulate->add_option("--events", sim.events, "write one JSON object per event to FILE (- for stdout)");
-  simulate->add_option("--snapshot", sim.snapshot, "draw the cloud and its predicted fates to a PNG");
+  checked(simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str(),
+          number_in("SECONDS", 0, kLongest, true));
+  checked(simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str(), kParticles);
+  checked(simulate->add_option("--seed", sim.seed, "seed of every random choice")->capture_default_str(), kSeed);
+  checked(simulate->add_option("--backend", sim.backend, "fast, or box2d (the reference: one Box2D body per particle)")
+              ->capture_default_str(),
+          one_of({"fast", "box2d"}));
+  simulate->add_option("--events", sim.events, "write one JSON object per event to FILE (- for stdout)")->type_name("FILE");
+  simulate->add_option("--snapshot", sim.snapshot, "draw the cloud and its predicted fates to a PNG")->type_name("PNG");
   simulate->add_option("--decisions", sim.decisions, "write every draw the core makes as a JSON line to FILE "
-                                                     "(- for stdout; docs/decisions.md)");
-  simulate->add_option("--fps", sim.fps, "steps per second")->capture_default_str();
-  simulate->add_option("--shooter", sim.shooter, "on a field with a hoop: the player who shoots (default: the first who catches)");
-  simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
-      ->capture_default_str()->check(CLI::Range(1u, 600u));
+                                                     "(- for stdout; docs/decisions.md)")->type_name("FILE");
+  checked(simulate->add_option("--fps", sim.fps, "steps per second")->capture_default_str(), number_in("FPS", 10, 1000));
+  simulate->add_option("--shooter", sim.shooter, "on a field with a hoop: the player who shoots (default: the first who catches)")
+      ->type_name("NAME");
+  checked(simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
+              ->capture_default_str(),
+          whole_in("FRAMES", 1, 600));
 
   quantum::runtime::SessionOptions game;
   bool quiet = false;
@@ -100,38 +285,40 @@ int main(int argc, char** argv) {
   play->add_option("SPORT", game.sport, "the sport: its name (quantum sports lists them) or its folder")->capture_default_str();
   play->add_option("--input", game.input, "where the players come from: bots (simulated players), mouse[:PLAYER] "
                                          "(you, in the view, against simulated players), or tracking: fakenect:DIR, "
-                                         "kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str();
-  play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str()->check(kSeed);
-  play->add_option("--seconds", game.seconds, "time limit (default: the sport's)")->check(number_in(0, kLongest, true));
-  play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)")
-      ->check(CLI::Range(1u, 10'000'000u));
-  play->add_option("--threads", game.threads, "threads of the quantum core, 1 or 2: a large cloud's prediction "
-                                              "shares its work (the match is the same either way)")
-      ->capture_default_str()->check(CLI::Range(1u, 2u));
-  play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)");
-  play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
-  play->add_option("--handicap", handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED");
-  play->add_option("--auto-balance", game.auto_balance, "automatic balance: each goal behind multiplies a team's "
-                                                        "handicaps by 1 + this (default: the sport's)")
-      ->check(number_in(0, 10));
+                                         "kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str()->type_name("SOURCE");
+  checked(play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str(), kSeed);
+  checked(play->add_option("--seconds", game.seconds, "time limit (default: the sport's)"), number_in("SECONDS", 0, kLongest, true));
+  checked(play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)"), kParticles);
+  checked(play->add_option("--threads", game.threads, "threads of the quantum core, 1 or 2: a large cloud's prediction "
+                                                      "shares its work (the match is the same either way)")
+              ->capture_default_str(),
+          one_of({"1", "2"}));
+  play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)")->type_name("FILE");
+  play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED")->type_name("BLUE,RED");
+  play->add_option("--handicap", handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED")->type_name("BLUE,RED");
+  checked(play->add_option("--auto-balance", game.auto_balance, "automatic balance: each goal behind multiplies a team's "
+                                                                "handicaps by 1 + this (default: the sport's)"),
+          number_in("X", 0, 10));
   game.audio = "";  // the command plays sound by default
-  play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)");
+  play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)")
+      ->type_name("none|wav:FILE");
   play->add_flag("--quiet", quiet, "no transcript");
   std::string pace;
-  play->add_option("--pace", pace, "realtime (the match waits for the clock) or fast (as fast as it goes); default: "
-                                   "realtime with a view, a sound card or a live input, else fast")
-      ->check(CLI::IsMember({"realtime", "fast"}));
+  checked(play->add_option("--pace", pace, "realtime (the match waits for the clock) or fast (as fast as it goes); default: "
+                                           "realtime with a view, a sound card or a live input, else fast"),
+          one_of({"realtime", "fast"}));
   play->add_option("--decisions", game.decisions, "write every draw the engine makes as a JSON line to FILE "
-                                                  "(- for stdout; docs/decisions.md)");
-  play->add_option("--record", game.record, "record the match into a new folder DIR, for quantum replay");
+                                                  "(- for stdout; docs/decisions.md)")->type_name("FILE");
+  play->add_option("--record", game.record, "record the match into a new folder DIR, for quantum replay")->type_name("DIR");
   play->add_option("--accel", game.accel, "with a tracking input: accelerometer samples t,player,ax,ay,az from FILE "
-                                          "(CSV) or udp:PORT (one per datagram): a player's whip throws the ball");
-  play->add_option("--fov", game.fov, "with video or camera: its horizontal field of view, degrees")
-      ->capture_default_str()->check(number_in(1, 179));
+                                          "(CSV) or udp:PORT (one per datagram): a player's whip throws the ball")
+      ->type_name("FILE|udp:PORT");
+  checked(play->add_option("--fov", game.fov, "with video or camera: its horizontal field of view, degrees")->capture_default_str(),
+          number_in("DEGREES", 1, 179));
   // A Kinect's table against the sport's field, on play and on track alike.
   auto add_setup = [](CLI::App* command, std::string& field_size, quantum::tracking::SetupOptions& setup) {
     command->add_option("--field-size", field_size, "with a Kinect: L,W, the field between the markers' centres in m, "
-                                                    "instead of what the Kinect measures");
+                                                    "instead of what the Kinect measures")->type_name("L,W");
     command->add_flag("--fit-field", setup.fit, "with a Kinect: stretch the sport's field over a table of another size");
     command->add_flag("--strict", setup.strict, "with a Kinect: stop when the table is not the sport's field size");
   };
@@ -141,7 +328,7 @@ int main(int argc, char** argv) {
   auto add_params = [](CLI::App* command, std::vector<std::string>& params) {
     command->add_option("--param", params, "NAME=VALUE for the sport's scripts (param(NAME, default) in its "
                                            "field.lua and sport.lua), e.g. --param length=40")
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)->type_name("NAME=VALUE");
   };
   add_params(play, game.params);
   add_params(simulate, sim.params);
@@ -150,28 +337,29 @@ int main(int argc, char** argv) {
   auto add_desk = [](CLI::App* command, quantum::tools::DeskOptions& d) {
     command->add_flag("--view", d.view, "show the match in a window (keys: space pause, s step, m slow motion, "
                                         "p paths, r restart, q quit)");
-    command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)");
-    command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str()
-        ->check(number_in(1, 240));
+    command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)")
+        ->type_name("FILE.mp4");
+    checked(command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str(),
+            number_in("FPS", 1, 240));
     CLI::Option* snapshot = command->add_option("--snapshot", d.snapshot, "draw the match to a PNG, at --snapshot-at "
-                                                                          "or at the end");
-    command->add_option("--snapshot-at", d.snapshot_at, "the match time of the snapshot, in seconds")
-        ->check(number_in(0, kLongest))->needs(snapshot);
+                                                                          "or at the end")->type_name("PNG");
+    checked(command->add_option("--snapshot-at", d.snapshot_at, "the match time of the snapshot, in seconds"),
+            number_in("SECONDS", 0, kLongest))->needs(snapshot);
   };
   add_desk(play, desk);
 
   quantum::runtime::SessionOptions again;
   bool replay_quiet = false;
   CLI::App* replay = app.add_subcommand("replay", "play a recorded match again (quantum play --record DIR)");
-  replay->add_option("DIR", again.replay, "the recording's folder")->required();
-  replay->add_option("--until", again.until, "stop at this match time, in seconds")->check(number_in(0, kLongest, true));
-  replay->add_option("--events", again.events, "write one JSON object per event to FILE (- for stdout)");
-  replay->add_option("--decisions", again.decisions, "write every draw as a JSON line to FILE (- for stdout)");
+  replay->add_option("DIR", again.replay, "the recording's folder, from quantum play --record DIR")->required();
+  checked(replay->add_option("--until", again.until, "stop at this match time, in seconds"), number_in("SECONDS", 0, kLongest, true));
+  replay->add_option("--events", again.events, "write one JSON object per event to FILE (- for stdout)")->type_name("FILE");
+  replay->add_option("--decisions", again.decisions, "write every draw as a JSON line to FILE (- for stdout)")->type_name("FILE");
   replay->add_option("--audio", again.audio, "none (the default), or wav:FILE to render the match's sound")
-      ->capture_default_str();
+      ->capture_default_str()->type_name("none|wav:FILE");
   std::string replay_pace;
-  replay->add_option("--pace", replay_pace, "realtime or fast; default: realtime with a view, else fast")
-      ->check(CLI::IsMember({"realtime", "fast"}));
+  checked(replay->add_option("--pace", replay_pace, "realtime or fast; default: realtime with a view, else fast"),
+          one_of({"realtime", "fast"}));
   replay->add_flag("--quiet", replay_quiet, "no transcript");
   quantum::tools::DeskOptions replay_desk;
   add_desk(replay, replay_desk);
@@ -182,26 +370,30 @@ int main(int argc, char** argv) {
   CLI::App* balance = app.add_subcommand("balance", "play many seeded matches between simulated players and report "
                                                    "win rates and gameflow");
   balance->add_option("SPORT", study.sport, "the sport: its name (quantum sports lists them) or its folder")->capture_default_str();
-  balance->add_option("--matches", matches, "how many matches (seeds --seed, --seed + 1, ...)")->capture_default_str();
-  balance->add_option("--seed", study.seed, "first seed")->capture_default_str()->check(kSeed);
-  balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)")
-      ->check(number_in(0, kLongest, true));
-  balance->add_option("--particles", study.particles, "particles in the cloud (default: the sport's)")
-      ->check(CLI::Range(1u, 10'000'000u));
-  balance->add_option("--skill", study_skills, "simulated players' skills in [0, 1], one per player: BLUE,RED");
-  balance->add_option("--handicap", study_handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED");
-  balance->add_option("--auto-balance", study.auto_balance, "automatic balance: each goal behind multiplies a "
-                                                            "team's handicaps by 1 + this (default: the sport's)")
-      ->check(number_in(0, 10));
-  balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
-      ->capture_default_str()->check(CLI::IsMember({"sport", "flat"}));
+  checked(balance->add_option("--matches", matches, "how many matches (seeds --seed, --seed + 1, ...)")->capture_default_str(),
+          whole_in("N", 1, 100'000));
+  checked(balance->add_option("--seed", study.seed, "first seed")->capture_default_str(), kSeed);
+  checked(balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)"),
+          number_in("SECONDS", 0, kLongest, true));
+  checked(balance->add_option("--particles", study.particles, "particles in the cloud (default: the sport's)"), kParticles);
+  balance->add_option("--skill", study_skills, "simulated players' skills in [0, 1], one per player: BLUE,RED")
+      ->type_name("BLUE,RED");
+  balance->add_option("--handicap", study_handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED")
+      ->type_name("BLUE,RED");
+  checked(balance->add_option("--auto-balance", study.auto_balance, "automatic balance: each goal behind multiplies a "
+                                                                    "team's handicaps by 1 + this (default: the sport's)"),
+          number_in("X", 0, 10));
+  checked(balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
+              ->capture_default_str(),
+          one_of({"sport", "flat"}));
   std::string balance_csv, balance_plot;
   int sweep_matches = 0;
-  balance->add_option("--csv", balance_csv, "write every match as a CSV row to FILE (- for stdout)");
+  balance->add_option("--csv", balance_csv, "write every match as a CSV row to FILE (- for stdout)")->type_name("FILE");
   balance->add_option("--plot", balance_plot, "sweep the first team's handicap and the fate factors' strength and "
-                                              "write the CSVs, PNG plots (gnuplot) and summary.md to DIR");
-  balance->add_option("--sweep-matches", sweep_matches, "matches per point of a --plot sweep (default: a quarter of "
-                                                        "--matches, at least 10)")->check(CLI::Range(1, 100'000));
+                                              "write the CSVs, PNG plots (gnuplot) and summary.md to DIR")->type_name("DIR");
+  checked(balance->add_option("--sweep-matches", sweep_matches, "matches per point of a --plot sweep (default: a quarter "
+                                                                "of --matches, at least 10)"),
+          whole_in("N", 1, 100'000));
   add_params(balance, study.params);
 
   CLI::App* sports = app.add_subcommand("sports", "list the sports a name reaches (the current folder, QUANTUM_PATH, "
@@ -214,63 +406,63 @@ int main(int argc, char** argv) {
 
   quantum::tools::TrackOptions tracking;
   CLI::App* track = app.add_subcommand("track", "print the players a tracking source sees, one JSON object per frame");
-  track->add_option("SOURCE", tracking.source, "fakenect:DIR (a Kinect recording), kinect (a live Kinect), "
-                                               "video:FILE or camera:N (hats seen from above), tuio:PORT (TUIO 1.1)")
+  track->add_option("SOURCE", tracking.source, "fakenect:DIR for a Kinect recording, kinect for a live Kinect, "
+                                               "video:FILE or camera:N for hats seen from above, tuio:PORT for TUIO 1.1")
       ->required();
   track->add_option("--accel", tracking.accel, "with video, camera or tuio: accelerometer samples t,player,ax,ay,az from FILE "
-                                               "(CSV) or udp:PORT (one per datagram)");
-  track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")
-      ->capture_default_str()->check(number_in(1, 179));
+                                               "(CSV) or udp:PORT (one per datagram)")->type_name("FILE|udp:PORT");
+  checked(track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")
+              ->capture_default_str(),
+          number_in("DEGREES", 1, 179));
   track->add_option("--field", tracking.field, "a field file or a sport (name or folder): its size and who plays from "
                                               "which end")
-      ->capture_default_str();
+      ->capture_default_str()->type_name("FIELD");
   add_setup(track, tracking.field_size, tracking.setup);
-  track->add_option("--frames", tracking.frames, "stop after this many frames (default: all)");
+  checked(track->add_option("--frames", tracking.frames, "stop after this many frames (default, 0: all)"),
+          whole_in("N", 0, INT32_MAX));
   add_params(track, tracking.params);
 
   std::string listen_wav, listen_events;
   CLI::App* listen = app.add_subcommand("listen", "report which of a match's phrases a listener would miss: a speech "
                                                   "recognizer over the played phrases of a WAV and its event log");
-  listen->add_option("MATCH.wav", listen_wav, "the match's sound (quantum play --audio wav:FILE)")->required();
-  listen->add_option("EVENTS.jsonl", listen_events, "its event log (quantum play --events FILE)")->required();
+  listen->add_option("MATCH.wav", listen_wav, "the match's sound, from quantum play --audio wav:FILE")->required();
+  listen->add_option("EVENTS.jsonl", listen_events, "its event log, from quantum play --events FILE")->required();
 
   std::vector<std::string> audit_files;
   CLI::App* audit = app.add_subcommand("audit", "check decision logs (docs/decisions.md): the draws' arithmetic, their "
                                                 "outcomes against their chances, and the events");
   // Not CLI::ExistingFile: a file that cannot be read is the audit's own exit 2.
-  audit->add_option("FILES", audit_files, "decision logs (--decisions) and their event logs (--events): the first "
-                                          "event log goes with the first decision log")
+  audit->add_option("FILES", audit_files, "decision logs from --decisions and their event logs from --events: the "
+                                          "first event log goes with the first decision log")
       ->required();
 
-  // A mistyped command or option is named, with the nearest one; any parse error exits 1.
+  app.footer(examples_footer(kExamples.at("")));
+  for (CLI::App* command : app.get_subcommands({})) {
+    command->group("Commands")->footer(examples_footer(kExamples.at(command->get_name())));
+    // A positional's name says what it takes (FIELD, DIR): no C++ type after it in --help.
+    for (CLI::Option* o : command->get_options())
+      if (o->get_positional()) o->type_name("");
+  }
+
+  // A bad command line is told in the engine's words, naming the command and the option, and exits
+  // 1. Unknown words are left to the commands (allow_extras) so that they can be named with the
+  // nearest known one.
   for (CLI::App* command : app.get_subcommands({})) command->allow_extras();
+  std::string bad;
   try {
-    std::vector<std::string> names;
-    for (const CLI::App* command : app.get_subcommands({})) names.push_back(command->get_name());
-    if (argc > 1 && argv[1][0] != '-' && std::find(names.begin(), names.end(), argv[1]) == names.end()) {
-      throw CLI::ValidationError(quantum::lua::unknown_key(argv[1], names, "command"));
+    if (argc > 1) bad = unknown_first(app, argv[1]);
+    if (bad.empty()) {
+      app.parse(argc, argv);
+      for (const CLI::App* command : app.get_subcommands())
+        if (bad.empty()) bad = left_over(*command);
     }
-    app.parse(argc, argv);
-    for (CLI::App* command : app.get_subcommands()) {
-      const std::vector<std::string> extra = command->remaining();
-      if (extra.empty()) continue;
-      std::vector<std::string> options;
-      for (const CLI::Option* o : command->get_options())
-        if (!o->get_lnames().empty()) options.push_back("--" + o->get_lnames().front());
-      const std::string& first = extra.front();
-      const std::string name = first.substr(0, first.find('='));
-      throw CLI::ValidationError(first.rfind("--", 0) == 0
-                                     ? quantum::lua::unknown_key(name, options, "option") + " for quantum " + command->get_name()
-                                     : "quantum " + command->get_name() + ": unexpected argument '" + first + "'");
-    }
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "quantum: " << e.what() << "\n(quantum --help lists the commands, quantum COMMAND --help their options)\n";
+    bad = in_own_words(app, e);
+  }
+  if (!bad.empty()) {
+    std::cerr << bad << "\n(quantum --help lists the commands, quantum COMMAND --help their options)\n";
     return 1;
   }
   std::string command_line = "quantum";

@@ -5,6 +5,7 @@
 // `build/quantum` command line in a shell example uses only options that command has.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -24,12 +25,17 @@ struct Example {
   int line;  // where the example starts in its doc
 };
 
-std::vector<Example> examples() {
+// README.md and docs/*.md.
+std::vector<fs::path> docs() {
   std::vector<fs::path> docs = {fs::path(QUANTUM_SOURCE_DIR) / "README.md"};
   for (const auto& entry : fs::directory_iterator(fs::path(QUANTUM_SOURCE_DIR) / "docs"))
     if (entry.path().extension() == ".md") docs.push_back(entry.path());
+  return docs;
+}
+
+std::vector<Example> examples() {
   std::vector<Example> out;
-  for (const fs::path& doc : docs) {
+  for (const fs::path& doc : docs()) {
     std::ifstream in(doc);
     std::string line;
     int n = 0;
@@ -141,14 +147,19 @@ TEST(Docs, EveryCppExampleQuotesAShippedFile) {
   EXPECT_GT(quoted, 0);
 }
 
-std::string help_of(const std::string& command, const std::string& program = QUANTUM_BINARY) {
+// What a shell command prints, stdout and stderr alike.
+std::string output_of(const std::string& command) {
   std::string out;
-  FILE* p = popen((program + " " + command + " --help 2>&1").c_str(), "r");
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
   if (!p) return out;
   std::array<char, 4096> buf;
   while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
   pclose(p);
   return out;
+}
+
+std::string help_of(const std::string& command, const std::string& program = QUANTUM_BINARY) {
+  return output_of(program + " " + command + " --help");
 }
 
 TEST(Docs, EveryQuantumCommandLineUsesOptionsItHas) {
@@ -159,7 +170,8 @@ TEST(Docs, EveryQuantumCommandLineUsesOptionsItHas) {
     if (e.language != "sh") continue;
     for (auto m = std::sregex_iterator(e.text.begin(), e.text.end(), command); m != std::sregex_iterator(); ++m) {
       const std::string sub = (*m)[1], args = (*m)[2];
-      const std::string help = help_of(sub);
+      std::string help = help_of(sub);
+      help.resize(std::min(help.size(), help.find("\nExamples:\n")));  // the examples name options too
       for (auto o = std::sregex_iterator(args.begin(), args.end(), option); o != std::sregex_iterator(); ++o)
         EXPECT_NE(help.find((*o)[1].str()), std::string::npos)
             << e.doc << ":" << e.line << ": `quantum " << sub << "` has no option " << (*o)[1];
@@ -167,6 +179,21 @@ TEST(Docs, EveryQuantumCommandLineUsesOptionsItHas) {
     }
   }
   EXPECT_GT(checked, 5);
+}
+
+// What the docs say `quantum` says, it says: "`quantum paly` says `did you mean 'play'?`".
+TEST(Docs, EveryQuotedMessageIsWhatQuantumSays) {
+  const std::regex quoted(R"(`quantum ([^`]+)` says `([^`]+)`)");
+  int checked = 0;
+  for (const fs::path& doc : docs()) {
+    const std::string text = read(doc);
+    for (auto m = std::sregex_iterator(text.begin(), text.end(), quoted); m != std::sregex_iterator(); ++m) {
+      const std::string said = output_of(QUANTUM_BINARY " " + (*m)[1].str());
+      EXPECT_NE(said.find((*m)[2].str()), std::string::npos) << doc.filename() << ": quantum " << (*m)[1] << " says " << said;
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 3);
 }
 
 // The same for `build/quantum-synth`, which writes the recordings the tracking docs talk about.

@@ -13,9 +13,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <sstream>
 
 #include "field_loader.h"
+#include "recording.h"
 #include "scenes.h"
 #include "synthetic.h"
 #include "../shipped_sports.h"
@@ -505,6 +508,130 @@ TEST(Cli, AMistypedCommandOrOptionIsNamedWithTheNearestOne) {
   r = quantum("simulate");  // a missing argument is bad input too, with the same code
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("FIELD"), std::string::npos) << r.err;
+}
+
+// Whatever is wrong with a command line, the message is the engine's own: it names the command
+// and the option, and none of CLI11's wording comes through ("Value 3 not in range 1 to 2",
+// "--seconds: 1 required FLOAT missing", "FIELD is required", "Could not convert: ...").
+TEST(Cli, EveryBadCommandLineIsToldInTheEnginesWords) {
+  struct Bad {
+    std::string args, command, option;
+  };
+  const Bad table[] = {
+      {"", "", "command"},
+      {"--nope", "", "--nope"},
+      {"plya", "", "plya"},
+      {"play --threads 3", "play", "--threads"},
+      {"play --seconds", "play", "--seconds"},
+      {"play --seconds=", "play", "--seconds"},
+      {"play --seconds -5", "play", "--seconds"},
+      {"play --seed abc", "play", "--seed"},
+      {"play --particles 0", "play", "--particles"},
+      {"play --field-size", "play", "--field-size"},
+      {"play --pace slow", "play", "--pace"},
+      {"play --snapshot-at 3", "play", "--snapshot-at"},
+      {"play --quiet=abc", "play", "--quiet"},
+      {"play --fov", "play", "--fov"},
+      {"play --video-fps 0", "play", "--video-fps"},
+      {"play --param", "play", "--param"},
+      {"play --sed 3", "play", "--sed"},
+      {"simulate", "simulate", "FIELD"},
+      {"simulate rules/airhockey --backend physx", "simulate", "--backend"},
+      {"simulate rules/airhockey --fps abc", "simulate", "--fps"},
+      {"simulate rules/airhockey --fps 5", "simulate", "--fps"},
+      {"simulate rules/airhockey --purgatory 0", "simulate", "--purgatory"},
+      {"simulate rules/airhockey --particles 1.5", "simulate", "--particles"},
+      {"replay", "replay", "DIR"},
+      {"replay match --until 0", "replay", "--until"},
+      {"replay match --pace slow", "replay", "--pace"},
+      {"replay match --snapshot-at 2", "replay", "--snapshot-at"},
+      {"replay match --view=maybe", "replay", "--view"},
+      {"balance --matches abc", "balance", "--matches"},
+      {"balance --matches 0", "balance", "--matches"},
+      {"balance --factors none", "balance", "--factors"},
+      {"balance --sweep-matches 0", "balance", "--sweep-matches"},
+      {"balance --csv", "balance", "--csv"},
+      {"balance --matchs=4", "balance", "--matchs"},
+      {"test --nope", "test", "--nope"},
+      {"track", "track", "SOURCE"},
+      {"track kinect --frames abc", "track", "--frames"},
+      {"track kinect --frames", "track", "--frames"},
+      {"track kinect --frames -1", "track", "--frames"},
+      {"track kinect --fov 180", "track", "--fov"},
+      {"listen", "listen", "MATCH.wav"},
+      {"listen match.wav", "listen", "EVENTS.jsonl"},
+      {"listen match.wav match.jsonl extra.txt", "listen", "extra.txt"},
+      {"audit", "audit", "FILES"},
+  };
+  const std::string hint = "\n(quantum --help lists the commands, quantum COMMAND --help their options)\n";
+  const std::regex clis_words(R"(not in range|required|Could not convert|not in \{|requires|Expected|At least|At Most|)"
+                              R"(was not expected|subcommand|true/false|\b(FLOAT|UINT|INT|TEXT)\b)");
+  std::set<std::string> commands;
+  for (const Bad& bad : table) {
+    SCOPED_TRACE(bad.args);
+    const Outcome r = quantum(bad.args);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.out, "");
+    ASSERT_GT(r.err.size(), hint.size());
+    EXPECT_EQ(r.err.substr(r.err.size() - hint.size()), hint) << r.err;
+    const std::string said = r.err.substr(0, r.err.size() - hint.size());
+    EXPECT_EQ(said.find('\n'), std::string::npos) << "one line: " << said;
+    EXPECT_EQ(said.rfind(bad.command.empty() ? "quantum: " : "quantum " + bad.command + ": ", 0), 0u) << said;
+    EXPECT_NE(said.find(bad.option), std::string::npos) << said;
+    EXPECT_FALSE(std::regex_search(said, clis_words)) << said;
+    commands.insert(bad.command);
+  }
+  EXPECT_EQ(commands.size(), 9u) << "every command, and none";
+}
+
+// --version says which build this is: the project's version, the commit (as recordings and
+// decision logs name it) and the build's options.
+TEST(Cli, VersionNamesTheProjectVersionTheCommitAndTheBuild) {
+  const Outcome r = quantum("--version");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("quantum " QUANTUM_PROJECT_VERSION " (commit " + std::string(quantum::runtime::engine_version()) +
+                            ", " QUANTUM_BUILD_TYPE ", ",
+                        0),
+            0u)
+      << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(, (gcc|clang) \d+\.\d+[^,]*, sanitizers (on|off)\)\n$)"))) << r.out;
+}
+
+// Each command's --help ends with two or three examples, real command lines whose options are
+// their command's own; a command's first example is of that command.
+TEST(Cli, EveryHelpEndsWithExamplesOfRealCommandLines) {
+  const std::vector<std::string> commands = {"simulate", "play", "replay", "balance", "test", "track", "listen", "audit"};
+  std::map<std::string, std::string> help;
+  for (const std::string& command : commands) help[command] = quantum(command + " --help").out;
+  help[""] = quantum("--help").out;
+  for (const auto& [command, text] : help) {
+    SCOPED_TRACE(command);
+    const size_t at = text.find("\nExamples:\n");
+    ASSERT_NE(at, std::string::npos) << text;
+    EXPECT_FALSE(std::regex_search(text.substr(0, at), std::regex(R"(\b(FLOAT|UINT|INT|TEXT)\b)"))) << text;
+    std::istringstream lines(text.substr(at + 11));
+    int examples = 0;
+    for (std::string line; std::getline(lines, line);) {
+      if (line.empty() || line.rfind("  # ", 0) == 0) continue;
+      ASSERT_EQ(line.rfind("  quantum ", 0), 0u) << line;
+      std::istringstream words(line);
+      std::string program, sub;
+      words >> program >> sub;
+      ASSERT_EQ(std::count(commands.begin(), commands.end(), sub), 1) << line;
+      if (examples == 0 && !command.empty()) {
+        EXPECT_EQ(sub, command) << line;
+      }
+      const std::string options = help.at(sub).substr(0, help.at(sub).find("\nExamples:\n"));
+      for (std::string word; words >> word;) {
+        if (word.rfind("--", 0) == 0) {
+          EXPECT_NE(options.find(" " + word + " "), std::string::npos) << word << " in " << line;
+        }
+      }
+      ++examples;
+    }
+    EXPECT_GE(examples, 2);
+    EXPECT_LE(examples, 3);
+  }
 }
 
 TEST(Cli, VersionAndZeroSeconds) {
