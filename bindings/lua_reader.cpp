@@ -1,6 +1,7 @@
 #include "lua_reader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -14,17 +15,21 @@ ReadError::ReadError(std::string p, std::string m)
 
 namespace {
 
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
+// Optimal string alignment distance, ignoring case: how many letters added, dropped or changed,
+// or neighbours swapped, turn one into the other. A swap is one slip of the fingers, not two.
+size_t slips(std::string_view a, std::string_view b) {
+  const auto same = [](char x, char y) { return std::tolower((unsigned char)x) == std::tolower((unsigned char)y); };
+  std::vector<size_t> before(b.size() + 1), row(b.size() + 1), next(b.size() + 1);
   std::iota(row.begin(), row.end(), size_t(0));
   for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
+    next[0] = i;
     for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
+      next[j] = std::min({row[j] + 1, next[j - 1] + 1, row[j - 1] + (same(a[i - 1], b[j - 1]) ? 0 : 1)});
+      if (i > 1 && j > 1 && same(a[i - 1], b[j - 2]) && same(a[i - 2], b[j - 1]))
+        next[j] = std::min(next[j], before[j - 2] + 1);
     }
+    std::swap(before, row);
+    std::swap(row, next);
   }
   return row[b.size()];
 }
@@ -35,17 +40,34 @@ std::string nearest(std::string_view key, std::span<const std::string> known) {
   std::string best;
   size_t best_distance = 0;
   for (const std::string& k : known) {
-    const size_t d = edit_distance(key, k);
+    const size_t d = slips(key, k);
     if (best.empty() || d < best_distance) best = k, best_distance = d;
   }
-  // Near means a slip of the keyboard, not another word: at most a third of the key wrong.
+  // Worth suggesting: at most a third of the key wrong.
   return best_distance <= std::max<size_t>(2, key.size() / 3) ? best : std::string();
+}
+
+std::string near_miss(std::string_view key, std::span<const std::string> known) {
+  std::string best;
+  size_t best_slips = 0;
+  for (const std::string& k : known) {
+    // A typist slips per letter typed. In two or three letters one change makes another word (ox
+    // beside on), so only case counts; from four letters one slip (phrase), from eight two (modifer).
+    const size_t allowed = std::min<size_t>(2, k.size() / 4);
+    // A slip changes the length by one at most: a key further off is no near miss, unmeasured.
+    if (key.size() > k.size() + allowed || k.size() > key.size() + allowed) continue;
+    const size_t d = slips(key, k);
+    if (d <= allowed && (best.empty() || d < best_slips)) best = k, best_slips = d;
+  }
+  return best;
 }
 
 std::string unknown_key(std::string_view key, std::span<const std::string> known, std::string_view what) {
   std::string list;
   for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-  const std::string near = nearest(key, known);
+  // A key refused as a slip names the key it is a slip of.
+  std::string near = near_miss(key, known);
+  if (near.empty()) near = nearest(key, known);
   return "unknown " + std::string(what) + " '" + std::string(key) + "' (" +
          (near.empty() ? "" : "did you mean '" + near + "'? ") + "known: " + (list.empty() ? "none" : list) + ")";
 }
@@ -59,6 +81,15 @@ void Reader::only_keys(int idx, const std::string& place, std::initializer_list<
 
 void Reader::only_keys(int idx, const std::string& place, std::span<const std::string> known,
                        std::string_view what) const {
+  check_keys(idx, place, known, what, false);
+}
+
+void Reader::no_near_misses(int idx, const std::string& place, std::span<const std::string> known) const {
+  check_keys(idx, place, known, "key", true);
+}
+
+void Reader::check_keys(int idx, const std::string& place, std::span<const std::string> known, std::string_view what,
+                        bool own_keys) const {
   idx = absolute(idx);
   lua_pushnil(L);
   while (lua_next(L, idx)) {
@@ -66,10 +97,11 @@ void Reader::only_keys(int idx, const std::string& place, std::span<const std::s
     lua_pop(L, 1);
     if (lua_type(L, -1) != LUA_TSTRING) continue;  // array parts are checked by their readers
     const std::string key = lua_tostring(L, -1);
-    if (std::find(known.begin(), known.end(), key) == known.end()) {
-      lua_pop(L, 1);
-      fail(place, unknown_key(key, known, what));
-    }
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    if (own_keys && near_miss(key, known).empty()) continue;
+    lua_pop(L, 1);
+    fail(place, unknown_key(key, known, what) +
+                    (own_keys ? "; keys of your own are welcome here, but this one looks like a typo" : ""));
   }
 }
 

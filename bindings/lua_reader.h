@@ -1,7 +1,8 @@
 // Reads the tables a script returns (field.lua, sport.lua, power-ups, a spec's options) strictly:
 // every place it looks at is named in its errors, an unknown key is named with the nearest known
 // one (a typo is never silently ignored), and values are read raw, so a table's metamethods
-// never run outside a protected call.
+// never run outside a protected call. The tables a designer also keeps data in (the sport's, its
+// match, a power-up's) take any key but a near miss of the engine's.
 #pragma once
 
 #include <lua.hpp>
@@ -25,8 +26,14 @@ struct ReadError : std::runtime_error {
   std::string place, message;
 };
 
-// The closest of `known` to `key` by edit distance ("phrase" -> "phrases"); "" when none is near.
+// The closest of `known` to `key` ("phrase" -> "phrases") when at most a third of the key is
+// wrong, else "": looser than near_miss, to suggest in a message, never to refuse a key.
 std::string nearest(std::string_view key, std::span<const std::string> known);
+// The one of `known` that `key` is a slip of, "" when none: ignoring case, at most one slip (a
+// letter added, dropped or changed, or two neighbours swapped) per four letters of the known key,
+// and at most two. "On" is a near miss of "on", "phrase" of "phrases", "modifer" of "modifiers";
+// "hp" and "turn_factor" are no near miss of anything.
+std::string near_miss(std::string_view key, std::span<const std::string> known);
 // "unknown key 'phrase' (did you mean 'phrases'? known: a, b, c)"
 std::string unknown_key(std::string_view key, std::span<const std::string> known, std::string_view what = "key");
 
@@ -42,6 +49,9 @@ class Reader {
   void only_keys(int idx, const std::string& place, std::initializer_list<const char*> known) const;
   void only_keys(int idx, const std::string& place, std::span<const std::string> known,
                  std::string_view what = "key") const;
+  // Fails on a string key of the table at idx that is a near miss of one in `known`; any other
+  // key is the script's own, kept for its functions to read.
+  void no_near_misses(int idx, const std::string& place, std::span<const std::string> known) const;
 
   // Pushes t[key] (raw); false, and nothing pushed, when it is nil.
   bool field(int idx, const char* key) const;
@@ -101,6 +111,8 @@ class Reader {
   lua_State* const L;
 
  private:
+  void check_keys(int idx, const std::string& place, std::span<const std::string> known, std::string_view what,
+                  bool own_keys) const;
   int absolute(int idx) const { return idx > 0 || idx <= LUA_REGISTRYINDEX ? idx : lua_gettop(L) + idx + 1; }
 };
 

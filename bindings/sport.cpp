@@ -181,7 +181,7 @@ Sport::~Sport() = default;
 void Sport::read_sport(int t) {
   lua_State* L = sandbox_->L();
   const Reader r(L);
-  r.only_keys(t, "", kSportKeys);
+  r.no_near_misses(t, "", kSportKeys);
   name_ = r.string(t, "name", "", folder_, false);
   const double particles = r.number(t, "particles", "", double(particles_), false);
   if (!(particles >= 1 && particles <= 10'000'000)) r.fail("particles", "must be between 1 and 10,000,000");
@@ -292,19 +292,14 @@ void Sport::read_sport(int t) {
   }
 }
 
-// match = {seconds, start, stall}, and whatever else the sport keeps there (first_to, ...): a key one
-// slip away from the engine's own is taken for a typo.
+// match = {seconds, start, stall}, and whatever else the sport keeps there (first_to, ...).
 void Sport::read_match(const Reader& r, int t) {
   lua_State* L = sandbox_->L();
   if (!r.field(t, "match")) return;
   r.expect(LUA_TTABLE, "match");
   const int m = lua_gettop(L);
   const std::vector<std::string> known = {"seconds", "start", "stall"};
-  r.map(m, "match", [&](const std::string& key, const std::string&) {
-    if (std::find(known.begin(), known.end(), key) == known.end() && !nearest(key, known).empty())
-      r.fail("match", unknown_key(key, known) + "; the sport's own settings are welcome here, but this one looks "
-                                                "like a typo");
-  });
+  r.no_near_misses(m, "match", known);
   seconds_ = r.number(m, "seconds", "match", seconds_, false);
   if (!(seconds_ > 0 && seconds_ <= 24 * 3600)) r.fail("match.seconds", "must be in (0, 86400]");
   stall_ = r.number(m, "stall", "match", stall_, false);
@@ -783,7 +778,7 @@ int Sport::powerup(const std::string& name) {
   try {
     r.expect(LUA_TTABLE, "", "a table");
     const int t = lua_gettop(L);
-    r.only_keys(t, "", kPowerupKeys);
+    r.no_near_misses(t, "", kPowerupKeys);
     if (!r.field(t, "factor")) r.fail("", "needs factor = function(fate, holder, game, p)");
     r.expect(LUA_TFUNCTION, "factor");
     lua_pop(L, 1);

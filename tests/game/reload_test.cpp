@@ -145,6 +145,23 @@ TEST(Reload, ANewVersionKeepsItsOwnStateWhenTheOldHadNone) {
   EXPECT_TRUE(m.match->errors().empty()) << m.match->errors()[0];
 }
 
+// A constant kept in the sport table is code, not state: the new version's value is the one its
+// handlers read.
+TEST(Reload, AHandlerReadsTheNewVersionsOwnKeys) {
+  const Rules r("own_keys");
+  const std::string says_cheer = "sport.on.intercept = function(game, e) game.say(sport.cheer .. ' x' .. sport.hp) end\n";
+  r.write(r.sport / "sport.lua", r.sport_ending_with("sport.cheer = 'Well held'\nsport.hp = 1\n" + says_cheer));
+  Running m(r);
+  lua::Reloader reloader(*m.sport);
+  r.write(r.sport / "sport.lua", r.sport_ending_with("sport.cheer = 'Held again'\nsport.hp = 2\n" + says_cheer));
+  std::ostringstream errors;
+  ASSERT_EQ(poll_until_reloaded(reloader, m, errors), 1) << errors.str();
+  for (int frame = 0; frame < 120 && m.match->said().empty(); ++frame) m.match->step(m.still);
+  ASSERT_FALSE(m.match->said().empty()) << (m.match->errors().empty() ? "" : m.match->errors()[0]);
+  EXPECT_EQ(m.match->said().back().text, "Held again x2");
+  EXPECT_TRUE(m.match->errors().empty()) << m.match->errors()[0];
+}
+
 // The old state is copied by the engine, in C: a state too deep or too large for it is refused
 // whole with the limit named (60,000 entries are 120,000 keys and values), on_reload gets
 // nothing, and the match goes on.

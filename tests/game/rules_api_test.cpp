@@ -1,7 +1,8 @@
 // The rules API that sports written from the docs asked for: strict reading of sport.lua and
-// power-ups (unknown keys named with the nearest known one), phrases checked at load and when
-// said, a factor that zeroes every fate named, modules, each event's own phrases in the log,
-// and hints that make simulated players take turns and aim where the sport says.
+// power-ups (a near miss of the engine's keys named with the key it slips from, the script's own
+// keys kept for its handlers), phrases checked at load and when said, a factor that zeroes every
+// fate named, modules, each event's own phrases in the log, and hints that make simulated players
+// take turns and aim where the sport says.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lua_reader.h"
 #include "recording.h"
 #include "session.h"
 #include "sport.h"
@@ -78,6 +80,42 @@ TEST(SportFile, UnknownKeysAreNamedWithTheNearestKnownOne) {
   EXPECT_EQ(load_error("own", "return { match = { seconds = 10, first_to = 3 } }"), "");
 }
 
+// A near miss is a slip of the keyboard, not any word: Phrases, phrase, modifer and on_relaod are
+// slips; hp, id and ok beside on, or turn_factor beside factors, are other words.
+TEST(SportFile, ANearMissIsASlipOfTheKeyboard) {
+  const std::vector<std::string> sport = {"name", "phrases", "factors", "modifiers", "on", "on_reload"};
+  EXPECT_EQ(lua::near_miss("Phrases", sport), "phrases");
+  EXPECT_EQ(lua::near_miss("phrase", sport), "phrases");
+  EXPECT_EQ(lua::near_miss("factor", sport), "factors");
+  EXPECT_EQ(lua::near_miss("on_relaod", sport), "on_reload");  // a swap is one slip
+  EXPECT_EQ(lua::near_miss("modifer", sport), "modifiers");    // two in a key of eight letters or more
+  EXPECT_EQ(lua::near_miss("ON", sport), "on");
+  EXPECT_EQ(lua::near_miss("nmae", sport), "name");
+  for (const char* own : {"hp", "id", "ok", "no", "turn_factor", "streak_reward", "names_of", "modify", "phrasebook"})
+    EXPECT_EQ(lua::near_miss(own, sport), "") << own;
+  EXPECT_EQ(lua::near_miss("moodifer", sport), "");  // three slips
+}
+
+TEST(SportFile, ANearMissOfTheEnginesKeysIsRefusedWithTheKeyItSlipsFrom) {
+  const std::vector<std::pair<std::string, std::string>> slips = {
+      {"phrase", "phrases"},     {"Phrases", "phrases"},   {"factor", "factors"}, {"on_relaod", "on_reload"},
+      {"handicap", "handicaps"}, {"modifer", "modifiers"}, {"On", "on"}};
+  for (const auto& [key, known] : slips) {
+    const std::string e = load_error("slip_" + known, "return { " + key + " = {} }");
+    EXPECT_HAS(e, "sport.lua: unknown key '" + key + "' (did you mean '" + known + "'? known: name, field,");
+    EXPECT_HAS(e, "keys of your own are welcome here, but this one looks like a typo");
+  }
+  EXPECT_HAS(load_error("match_case", "return { match = { Seconds = 10 } }"),
+             "match: unknown key 'Seconds' (did you mean 'seconds'?");
+  EXPECT_HAS(load_error("match_swap", "return { match = { strat = 'blue' } }"), "match: unknown key 'strat' (did you mean 'start'?");
+}
+
+TEST(SportFile, ASportsOwnKeysLoad) {
+  // Two letters are too few for a slip: hp and id are the sport's own, in its table and its match.
+  EXPECT_EQ(load_error("own_short", "return { hp = 3, id = 'x', ok = true, match = { hp = 3, id = 'x', first_to = 5 } }"), "");
+  EXPECT_EQ(load_error("own_kinds", "return { turn_factor = 2, streak_reward = { 3, 5 }, bonus = function() end }"), "");
+}
+
 TEST(SportFile, AMetatableOnTheSportTableRunsNothing) {
   // Read raw: an __index that errors (or loops) is never called while the engine reads.
   EXPECT_EQ(load_error("meta", "return setmetatable({ name = 'x' }, { __index = function() error('boom') end })"), "");
@@ -110,6 +148,23 @@ TEST(SportFile, PowerUpScriptsAreReadStrictly) {
                  {{"powerups/spin.lua", "return { duration = 5, factor = function() end, phrases = { over = '{player:%d} is free' } }"}}),
       0.1);
   EXPECT_HAS(formatted, "powerups/spin.lua: phrases.over: {player} is text: it takes no number format");
+}
+
+TEST(SportFile, APowerUpKeepsItsOwnKeysButNotANearMiss) {
+  const std::string grant = "return { on = { drop = function(game, e) game.grant(\"Red's mallet\", 'spin') end } }";
+  for (const auto& [key, known] : std::vector<std::pair<std::string, std::string>>{
+           {"Factor = 2", "factor"}, {"durration = 5", "duration"}, {"defualts = {}", "defaults"}, {"stp = 1", "stop"}}) {
+    const std::string errors = rule_errors(
+        sport_with("powerup_slip_" + known, grant,
+                   {{"powerups/spin.lua", "return { duration = 5, factor = function() end, " + key + " }"}}),
+        0.1);
+    EXPECT_HAS(errors, "powerups/spin.lua: unknown key '" + key.substr(0, key.find(' ')) + "' (did you mean '" + known + "'?");
+  }
+  EXPECT_EQ(rule_errors(sport_with("powerup_own", grant,
+                                   {{"powerups/spin.lua", "return { duration = 5, factor = function() end, hp = 2, "
+                                                          "pull = { 1, 2 }, helper = function() end }"}}),
+                        0.1),
+            "");
 }
 
 TEST(SportRules, AGrantTooLongIsRefusedBeforeThePowerUpStarts) {
@@ -299,6 +354,42 @@ TEST(RulesRead, AReplayReadsTheSkillsItsRecordingRead) {
   o.record = recording.string();
   const std::vector<std::string> played = said(o);
   EXPECT_SAID(played, "Blue's mallet: skill 0.25, reach height nil");
+  runtime::SessionOptions again;
+  again.replay = recording.string();
+  EXPECT_EQ(said(again), played);
+}
+
+// The sport's own keys, in its table, its match and a power-up's, are there for its functions to
+// read, in a match and in its replay alike.
+TEST(RulesRead, HandlersReadTheSportsOwnKeys) {
+  runtime::SessionOptions o;
+  o.sport = sport_with("own_keys", R"(local sport = {
+  turn_factor = 2,
+  hp = 5,
+  streak_reward = { goals = 3 },
+  cheer = function(team) return "Go " .. team end,
+  match = { first_to = 4 },
+}
+sport.on = {
+  drop = function(game, e)
+    game.award(e.team, sport.turn_factor)
+    local score = game.score()
+    game.say(string.format("%s: %d, hp %d, streak %d, first to %d", sport.cheer(e.team), score[e.team], sport.hp,
+                           sport.streak_reward.goals, sport.match.first_to))
+    game.grant("Red's mallet", "spin")
+  end,
+}
+return sport)",
+                       {{"powerups/spin.lua", R"(local spin = { duration = 5, turns = 3 }
+spin.factor = function() end
+spin.start = function(holder, game, p) game.say(holder.name .. " spins " .. spin.turns .. " times") end
+return spin)"}});
+  const fs::path recording = fs::temp_directory_path() / "quantum_rules_api_own_keys_recording";
+  fs::remove_all(recording);
+  o.record = recording.string();
+  const std::vector<std::string> played = said(o);
+  EXPECT_SAID(played, "Go blue: 2, hp 5, streak 3, first to 4");  // the drop's team has turn_factor points
+  EXPECT_SAID(played, "Red's mallet spins 3 times");
   runtime::SessionOptions again;
   again.replay = recording.string();
   EXPECT_EQ(said(again), played);
