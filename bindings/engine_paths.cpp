@@ -93,11 +93,14 @@ std::vector<SportPlace> sports_in_reach() {
   return places;
 }
 
+bool is_sport_name(const std::string& given) {
+  return given.find('/') == std::string::npos && given != "." && given != "..";
+}
+
 fs::path find_sport(const std::string& given) {
   if (given.empty()) throw std::invalid_argument("a sport is named by its folder or its name, not ''");
   std::error_code error;
-  const bool path = given.find('/') != std::string::npos || given == "." || given == "..";
-  if (path) {
+  if (!is_sport_name(given)) {
     if (fs::is_directory(given, error)) return given;
     throw std::invalid_argument(given + ": no such sport folder");
   }

@@ -29,6 +29,9 @@ struct SportPlace {
 // engine's shipped sports.
 std::vector<SportPlace> sports_in_reach();
 
+// Whether `given` is a sport's name rather than a path: no '/', and not "." or "..".
+bool is_sport_name(const std::string& given);
+
 // The folder of the sport `given` names. Given a path (anything with a '/', or "."), that folder;
 // given a name, the first sport of that name in sports_in_reach(). Throws std::invalid_argument
 // for a path that is no folder, or a name no place has, with the nearest name and the ones known.

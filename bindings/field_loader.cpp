@@ -183,7 +183,7 @@ std::string field_file(const std::string& path) {
   if (fs::is_directory(path)) return (fs::path(path) / "field.lua").string();
   // A bare name is a sport's, found as `quantum play` finds it; a path that is not there is
   // said by load_field.
-  const bool name = path.find('/') == std::string::npos && fs::path(path).extension() != ".lua" && !fs::exists(path);
+  const bool name = is_sport_name(path) && fs::path(path).extension() != ".lua" && !fs::exists(path);
   return name ? (find_sport(path) / "field.lua").string() : path;
 }
 

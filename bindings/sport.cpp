@@ -140,7 +140,6 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
       module_folders_({fs::path(folder_), engine / "lib"}),
       params_(std::move(params)),
       sandbox_(Sandbox::make(Limits{}, true, module_folders_)) {
-  if (!fs::is_directory(folder_)) throw ScriptError(folder_ + ": no such sport folder");
   std::fill(std::begin(by_kind_), std::end(by_kind_), 1.0);
   lua_State* L = sandbox_->L();
   std::string field_file;

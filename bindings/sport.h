@@ -43,11 +43,11 @@ inline constexpr Limits kLoadLimits{64u << 20, 100'000'000, 1.0};
 
 class Sport final : public game::Rules {
  public:
-  // `folder` holds sport.lua; `engine` is where the engine's own power-ups and helpers are
-  // (a replay uses the copy it recorded); `params` are what its field and sport read with
-  // param() (params.h). Throws ScriptError naming the file (and line, or the place in the
-  // returned table) for a script that does not load, FieldError for a bad field, and
-  // std::invalid_argument for a parameter neither reads. Loading spends at most `load`; the
+  // `folder` holds sport.lua, or is a sport's name (find_sport); `engine` is where the engine's
+  // own power-ups and helpers are (a replay uses the copy it recorded); `params` are what its
+  // field and sport read with param() (params.h). Throws ScriptError naming the file (and line,
+  // or the place in the returned table) for a script that does not load, FieldError for a bad
+  // field, and std::invalid_argument for a parameter neither reads or a sport not found. Loading spends at most `load`; the
   // match's frames then get Limits{} each.
   explicit Sport(const std::string& folder, const std::filesystem::path& engine = engine_rules_folder(),
                  Params params = {}, const Limits& load = kLoadLimits);

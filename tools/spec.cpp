@@ -19,7 +19,7 @@ int run_specs(const std::vector<std::string>& given) {
   if (paths.empty()) paths.push_back(std::filesystem::is_directory("rules") ? "rules" : lua::engine_rules_folder().string());
   for (std::string& p : paths) {
     if (std::filesystem::exists(p)) continue;
-    if (p.find('/') == std::string::npos) {
+    if (lua::is_sport_name(p)) {
       try {
         p = lua::find_sport(p).string();  // a sport by name: its specs
         continue;
