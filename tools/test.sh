@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every test: sets up, runs in the optimized build the tests whose cost is repetition (labels
 # statistical, long and soak: hundreds of seeded matches, the full-size tables, the soak's hour),
-# those that assert its CPU bound per frame (label bounds: the sandbox and hostile scripts) and
+# those that assert its CPU bound per frame (label bounds: the sandbox and hostile scripts; label
+# faults: kills, outputs, recordings and reloads under faults) and
 # the install and the Debian package of what a venue gets (label install), then every other
 # test under the sanitizers with the fuzzers and a shorter soak (tools/sanitize.sh). docs/reliability.md says what runs where, why, and for how long.
 set -euo pipefail
@@ -13,6 +14,6 @@ tools/setup.sh quantum quantum_tests quantum-soak quantum-synth quantum-bench
 export ALSOFT_DRIVERS="${ALSOFT_DRIVERS:-null}"
 # A test that hangs fails by name after 10 minutes (the longest takes 2 here, 4 under the
 # sanitizers) instead of running into CI's limit; the soak sets its own.
-ctest --test-dir build --output-on-failure --timeout 600 -j"$(nproc)" -L 'statistical|long|soak|bounds|install'
+ctest --test-dir build --output-on-failure --timeout 600 -j"$(nproc)" -L 'statistical|long|soak|bounds|faults|install'
 # Each fuzz target's share of the 30 minutes (tools/sanitize.sh alone gives each 60 s).
 QUANTUM_FUZZ_SECONDS="${QUANTUM_FUZZ_SECONDS:-30}" tools/sanitize.sh -LE 'statistical|long|install'
