@@ -1,14 +1,10 @@
 #include "json_lines.h"
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <iostream>
-#include <stdexcept>
+#include <ostream>
 
-#include "output_files.h"
 #include "system/utf8.h"
 
 namespace quantum::runtime {
@@ -130,32 +126,6 @@ JsonLine& JsonLine::close() {
 void JsonLine::end() {
   while (depth_ > 0) out_ << open_[--depth_];
   out_ << '\n';
-}
-
-LineFile::LineFile(const std::string& option, const std::string& path) : path_(path) {
-  if (path.empty()) return;
-  if (path == "-") {
-    stream_ = &std::cout;
-    return;
-  }
-  check_output_file(option, path);
-  file_.open(path);
-  if (!file_) throw std::runtime_error(option + " " + path + ": cannot be written (" + std::strerror(errno) + ")");
-  stream_ = &file_;
-}
-
-void LineFile::close() {
-  if (!stream_) return;
-  stream_->flush();
-  if (!*stream_) throw std::runtime_error("could not write every line to " + shown());
-}
-
-std::string LineFile::shown() const { return path_ == "-" ? "stdout" : path_; }
-
-void LineFile::say_failure(std::ostream& errors) {
-  if (!stream_ || *stream_ || told_) return;
-  told_ = true;
-  say_lost(errors, shown());
 }
 
 }  // namespace quantum::runtime

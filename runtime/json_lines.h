@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <fstream>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -39,25 +38,6 @@ class JsonLine {
   char open_[8];   // ']' or '}' for each open level
   bool first_[8];  // nothing written in that level yet
   int depth_ = 0;
-};
-
-// Where JSON lines go for an option such as --events: nowhere (""), stdout ("-"), or `path`
-// created now. Throws std::runtime_error naming the option and the path when it cannot be written.
-class LineFile {
- public:
-  LineFile(const std::string& option, const std::string& path);
-  std::ostream* stream() { return stream_; }
-  // Flushes; throws std::runtime_error naming the file when anything could not be written.
-  void close();
-  // Once, as soon as a write has failed (a full disk): a line to `errors` that says so.
-  void say_failure(std::ostream& errors);
-
- private:
-  std::string shown() const;  // the path, or "stdout" for "-"
-  bool told_ = false;
-  std::string path_;
-  std::ofstream file_;
-  std::ostream* stream_ = nullptr;
 };
 
 }  // namespace quantum::runtime

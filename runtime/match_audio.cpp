@@ -45,6 +45,7 @@ MatchAudio::MatchAudio(const std::string& spec, const lua::SportAudio& sport, st
     if (spec.size() == 4) throw std::invalid_argument("--audio wav:FILE needs a file name");
     mixer_ = audio::Mixer::open_loopback(44100);
     wav_path_ = spec.substr(4);
+    check_output_file("--audio", wav_path_);
     wav_ = std::make_unique<audio::WavWriter>(wav_path_, mixer_->rate());
   } else if (spec.empty()) {
     mixer_ = audio::Mixer::open_device();

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
@@ -79,10 +80,16 @@ double number(const nlohmann::json& j, const char* key, double lo, double hi, co
   return v.get<double>();
 }
 
+// Written beside and renamed over: a process killed while writing leaves the old file whole.
 void write_json(const fs::path& file, const nlohmann::json& j) {
-  std::ofstream out(file);
-  out << j.dump(2) << '\n';
-  if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
+  const fs::path beside = file.string() + ".new";
+  {
+    DurableFile out("--record", beside.string());
+    if (!out.write(j.dump(2) + '\n') || !out.close()) throw std::runtime_error("cannot write " + file.string());
+  }
+  std::error_code ec;
+  fs::rename(beside, file, ec);
+  if (ec) throw std::runtime_error("cannot write " + file.string() + " (" + ec.message() + ")");
 }
 
 // Every file under `from` but the specs.
@@ -173,9 +180,9 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
               {"skills", skills},
               {"files", files},
               {"frames", 0}});
-  frames_.open(dir / "frames.bin", std::ios::binary);
-  frames_.write(kMagic, sizeof kMagic - 1);
-  if (!frames_) throw std::runtime_error("cannot write " + (dir / "frames.bin").string());
+  frames_ = std::make_unique<DurableFile>("--record", (dir / "frames.bin").string());
+  if (!frames_->write({kMagic, sizeof kMagic - 1})) throw std::runtime_error("cannot write " + (dir / "frames.bin").string());
+  frame_.reserve(1024);
 }
 
 Recorder::~Recorder() {
@@ -190,21 +197,20 @@ Recorder::~Recorder() {
 void Recorder::frame(PlayerSource::Status status, std::span<const BodyInput> bodies, std::span<const game::Throw> throws) {
   const uint8_t code = uint8_t(status);
   const uint32_t n = uint32_t(bodies.size()), n_throws = uint32_t(throws.size());
-  frames_.write(reinterpret_cast<const char*>(&code), 1);
-  frames_.write(reinterpret_cast<const char*>(&n), sizeof n);
-  for (const BodyInput& b : bodies) {
-    const float v[4] = {b.position.x, b.position.y, b.velocity.x, b.velocity.y};
-    frames_.write(reinterpret_cast<const char*>(v), sizeof v);
-  }
-  frames_.write(reinterpret_cast<const char*>(&n_throws), sizeof n_throws);
+  auto put = [this](const auto& value) { frame_.append(reinterpret_cast<const char*>(&value), sizeof value); };
+  frame_.clear();
+  put(code);
+  put(n);
+  for (const BodyInput& b : bodies) put(std::array<float, 4>{b.position.x, b.position.y, b.velocity.x, b.velocity.y});
+  put(n_throws);
   for (const game::Throw& t : throws) {
-    const int32_t player = t.player;
-    const float v[3] = {t.velocity.x, t.velocity.y, t.up};
-    frames_.write(reinterpret_cast<const char*>(&player), sizeof player);
-    frames_.write(reinterpret_cast<const char*>(v), sizeof v);
+    put(int32_t(t.player));
+    put(std::array<float, 3>{t.velocity.x, t.velocity.y, t.up});
   }
+  // A frame goes to the file whole, in one write: a recording killed at any moment replays up
+  // to its last frame.
+  if (!frames_->write(frame_) && lost_.empty()) lost_ = frames_->path();
   ++count_;
-  if (!frames_ && lost_.empty()) lost_ = (dir_ / "frames.bin").string();
 }
 
 void Recorder::reloaded(const std::vector<fs::path>& files) {
@@ -234,8 +240,7 @@ void Recorder::say_failure(std::ostream& errors) {
 void Recorder::close() {
   if (closed_) return;
   closed_ = true;
-  frames_.close();
-  if (!frames_ && lost_.empty()) lost_ = (dir_ / "frames.bin").string();
+  if (!frames_->close() && lost_.empty()) lost_ = frames_->path();
   std::ifstream in(dir_ / "recording.json");
   nlohmann::json j = nlohmann::json::parse(in);
   j["frames"] = count_;

@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "output_files.h"
 #include "players.h"
 
 namespace quantum::lua {
@@ -73,7 +74,8 @@ class Recorder {
  private:
   std::filesystem::path dir_;
   std::map<std::filesystem::path, std::filesystem::path> places_;  // original folder -> its copy
-  std::ofstream frames_;
+  std::unique_ptr<DurableFile> frames_;
+  std::string frame_;  // the frame being put together, reused
   uint64_t count_ = 0;
   bool closed_ = false;
   std::string lost_;  // the first file that could not be written whole

@@ -1,6 +1,7 @@
 #include "session.h"
 
 #include <chrono>
+#include <csignal>
 #include <exception>
 #include <iomanip>
 #include <optional>
@@ -10,7 +11,7 @@
 #include <thread>
 
 #include "event_log.h"
-#include "json_lines.h"
+#include "interrupts.h"
 #include "match_audio.h"
 #include "recording.h"
 #include "reloader.h"
@@ -39,12 +40,22 @@ std::vector<double> per_player(const std::vector<double>& given, const std::vect
   return v;
 }
 
+const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
+
 }  // namespace
+
+std::vector<Output> outputs_of(const SessionOptions& o) {
+  return {{"--events", o.events},
+          {"--decisions", o.decisions},
+          {"--audio", o.audio.rfind("wav:", 0) == 0 ? o.audio.substr(4) : ""},
+          {"--record", o.record, true}};
+}
 
 Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream& errors,
                  std::unique_ptr<PlayerSource> players)
     : transcript_(transcript), errors_(errors), players_(std::move(players)), until_(o.until) {
   if (!(o.seconds >= 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
+  check_distinct(outputs_of(o));
   // A replay plays what was recorded: its copy of the sport, its seed and settings.
   SessionOptions settings = o;
   std::optional<Replay> replay;
@@ -99,6 +110,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   log_ = std::make_unique<LineFile>("--events", o.events);
   decisions_ = std::make_unique<LineFile>("--decisions", o.decisions);
   if (decisions_->stream()) write_decision_header(*decisions_->stream(), settings, *sport_, *match_);
+  decisions_->commit();
   audio_ = std::make_unique<MatchAudio>(o.audio, sport_->audio(), errors_);
   // People are listening, playing or watching: then the match runs in real time.
   real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
@@ -107,6 +119,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_, match_->players());
   kept_from_ = wall_start_ = clock_seconds();
   if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << config.seed << '\n';
+  commit_outputs();
 }
 
 Session::~Session() = default;
@@ -180,10 +193,9 @@ bool Session::frame() {
   tell();
   audio_->frame(m.time());
   write_settled();
-  log_->say_failure(errors_);
-  decisions_->say_failure(errors_);
-  if (recorder_) recorder_->say_failure(errors_);
-  over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9);
+  commit_outputs();
+  if (!m.finished() && !over_) interrupted_ = interrupting_signal();
+  over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9) || interrupted_;
   // A camera is asked again while paused, not spun on.
   if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   else if (real_time_) keep_time();
@@ -213,6 +225,19 @@ std::span<const audio::PhraseFate> Session::fates() const { return audio_->fates
 void Session::write_settled(bool all) {
   ledger_.settle(audio_->fates());
   ledger_.write(log_->stream(), transcript_, all);
+}
+
+void Session::commit_outputs() {
+  log_->commit();
+  decisions_->commit();
+  log_->say_failure(errors_);
+  decisions_->say_failure(errors_);
+  if (recorder_) recorder_->say_failure(errors_);
+  // Piped, the transcript would wait for a full buffer: a match killed after 12 s had none.
+  if (transcript_ && !transcript_->flush() && !transcript_lost_) {
+    transcript_lost_ = true;
+    say_lost(errors_, "the transcript");
+  }
 }
 
 void Session::report_repeated_errors() {
@@ -257,13 +282,17 @@ void Session::finish() {
   };
   complete([&] { audio_->finish(match_->time()); });
   write_settled(true);
-  if (recording_over_ && transcript_) {
-    const game::Said end{match_->time(), "(the recording is over)", -1, "", ""};
+  if ((recording_over_ || interrupted_) && transcript_) {
+    const std::string why = interrupted_ ? std::string("(ended by ") + signal_name(interrupted_) + ")" : "(the recording is over)";
+    const game::Said end{match_->time(), why, -1, "", ""};
     write_transcript(*transcript_, {&end, 1});
   }
   complete([&] { log_->close(); });
   complete([&] { decisions_->close(); });
   if (recorder_) complete([&] { recorder_->close(); });
+  complete([&] {
+    if (transcript_ && (!transcript_->flush() || transcript_lost_)) throw std::runtime_error("could not write the whole transcript");
+  });
   if (late_said_)
     errors_ << "quantum: " << seconds(played) << " of play took " << seconds(took) << " of the clock ("
             << one_decimal(took / played) << " times real time)\n";

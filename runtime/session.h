@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "game/game.h"
+#include "output_files.h"
 #include "phrase_ledger.h"
 #include "players.h"
 #include "sport.h"
@@ -60,6 +61,10 @@ struct SessionOptions {
   bool watched = false;         // a person watches the match (a live view): automatic pacing is real time
 };
 
+// The files (and standard output) a session with these options writes, for check_distinct():
+// a front end adds its own (--video, --snapshot) before the session starts.
+std::vector<Output> outputs_of(const SessionOptions& options);
+
 // What a frame told, for whoever watches the session (a rule spec, a test, a view).
 struct News {
   std::span<const game::GameEvent> events;
@@ -75,7 +80,7 @@ class Session {
   // options.replay (a recording's: then the sport, the seed and the match's settings are the
   // recording's too) or options.input. Throws on bad options, a sport that does not load, a bad
   // field, an event log, WAV file or recording that cannot be written, or a tracking source or
-  // recording that cannot be opened.
+  // recording that cannot be opened, or two outputs that are one file (check_distinct).
   Session(const SessionOptions& options, std::ostream* transcript, std::ostream& errors,
           std::unique_ptr<PlayerSource> players = nullptr);
   ~Session();
@@ -86,13 +91,14 @@ class Session {
   // end, the match steps, and what it told goes to the players, the sound, the transcript, the
   // event log and the watcher; then the frame waits for the clock if the session runs in real
   // time. A live source that lost the players pauses the match (paused and resumed events)
-  // until they are back. Returns false once the session is over: the match finished, or its
-  // recording ended.
+  // until they are back. Every file gets the frame's whole lines before it returns (a kill loses
+  // none of them). Returns false once the session is over: the match finished, its recording
+  // ended, or a signal asked it to end (interrupts.h).
   bool frame();
   // Frames until the session is over, then finish().
   void run();
   // Lets the last phrase ring out and completes every file the match writes (once). Throws when
-  // one of them (event or decision log, WAV, recording) could not be written whole.
+  // one of them (event or decision log, WAV, recording, the transcript) could not be written whole.
   void finish();
 
   // Real-time pacing: `speed` match seconds per wall second (0.25 is slow motion). resync()
@@ -115,6 +121,8 @@ class Session {
   std::span<const audio::PhraseFate> fates() const;
   bool over() const { return over_; }
   int rule_errors() const { return rule_errors_; }
+  // The signal that ended the session before its match did (SIGINT, SIGTERM), or 0.
+  int interrupted() const { return interrupted_; }
   // Takes `file` as saved: the next frame reloads it as if inotify had seen it (benchmarks).
   void reload(const std::string& file);
 
@@ -122,6 +130,7 @@ class Session {
   void pause_or_resume(bool lost);
   void report_repeated_errors();
   void write_settled(bool all = false);
+  void commit_outputs();  // the frame's whole lines to every file, each failure said once
   void keep_time();  // real-time pacing: waits for the clock, or says once that the match runs late
 
   std::ostream* transcript_;
@@ -143,7 +152,8 @@ class Session {
   static constexpr double kLateToSay = 1.0;  // s behind the clock before the session says so
   double until_;
   bool real_time_ = false, paused_ = false, over_ = false, finished_ = false, recording_over_ = false, late_said_ = false;
-  int rule_errors_ = 0;
+  bool transcript_lost_ = false;
+  int rule_errors_ = 0, interrupted_ = 0;
 };
 
 }  // namespace quantum::runtime

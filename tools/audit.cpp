@@ -21,6 +21,8 @@
 #include <string_view>
 #include <vector>
 
+#include "output_files.h"
+
 namespace quantum::tools {
 namespace {
 
@@ -68,49 +70,13 @@ bool close(double a, double b, double scale = 0) {
   return std::abs(a - b) <= bound && std::isfinite(bound);
 }
 
-// Lines of a file, read in blocks; FILE* tells a read error (a folder, a failing disk) from the end.
-class Lines {
- public:
-  explicit Lines(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb"), &std::fclose) {
-    if (!file_) throw Unreadable(path + ": cannot be read (" + std::strerror(errno) + ")");
-  }
+// A log's lines, plain or gzip-compressed; a last line cut short by a killed match is left out,
+// with a warning.
+using Lines = runtime::LineReader;
 
-  // The next line, without its newline; false at the end.
-  bool next(std::string& line) {
-    line.clear();
-    bool any = false;
-    for (;;) {
-      if (at_ == end_) {
-        end_ = std::fread(block_.data(), 1, block_.size(), file_.get()), at_ = 0;
-        if (std::ferror(file_.get())) throw Unreadable(path_ + ": cannot be read (" + std::strerror(errno) + ")");
-        if (end_ == 0) {
-          number_ += any;
-          return any;
-        }
-      }
-      any = true;
-      const char* from = block_.data() + at_;
-      const char* newline = static_cast<const char*>(std::memchr(from, '\n', end_ - at_));
-      const size_t n = newline ? size_t(newline - from) : end_ - at_;
-      if (line.size() + n > kLongestLine)
-        throw Unreadable(path_ + ":" + std::to_string(number_ + 1) + ": a line longer than " +
-                         std::to_string(kLongestLine >> 20) + " MB: not a log");
-      line.append(from, n);
-      at_ += n + (newline ? 1 : 0);
-      if (newline) {
-        ++number_;
-        return true;
-      }
-    }
-  }
-  size_t number() const { return number_; }
-
- private:
-  std::string path_;
-  std::unique_ptr<std::FILE, decltype(&std::fclose)> file_;
-  std::array<char, 1 << 16> block_;
-  size_t at_ = 0, end_ = 0, number_ = 0;
-};
+void warn_if_torn(const Lines& lines, std::ostream& err) {
+  if (const std::string torn = lines.torn(); !torn.empty()) err << "audit: warning: " << torn << '\n';
+}
 
 bool blank(std::string_view line) { return line.find_first_not_of(" \t\r") == std::string_view::npos; }
 
@@ -745,7 +711,7 @@ enum class Content { Decisions, Events };
 Content content_of(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Unreadable(path + ": a folder, not a log");
-  Lines lines(path);
+  Lines lines(path, kLongestLine);
   std::string line;
   while (lines.next(line) && blank(line)) {
   }
@@ -779,9 +745,9 @@ struct Event {
 };
 
 // An events log's events of the kinds draws make, by time.
-std::vector<Event> read_events(const std::string& path) {
+std::vector<Event> read_events(const std::string& path, std::ostream& err) {
   std::vector<Event> events;
-  Lines lines(path);
+  Lines lines(path, kLongestLine);
   for (std::string line; lines.next(line);) {
     if (blank(line)) continue;
     within(path + ":" + std::to_string(lines.number()), [&] {
@@ -791,6 +757,7 @@ std::vector<Event> read_events(const std::string& path) {
       if (kind) events.push_back({t, *kind, e.contains("actor") ? text_at(e, "actor") : "", lines.number()});
     });
   }
+  warn_if_torn(lines, err);
   std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.t < b.t; });
   return events;
 }
@@ -833,9 +800,9 @@ struct LogSummary {
 
 // Reads and checks one decision log's draws, pooling them; its realized outcomes go to `outcomes`.
 LogSummary read_decisions(const std::string& path, size_t pair, Checker& checker, Pool& pool, Violations& violations,
-                          size_t& draw_violations, std::vector<Event>* outcomes, Progress& progress) {
+                          size_t& draw_violations, std::vector<Event>* outcomes, Progress& progress, std::ostream& err) {
   LogSummary summary;
-  Lines lines(path);
+  Lines lines(path, kLongestLine);
   Draw d;
   bool header = true;
   for (std::string line; lines.next(line);) {
@@ -862,6 +829,7 @@ LogSummary read_decisions(const std::string& path, size_t pair, Checker& checker
     ++summary.draws;
     progress.draw();
   }
+  warn_if_torn(lines, err);
   return summary;
 }
 
@@ -884,9 +852,9 @@ int audit(const std::vector<std::string>& files, std::ostream& out, std::ostream
     for (size_t i = 0; i < decisions.size(); ++i) {
       const bool with_events = i < events.size();
       std::vector<Event> outcomes;
-      const std::vector<Event> logged = with_events ? read_events(events[i]) : std::vector<Event>{};
+      const std::vector<Event> logged = with_events ? read_events(events[i], err) : std::vector<Event>{};
       const LogSummary s = read_decisions(decisions[i], i, checker, pool, violations, draw_violations,
-                                          with_events ? &outcomes : nullptr, shown);
+                                          with_events ? &outcomes : nullptr, shown, err);
       if (with_events) {
         std::stable_sort(outcomes.begin(), outcomes.end(), [](const Event& a, const Event& b) { return a.t < b.t; });
         match_events(outcomes, logged, i, decisions[i], events[i], violations);

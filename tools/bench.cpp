@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "audio/audio.h"
 #include "box2d_backend.h"
 #include "field_loader.h"
@@ -238,6 +240,31 @@ void BM_MatchSecond(benchmark::State& state) {
   runtime::Session session(o, nullptr, errors);
   for (auto _ : state)
     for (int frame = 0; frame < 60; ++frame) session.frame();
+  if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
+}
+
+// BM_MatchSecond with its logs written as `quantum play --events --decisions` writes them: every
+// frame's whole lines handed to the files (plain, or gzip-compressed with state.range(1) = 1), and
+// synced within 100 ms by the engine's syncing thread. Side by side with BM_MatchSecond at 1000
+// particles: what a crash-safe log costs (docs/reliability.md, "Faults").
+void BM_MatchSecondLogged(benchmark::State& state) {
+  runtime::SessionOptions o = endless_match();
+  o.particles = uint32_t(state.range(0));
+  const std::string suffix = state.range(1) ? ".jsonl.gz" : ".jsonl";
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_bench_logs_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  o.events = (dir / ("events" + suffix)).string();
+  o.decisions = (dir / ("decisions" + suffix)).string();
+  std::ostringstream errors;
+  {
+    runtime::Session session(o, nullptr, errors);
+    for (auto _ : state)
+      for (int frame = 0; frame < 60; ++frame) session.frame();
+    session.finish();
+  }
+  state.counters["log_bytes_per_s"] = benchmark::Counter(
+      double(std::filesystem::file_size(o.events) + std::filesystem::file_size(o.decisions)) / double(state.iterations()));
+  std::filesystem::remove_all(dir);
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
 }
 
@@ -489,6 +516,7 @@ BENCHMARK(BM_Step3D)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecon
 BENCHMARK(BM_Step3DFlight)->Arg(10'000)->Arg(100'000)->Iterations(600)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FateReport3D)->Args({1'000, 1})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchSecond)->Arg(1'000)->Arg(10'000)->Iterations(60)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MatchSecondLogged)->Args({1'000, 0})->Args({1'000, 1})->Iterations(60)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchFrame)->Args({100'000, 1})->Args({100'000, 2})->Iterations(300)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MatchFrame)->Args({1'000'000, 1})->Args({1'000'000, 2})->Iterations(120)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FateTurnover)->Arg(100'000)->Arg(1'000'000)->Iterations(600)->Unit(benchmark::kMillisecond);

@@ -6,6 +6,7 @@
 
 #include "lua_reader.h"
 #include "picture.h"
+#include "interrupts.h"
 #include "video.h"
 #include "window.h"
 
@@ -36,6 +37,10 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
                         bool transcript) {
   if (desk.hand && !desk.view) throw std::invalid_argument("--input mouse needs --view: the mouse moves over the view");
   if (!desk.snapshot.empty()) runtime::check_snapshot_file(desk.snapshot);
+  std::vector<runtime::Output> outputs = runtime::outputs_of(o);
+  outputs.push_back({"--video", desk.video});
+  outputs.push_back({"--snapshot", desk.snapshot});
+  runtime::check_distinct(outputs);
   // Someone watches: the match runs in real time unless asked otherwise.
   o.watched = desk.view;
   std::optional<runtime::Window> window;
@@ -55,6 +60,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
                                                        hand_body(field, desk.hand_player), hand);
     }
     runtime::Session session(o, transcript ? &out : nullptr, errors, std::move(players));
+    runtime::end_matches_on_signals();
     if (desk.view && !window) window.emplace("Quantum games: " + session.sport().name());
     runtime::Picture picture(session.match().field());
     runtime::Ticker ticker;
@@ -106,10 +112,9 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         snapped = true;
       }
     }
-    session.finish();
+    finish_and_keep(session, result);
     if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
     if (video) video->finish(wav);
-    result = result_of(session);
   }
   return result;
 }

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -17,6 +18,7 @@
 #include <stdexcept>
 
 #include "audio/audio.h"
+#include "output_files.h"
 
 namespace quantum::tools {
 namespace {
@@ -152,12 +154,13 @@ int Listening::heard() const {
 }
 
 Listening listen(const std::string& wav, const std::string& events) {
-  std::ifstream log(events);
-  if (!log) throw std::runtime_error(events + ": cannot be read");
+  // Plain or gzip-compressed; a last line cut short by a killed match is left out, with a warning.
+  runtime::LineReader log(events);
   Listening l;
   std::vector<std::string> grammar;  // every phrase's words, once
   std::string line;
-  for (int n = 1; std::getline(log, line); ++n) {
+  while (log.next(line)) {
+    const size_t n = log.number();
     if (line.empty()) continue;
     nlohmann::json j;
     try {
@@ -184,6 +187,7 @@ Listening listen(const std::string& wav, const std::string& events) {
       if (!h.words.empty()) l.played.push_back(h);
     }
   }
+  if (const std::string torn = log.torn(); !torn.empty()) std::cerr << "quantum listen: warning: " << torn << '\n';
   if (grammar.empty()) return l;
   const std::vector<int16_t> sound = mono_16k(wav);
 

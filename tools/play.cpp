@@ -1,6 +1,7 @@
 #include "play.h"
 
 #include "desk.h"
+#include "interrupts.h"
 
 #include <algorithm>
 #include <cmath>
@@ -113,7 +114,19 @@ std::string describe(const Counted& counted, const Figures& f) {
 
 PlayResult result_of(const runtime::Session& session) {
   const game::Match& match = session.match();
-  return {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field())};
+  return {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field()),
+          session.interrupted(), nullptr};
+}
+
+void finish_and_keep(runtime::Session& session, PlayResult& result) {
+  try {
+    session.finish();
+  } catch (const std::exception&) {
+    result.unwritten = std::current_exception();
+  }
+  const std::exception_ptr unwritten = result.unwritten;
+  result = result_of(session);
+  result.unwritten = unwritten;
 }
 
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript,
@@ -123,8 +136,10 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
     result = play_at_desk(options, *desk, out, errors, transcript);
   } else {
     runtime::Session session(options, transcript ? &out : nullptr, errors);
-    session.run();
-    result = result_of(session);
+    runtime::end_matches_on_signals();
+    while (session.frame()) {
+    }
+    finish_and_keep(session, result);
   }
   if (transcript) {
     out << "final score:";
@@ -133,7 +148,9 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
     char played[64];
     std::snprintf(played, sizeof played, ", %.0f s played\n", result.stats.seconds);
     out << "rallies " << result.stats.rallies << ", " << describe(result.counted, result.figures()) << played;
+    out.flush();
   }
+  if (result.unwritten) std::rethrow_exception(result.unwritten);
   return result;
 }
 

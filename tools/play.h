@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <iosfwd>
+#include <exception>
 #include <map>
 #include <string>
 #include <vector>
@@ -38,13 +39,20 @@ struct PlayResult {
   std::string winner;  // "" for a draw
   game::RallyStats stats;
   int rule_errors = 0;
-  bool finished = true;  // false when the match stopped before its end (a recording over, --until)
+  bool finished = true;  // false when the match stopped before its end (a recording over, --until, a signal)
   Counted counted;
+  int interrupted = 0;  // the signal that ended it early (SIGINT, SIGTERM), or 0
+  // The first output that could not be written whole, thrown by play() once the transcript has
+  // its final lines: a failing file never costs the transcript its score.
+  std::exception_ptr unwritten;
   Figures figures() const;
 };
 
 // A match's result as its session ended it.
 PlayResult result_of(const runtime::Session& session);
+// Completes the session's files (Session::finish) and takes its result into `result`; a file that
+// could not be written whole goes to result.unwritten (the first one) instead of being thrown.
+void finish_and_keep(runtime::Session& session, PlayResult& result);
 
 struct DeskOptions;
 

@@ -1,5 +1,6 @@
 // The `quantum` command. Exit codes: 0 done, 1 bad input (a mistyped command or option, a bad
-// value, a file or sport that cannot be read or written), 2 rule specs that failed (quantum test).
+// value, a file or sport that cannot be read or written, standard output full or closed), 2 rule
+// specs that failed (quantum test), 128 + N a match ended early by signal N (130: Ctrl-C).
 // `quantum audit` answers for the logs it checks instead: 1 a log that fails, 2 a file that is no
 // log it can read.
 #include <CLI/CLI.hpp>
@@ -27,6 +28,7 @@
 #include "audit.h"
 #include "balance.h"
 #include "desk.h"
+#include "interrupts.h"
 #include "listen.h"
 #include "play.h"
 #include "quantum/fate.h"
@@ -242,12 +244,19 @@ std::string left_over(const CLI::App& command) {
   return said(command, quantum::lua::unknown_key(first.substr(0, first.find('=')), long_options(command), "option"));
 }
 
+// A match a signal ended early exits as the shell reports a process the signal ended (130 for
+// Ctrl-C), its files complete.
+int interrupted(const quantum::tools::PlayResult& result) { return result.interrupted ? 128 + result.interrupted : 0; }
+
 }  // namespace
 
 int main(int argc, char** argv) {
   // A file past the shell's size limit (ulimit -f) is a failed write, told and counted as a full
   // disk is, not the end of the process.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A reader that went away (`quantum play | head`) is a failed write to standard output, told
+  // and exited with 1 once every file is complete, not a process killed with its files half written.
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{"Quantum games engine: ball games played with a ball that exists only in the players' imagination"};
   app.require_subcommand(1);
   // Before the commands are added: each takes the help flag from here.
@@ -468,10 +477,11 @@ int main(int argc, char** argv) {
   std::string command_line = "quantum";
   for (int k = 1; k < argc; ++k) command_line += std::string(" ") + argv[k];
   game.command = command_line;
+  int code = 0;
   try {
-    if (test->parsed()) return quantum::tools::run_specs(spec_paths);
-    if (sports->parsed()) return quantum::tools::list_sports(std::cout) == 0 ? 0 : 1;
-    if (audit->parsed()) return quantum::tools::audit(audit_files, std::cout, std::cerr, isatty(STDERR_FILENO));
+    if (test->parsed()) code = quantum::tools::run_specs(spec_paths);
+    if (sports->parsed()) code = quantum::tools::list_sports(std::cout) == 0 ? 0 : 1;
+    if (audit->parsed()) code = quantum::tools::audit(audit_files, std::cout, std::cerr, isatty(STDERR_FILENO));
     if (track->parsed()) quantum::tools::track(tracking, std::cout);
     if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
     if (balance->parsed()) {
@@ -528,19 +538,27 @@ int main(int argc, char** argv) {
         desk.hand_player = game.input.size() > 6 ? game.input.substr(6) : "";
         game.input = "bots";
       }
-      quantum::tools::play(game, game.events == "-" ? std::cerr : std::cout, std::cerr, !quiet, &desk);
+      // With JSON lines on stdout the transcript moves to stderr, keeping stdout pure JSON lines.
+      const bool lines_out = game.events == "-" || game.decisions == "-";
+      code = interrupted(quantum::tools::play(game, lines_out ? std::cerr : std::cout, std::cerr, !quiet, &desk));
     }
     if (replay->parsed()) {
       if (!replay_pace.empty()) again.pacing = quantum::tools::pacing(replay_pace);
-      quantum::tools::play(again, again.events == "-" ? std::cerr : std::cout, std::cerr, !replay_quiet, &replay_desk);
+      const bool lines_out = again.events == "-" || again.decisions == "-";
+      code = interrupted(quantum::tools::play(again, lines_out ? std::cerr : std::cout, std::cerr, !replay_quiet, &replay_desk));
     }
     if (simulate->parsed()) {
       // With events on stdout the summary moves to stderr, keeping stdout pure JSON lines.
-      quantum::tools::simulate(sim, sim.events == "-" ? std::cerr : std::cout);
+      quantum::tools::simulate(sim, sim.events == "-" || sim.decisions == "-" ? std::cerr : std::cout);
+      if (const int signal = quantum::runtime::interrupting_signal()) code = 128 + signal;
     }
   } catch (const std::exception& e) {
     std::cerr << "quantum: " << e.what() << '\n';
     return 1;
   }
-  return 0;
+  if (!std::cout.flush()) {
+    std::cerr << "quantum: could not write everything to standard output (full, or closed by its reader)\n";
+    return 1;
+  }
+  return code;
 }

@@ -22,6 +22,7 @@ engine_packages=(
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us libsamplerate0-dev  # quantum listen: a speech recognizer
   libcairo2-dev                # quantum-synth --markers: the markers as a PDF at their printed size
   libcli11-dev nlohmann-json3-dev
+  zlib1g-dev                   # logs named .gz, written and read compressed
   libboost-math-dev            # chi-square distribution for the rule specs' statistics
 )
 test_packages=(

@@ -8,7 +8,9 @@
 #include <map>
 
 #include "box2d_backend.h"
+#include "interrupts.h"
 #include "json_lines.h"
+#include "output_files.h"
 #include "params.h"
 #include "field_loader.h"
 #include "quantum/world.h"
@@ -180,6 +182,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   std::vector<BodyInput> standing;
   for (const BodySpec& b : world.field().bodies) standing.push_back({b.start, {0, 0}});
 
+  const runtime::Output outputs[] = {{"--events", o.events}, {"--decisions", o.decisions}, {"--snapshot", o.snapshot}};
+  runtime::check_distinct(outputs);
   runtime::LineFile log("--events", o.events), decisions("--decisions", o.decisions);
   if (decisions.stream()) write_header(*decisions.stream(), o, world.field());
   FateReport report;  // the fates the draws are tweaked by
@@ -211,7 +215,9 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
 
   const float dt = float(1.0 / o.fps);
   const uint64_t steps = uint64_t(o.seconds * o.fps + 0.5);
-  for (uint64_t s = 0; s < steps; ++s) {
+  // From here a signal ends the simulation early, its files completed (runtime/interrupts.h).
+  runtime::end_matches_on_signals();
+  for (uint64_t s = 0; s < steps && !runtime::interrupting_signal(); ++s) {
     events.clear();
     bool shot = false;
     if (respawn_at >= 0 && world.time() >= respawn_at - 1e-9) {
@@ -237,6 +243,8 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       runtime::write_decision(*decisions.stream(), *world.decision(), {terms, report.groups.size(), {}}, world.field());
     const bool decided = !events.empty();
     flush();
+    log.commit();
+    decisions.commit();
     log.say_failure(std::cerr);
     decisions.say_failure(std::cerr);
     // Every particle crushed, and nobody holds the ball: it is lost, restart it.

@@ -248,18 +248,25 @@ TEST(Cli, ValuesItCannotHonourAreRefusedByName) {
   EXPECT_EQ(highest.status, 0) << highest.err;
 }
 
-// A log that cannot be written (a full disk) is told once, as soon as a write fails, the match
-// plays to its end, and the exit code says something was lost.
+// A log that cannot be written (a full disk, made here with the shell's file size limit) is told
+// once, as soon as a write fails, the match plays to its end, and the exit code says something was
+// lost.
 TEST(Cli, ALogOnAFullDiskIsToldAtOnceAndTheExitCodeSaysSo) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_log_" + std::to_string(getpid()));
   for (const char* option : {"--events", "--decisions"}) {
-    const Outcome r = quantum(std::string("play rules/airhockey --audio none --seconds 20 ") + option + " /dev/full");
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string log = (dir / "log.jsonl").string();
+    // 4 KiB (8 blocks of 512 bytes): 20 s of air hockey logs more, with either option.
+    const Outcome r = quantum(std::string("play rules/airhockey --audio none --seconds 20 ") + option + " " + log, "ulimit -f 8; ");
     EXPECT_EQ(r.status, 1) << option;
-    const size_t told = r.err.find("cannot write to /dev/full (a full disk?)");
+    const size_t told = r.err.find("cannot write to " + log + " (a full disk, a closed pipe?)");
     EXPECT_NE(told, std::string::npos) << r.err;
-    EXPECT_EQ(r.err.find("cannot write to /dev/full", told + 1), std::string::npos) << "told once: " << r.err;
-    EXPECT_GT(r.err.find("could not write every line to /dev/full"), told) << r.err;
+    EXPECT_EQ(r.err.find("cannot write to " + log, told + 1), std::string::npos) << "told once: " << r.err;
+    EXPECT_GT(r.err.find("could not write every line to " + log), told) << r.err;
     EXPECT_NE(r.out.find("0:20.00"), std::string::npos) << "the match was played to its end: " << r.out;
   }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, PlayWithoutASoundCardWarnsOnceAndPlaysSilently) {
@@ -283,7 +290,7 @@ TEST(Cli, TheLastOfARepeatedOptionCounts) {
 TEST(Cli, AnOutputThatCannotBeWrittenStopsPlayBeforeItStarts) {
   const std::string folder = std::filesystem::temp_directory_path();
   const std::pair<std::string, std::string> refused[] = {
-      {"--audio wav:/nonexistent/dir/x.wav", "/nonexistent/dir/x.wav: cannot write WAV file"},
+      {"--audio wav:/nonexistent/dir/x.wav", "--audio /nonexistent/dir/x.wav: no folder /nonexistent/dir"},
       {"--events /nonexistent/dir/x.jsonl", "--events /nonexistent/dir/x.jsonl: no folder /nonexistent/dir"},
       {"--decisions " + folder, "--decisions " + folder + ": is a folder, not a file"},
       {"--record /dev/null/x", "--record /dev/null/x: cannot make the folder"},
@@ -326,7 +333,7 @@ TEST(Cli, EveryFileOnAFullDiskIsToldAtOnceAndTheOthersAreCompleted) {
     const Outcome r = quantum("play rules/airhockey --pace fast --seconds 20 --events " + events + " " + c.option,
                               "ulimit -f 48; ");
     EXPECT_EQ(r.status, 1) << c.option << ": " << r.err;
-    const size_t told = r.err.find("cannot write to " + c.told + " (a full disk?)");
+    const size_t told = r.err.find("cannot write to " + c.told + " (a full disk, a closed pipe?)");
     EXPECT_NE(told, std::string::npos) << c.option << ": " << r.err;
     EXPECT_EQ(r.err.find("cannot write to " + c.told, told + 1), std::string::npos) << "told once: " << r.err;
     EXPECT_NE(r.out.find("0:20.00"), std::string::npos) << "the match was played to its end: " << r.out;
