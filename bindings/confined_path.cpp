@@ -4,21 +4,11 @@
 #include <system_error>
 
 #include "lua_reader.h"
+#include "system/regular_file.h"
 
 namespace quantum::lua {
 namespace fs = std::filesystem;
 namespace {
-
-const char* kind_of(fs::file_type type) {
-  switch (type) {
-    case fs::file_type::directory: return "a directory";
-    case fs::file_type::character: return "a character device";
-    case fs::file_type::block: return "a block device";
-    case fs::file_type::fifo: return "a FIFO";
-    case fs::file_type::socket: return "a socket";
-    default: return "a special file";
-  }
-}
 
 bool below(const fs::path& file, const fs::path& folder) {
   const fs::path inside = file.lexically_relative(folder);
@@ -41,7 +31,7 @@ std::string not_a_regular_file(const fs::path& file) {
     case fs::file_type::regular:
     case fs::file_type::not_found: return "";
     case fs::file_type::none: return file.string() + ": " + error.message();
-    default: return file.string() + " is " + kind_of(status.type()) + ", not a regular file";
+    default: return file.string() + " is " + system::kind_of(status.type()) + ", not a regular file";
   }
 }
 

@@ -90,7 +90,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   config.tackle_rate = sport_->tackle_rate();
   match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
   if (!players_ && replay)
-    players_ = std::make_unique<RecordedPlayers>(o.replay, std::move(replay->work), match_->field(), &errors_);
+    players_ = std::make_unique<RecordedPlayers>(o.replay, std::move(replay->work), match_->field(), &errors_, replay->frames);
   if (!players_) {
     if (o.input == "bots") {
       const std::vector<double> skills(sport_->field().bodies.size(), 0.6);

@@ -49,6 +49,7 @@ void retweak(World& world, const KindFactors& factors, FateReport& report, game:
 void write_header(std::ostream& out, const SimulateOptions& o, const Field& field) {
   namespace fs = std::filesystem;
   const fs::path file = fs::is_directory(o.field) ? fs::path(o.field) / "field.lua" : fs::path(o.field);
+  const std::optional<std::string> hash = runtime::fingerprint(file);
   nlohmann::json factors = nlohmann::json::object(), players = nlohmann::json::array();
   for (FateKind k : kFateKinds) factors[to_string(k)] = factor_by_kind(k, o.factors);
   for (const BodySpec& b : field.bodies)
@@ -56,7 +57,7 @@ void write_header(std::ostream& out, const SimulateOptions& o, const Field& fiel
   const nlohmann::json header = {{"format", "quantum decisions"}, {"version", runtime::kDecisionLogVersion},
                                  {"engine", runtime::engine_version()}, {"sport", ""},
                                  {"field", field.name},
-                                 {"files", {{{"path", file.filename().string()}, {"fnv1a", runtime::fingerprint(file)}}}},
+                                 {"files", {{{"path", file.filename().string()}, {"fnv1a", hash ? nlohmann::json(*hash) : nlohmann::json()}}}},
                                  {"seed", o.seed}, {"seconds", o.seconds}, {"fps", o.fps}, {"particles", o.particles},
                                  {"tackle_rate", 0}, {"balance", {{"per_goal", 0}, {"most", 1}}}, {"params", o.params},
                                  {"factor_overrides", nlohmann::json::object()}, {"factors", factors}, {"players", players}};

@@ -1,8 +1,6 @@
 #include "tracking/fakenect.h"
 
-#include <fcntl.h>
 #include <libfreenect.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <opencv2/imgproc.hpp>
@@ -12,9 +10,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 
+#include "system/regular_file.h"
 #include "tracking/kinect.h"
 #include "tracking/lines.h"
 
@@ -36,24 +34,6 @@ double time_of(const std::string& name) {
   return std::isfinite(t) && t >= 0 ? t : std::nan("");
 }
 
-// A descriptor for `path` if it is a regular file (symlinks followed), else -1 and `why`. Opened
-// without blocking, so that a FIFO (nobody writing) or a device is looked at, never waited on.
-int open_regular(const fs::path& path, std::string& why, off_t* size = nullptr) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) {
-    why = errno == ENOENT ? "no such file" : std::string("cannot open: ") + std::strerror(errno);
-    return -1;
-  }
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    why = "not a regular file";
-    return -1;
-  }
-  if (size) *size = st.st_size;
-  return fd;
-}
-
 // Up to `n` bytes at `offset`; how many were read.
 size_t read_at(int fd, char* to, size_t n, off_t offset) {
   size_t got = 0;
@@ -71,12 +51,9 @@ size_t read_at(int fd, char* to, size_t n, off_t offset) {
 // between the header's fields; no more than the header and the samples it announces is read.
 cv::Mat read_pnm(const fs::path& path, bool depth, std::string& why) {
   off_t size = 0;
-  const int fd = open_regular(path, why, &size);
+  const int fd = system::open_regular(path, why, &size);
   if (fd < 0) return {};
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
+  const system::FileDescriptor closer(fd);
   char head[kLongestHeader];
   const size_t n = read_at(fd, head, sizeof head, 0);
   size_t at = 2;
@@ -124,8 +101,8 @@ cv::Mat read_pnm(const fs::path& path, bool depth, std::string& why) {
 FakenectReader::FakenectReader(std::string dir) : dir_(std::move(dir)) {
   const fs::path index = fs::path(dir_) / "INDEX.txt";
   std::string why;
-  const int fd = open_regular(index, why);
-  if (fd < 0) throw RecordingError(index.string() + ": " + why + " (not a fakenect recording?)");
+  const int fd = system::open_regular(index, why);
+  if (fd < 0) throw RecordingError(index.string() + " " + why + " (not a fakenect recording?)");
   BoundedLines lines(fd);
   for (std::string line;;) {
     const BoundedLines::Line got = lines.next(line);

@@ -1,6 +1,6 @@
 // What the fuzz targets share: a folder of their own to write an input into (the readers under
-// test take files and folders, as users give them) and a loopback UDP port to send one to (the
-// live sources take datagrams).
+// test take files and folders, as users give them), a loopback UDP port to send one to (the
+// live sources take datagrams), and rules that do nothing for a match a players' source reads.
 #pragma once
 
 #include <arpa/inet.h>
@@ -12,9 +12,20 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <string>
 
+#include "game/game.h"
+
 namespace quantum::fuzz {
+
+// Rules that do nothing: the match is only there for what the players' input reads of it.
+struct NoRules final : game::Rules {
+  void factors(std::span<const game::FateView>, game::Match&, std::span<double> out, game::FactorTerms&) override {
+    std::fill(out.begin(), out.end(), 1.0);
+  }
+  void on_event(const game::GameEvent&, game::Match&) override {}
+};
 
 // This process's own scratch folder (fuzzers may run side by side), made once.
 inline const std::filesystem::path& scratch() {

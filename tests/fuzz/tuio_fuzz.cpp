@@ -12,14 +12,6 @@
 namespace quantum {
 namespace {
 
-// Rules that do nothing: the match is only there for what the players' input reads of it.
-struct NoRules final : game::Rules {
-  void factors(std::span<const game::FateView>, game::Match&, std::span<double> out, game::FactorTerms&) override {
-    std::fill(out.begin(), out.end(), 1.0);
-  }
-  void on_event(const game::GameEvent&, game::Match&) override {}
-};
-
 // "/tuio/2Dcur fseq n": the end of a TUIO frame, sent after the input so it is read as one.
 std::vector<char> frame_end() {
   lo_message m = lo_message_new();
@@ -39,7 +31,7 @@ std::vector<char> frame_end() {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace quantum;
   static const Field field = lua::load_field(QUANTUM_SOURCE_DIR "/rules/airhockey");
-  static NoRules rules;
+  static fuzz::NoRules rules;
   static game::Match match(field, game::MatchConfig{}, rules);
   static const std::vector<char> end = frame_end();
   const int port = fuzz::free_port();

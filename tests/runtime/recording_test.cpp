@@ -14,10 +14,16 @@
 #include <fstream>
 #include <sstream>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "field_loader.h"
 #include "play.h"
+#include "recording.h"
 #include "session.h"
 #include "synthetic.h"
 
@@ -461,7 +467,7 @@ TEST(Recording, ARecordingsSettingsOutOfRangeAreRefusedByName) {
 TEST(Recording, ARecordedFileThatIsNoRegularFileDiffers) {
   const fs::path recording = copy_of_recording("device");
   nlohmann::json j = nlohmann::json::parse(read(recording / "recording.json"));
-  j["files"] = nlohmann::json::array({{{"original", "/dev/zero"}, {"fnv1a", "0"}, {"copy", "x"}}});
+  j["files"] = nlohmann::json::array({{{"original", "/dev/zero"}, {"fnv1a", "0"}, {"copy", j["files"][0]["copy"]}}});
   std::ofstream(recording / "recording.json", std::ios::trunc) << j.dump();
   const Logs replayed = replay(recording.string(), recording.parent_path() / "replayed");
   EXPECT_NE(replayed.warnings.find("/dev/zero changed since the recording"), std::string::npos) << replayed.warnings;
@@ -494,6 +500,227 @@ TEST(Recording, ARecordingThatEndsEarlyIsNoDraw) {
   tools::play(r, out, errors);
   EXPECT_NE(out.str().find("final score: blue 0 red 0 (not finished: level)"), std::string::npos) << out.str();
   EXPECT_EQ(out.str().find("(draw)"), std::string::npos);
+}
+
+
+// Issue 43, "Recordings are data": a recording's files are opened only if they are regular files
+// of its own, bounded in size; the files it names are compared at a bounded cost; a recording
+// whose parts are missing, links, FIFOs or out of place is refused, naming the part.
+
+// A copy of the handball recording in a folder of this test's own.
+fs::path fault_copy(const std::string& name) { return copy_of_recording("fault_" + name + "_" + std::to_string(getpid())); }
+
+// What opening a replay of `recording` is refused with ("" when it opens).
+std::string refusal(const fs::path& recording) {
+  runtime::SessionOptions r;
+  r.replay = recording.string();
+  std::ostringstream warnings;
+  try {
+    runtime::Session session(r, nullptr, warnings);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// What this process has read so far (every read(2) of every thread), in bytes.
+uint64_t bytes_read() {
+  std::ifstream io("/proc/self/io");
+  for (std::string key; io >> key;) {
+    uint64_t value = 0;
+    io >> value;
+    if (key == "rchar:") return value;
+  }
+  return 0;
+}
+
+void edit_json(const fs::path& recording, const std::function<void(nlohmann::json&)>& edit) {
+  nlohmann::json j = nlohmann::json::parse(read(recording / "recording.json"));
+  edit(j);
+  std::ofstream(recording / "recording.json", std::ios::trunc) << j.dump();
+}
+
+// Opening a FIFO that nobody writes blocks: the replay would wait forever. It is refused at once.
+void expect_a_fifo_refused(const std::string& part) {
+  const fs::path recording = fault_copy("fifo_" + part);
+  fs::remove(recording / part);
+  ASSERT_EQ(::mkfifo((recording / part).c_str(), 0600), 0);
+  EXPECT_EQ(refusal(recording), (recording / part).string() + " is a FIFO, not a regular file");
+  expect_no_work_folder_left();
+}
+
+TEST(FaultRecordings, AFifoForRecordingJsonIsRefusedNamingIt) { expect_a_fifo_refused("recording.json"); }
+
+TEST(FaultRecordings, AFifoForFramesBinIsRefusedNamingIt) { expect_a_fifo_refused("frames.bin"); }
+
+// A link in a recording can only lead out of it: frames.bin, a script of the sport's copy, and
+// the sport folder itself, each a symlink to whole, valid files elsewhere.
+TEST(FaultRecordings, ASymlinkInARecordingIsRefusedNamingIt) {
+  const fs::path recording = fault_copy("links");
+  const fs::path elsewhere = recording.parent_path() / "elsewhere";
+  fs::create_directories(elsewhere);
+  fs::rename(recording / "frames.bin", elsewhere / "frames.bin");
+  fs::create_symlink(elsewhere / "frames.bin", recording / "frames.bin");
+  EXPECT_EQ(refusal(recording), (recording / "frames.bin").string() + " is a symbolic link, not a regular file");
+  fs::remove(recording / "frames.bin");
+  fs::rename(elsewhere / "frames.bin", recording / "frames.bin");
+  ASSERT_EQ(refusal(recording), "");
+
+  const fs::path script = recording / "sport" / "handball" / "sport.lua";
+  fs::rename(script, elsewhere / "sport.lua");
+  fs::create_symlink(elsewhere / "sport.lua", script);
+  EXPECT_EQ(refusal(recording), script.string() + " is a symbolic link, not a regular file: a recording holds its own "
+                                                  "files, nothing else");
+  fs::remove(script);
+  fs::rename(elsewhere / "sport.lua", script);
+
+  fs::rename(recording / "sport", elsewhere / "sport");
+  fs::create_directory_symlink(elsewhere / "sport", recording / "sport");
+  EXPECT_EQ(refusal(recording), (recording / "sport").string() + " is a symbolic link, not a folder of the recording's own");
+  expect_no_work_folder_left();
+}
+
+// recording.json's sport and the copies it lists are places in the recording: one outside it (by
+// '..' or an absolute path: another sport's scripts would run) or one it does not hold is refused.
+TEST(FaultRecordings, APlaceOutsideTheRecordingIsRefusedByKey) {
+  const fs::path recording = fault_copy("places");
+  const std::string original = read(recording / "recording.json");
+  const fs::path other = recording.parent_path() / "other";
+  fs::create_directories(other);
+  fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", other / "airhockey", fs::copy_options::recursive);
+  struct Case {
+    std::string key, value, refused;
+  };
+  const std::string airhockey = (other / "airhockey").string();
+  const std::vector<Case> cases = {
+      {"sport_copy", "../../other/airhockey", "\"sport_copy\" must name a place in the recording's sport/ (relative, "
+                                              "without '..'), got \"../../other/airhockey\""},
+      {"sport_copy", airhockey, "\"sport_copy\" must name a place in the recording's sport/ (relative, without '..'), "
+                                "got \"" + airhockey + "\""},
+      {"sport_copy", "sport/handball/../../../other/airhockey", "must name a place in the recording's sport/"},
+      {"sport_copy", "sport/airhockey", "\"sport_copy\" names sport/airhockey, which the recording does not hold (a folder)"},
+      {"copy", "../../other/airhockey/sport.lua", "\"copy\" must name a place in the recording's sport/ or engine/"},
+      {"copy", "sport/handball/gone.lua", "\"copy\" names sport/handball/gone.lua, which the recording does not hold (a file)"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(recording / "recording.json", std::ios::trunc) << original;
+    edit_json(recording, [&](nlohmann::json& j) {
+      if (c.key == "sport_copy") j["sport_copy"] = c.value;
+      else j["files"][0]["copy"] = c.value;
+    });
+    const std::string message = refusal(recording);
+    EXPECT_NE(message.find((recording / "recording.json").string() + ": "), std::string::npos) << c.value << ": " << message;
+    EXPECT_NE(message.find(c.refused), std::string::npos) << c.value << ": " << message;
+  }
+  // A copy listed twice would have its original read twice.
+  std::ofstream(recording / "recording.json", std::ios::trunc) << original;
+  edit_json(recording, [](nlohmann::json& j) { j["files"].push_back(j["files"][0]); });
+  const std::string twice = refusal(recording);
+  EXPECT_NE(twice.find("\"files\" lists "), std::string::npos) << twice;
+  EXPECT_NE(twice.find(" twice"), std::string::npos) << twice;
+  expect_no_work_folder_left();
+}
+
+// A file the recording names at its original place is read no further than its copy goes: a
+// 64 GiB file there (sparse: it takes no disk) has changed, and is not read. One inside the
+// recording is refused before it is read.
+TEST(FaultRecordings, AHugeFileIsNeverReadWhole) {
+  const fs::path recording = fault_copy("huge");
+  const fs::path huge = recording.parent_path() / "huge.lua";
+  std::ofstream(huge).put('-');
+  fs::resize_file(huge, uint64_t(64) << 30);
+  edit_json(recording, [&](nlohmann::json& j) { j["files"][0]["original"] = huge.string(); });
+  const uint64_t before = bytes_read();
+  const runtime::Replay opened = runtime::open_replay(recording);
+  EXPECT_LT(bytes_read() - before, runtime::kMostRecordedBytes);
+  EXPECT_NE(std::find(opened.differences.begin(), opened.differences.end(), huge.string() + " changed since the recording"),
+            opened.differences.end());
+
+  fs::rename(huge, recording / "sport" / "handball" / "huge.lua");
+  const uint64_t again = bytes_read();
+  EXPECT_NE(refusal(recording).find((recording / "sport" / "handball" / "huge.lua").string() + ": more than 256 MiB of files "
+                                    "in all, more than a recording holds"),
+            std::string::npos);
+  EXPECT_LT(bytes_read() - again, runtime::kMostRecordedBytes);
+  fs::remove(recording / "sport" / "handball" / "huge.lua");
+  std::ofstream(recording / "recording.json").put('{');
+  fs::resize_file(recording / "recording.json", runtime::kMostRecordingJsonBytes + 1);
+  EXPECT_EQ(refusal(recording), (recording / "recording.json").string() + " holds more than 16 MiB, more than a "
+                                                                          "recording's settings and list of files do");
+}
+
+// Replays `recording` to its end; the frames it played and its warnings.
+std::pair<int, std::string> replay_frames(const fs::path& recording) {
+  runtime::SessionOptions r;
+  r.replay = recording.string();
+  r.pacing = runtime::SessionOptions::Pacing::Fast;
+  r.audio = "none";
+  std::ostringstream warnings;
+  int frames = 0;
+  runtime::Session session(r, nullptr, warnings);
+  while (session.frame()) ++frames;
+  session.finish();
+  return {frames, warnings.str()};
+}
+
+// A recording whose process was killed has recording.json as written at the start (no frame
+// count) and frames.bin cut wherever its buffer was last written: it replays its whole frames,
+// saying so. A closed recording whose frames.bin lost frames says so too.
+TEST(FaultRecordings, AKilledRecordingReplaysUpToItsLastWholeFrame) {
+  const fs::path recording = fault_copy("cut");
+  const std::string whole = bytes_of(recording / "frames.bin");
+  const Frames frames = frames_in(whole);
+  ASSERT_GT(frames.starts.size(), 300u);
+  edit_json(recording, [](nlohmann::json& j) { j["frames"] = nullptr; });
+  std::ofstream(recording / "frames.bin", std::ios::binary | std::ios::trunc) << whole.substr(0, frames.starts[300] + 9);
+  const auto [played, warnings] = replay_frames(recording);
+  EXPECT_EQ(played, 300);
+  EXPECT_NE(warnings.find("quantum: replay: the recording was never closed (its process was killed?): it replays up to "
+                          "its last whole frame\n"),
+            std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("frame 300 is cut short: the replay ends after 300 whole frames"), std::string::npos) << warnings;
+
+  edit_json(recording, [&](nlohmann::json& j) { j["frames"] = frames.starts.size(); });
+  std::ofstream(recording / "frames.bin", std::ios::binary | std::ios::trunc) << whole.substr(0, frames.starts[200]);
+  const auto [closed_played, closed_warnings] = replay_frames(recording);
+  EXPECT_EQ(closed_played, 200);
+  EXPECT_NE(closed_warnings.find("frames.bin: recording.json counts " + std::to_string(frames.starts.size()) +
+                                 " frames: the replay ends after 200 whole frames"),
+            std::string::npos) << closed_warnings;
+}
+
+// The same with a real kill: `quantum play --record` killed by SIGKILL mid-match.
+TEST(FaultRecordings, ARecordingKilledMidMatchReplays) {
+  const fs::path dir = scratch("fault_killed_" + std::to_string(getpid()));
+  const fs::path recording = dir / "recording";
+  const std::string binary = QUANTUM_BINARY, record = recording.string();
+  std::vector<std::string> args = {binary, "play", QUANTUM_SOURCE_DIR "/rules/handball", "--seconds", "3600", "--seed", "5",
+                                   "--pace", "fast", "--audio", "none", "--quiet", "--record", record};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t quiet;
+  posix_spawn_file_actions_init(&quiet);
+  posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
+  pid_t child = 0;
+  ASSERT_EQ(posix_spawn(&child, binary.c_str(), &quiet, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&quiet);
+  // Until it has recorded a few hundred frames (or has stopped by itself, which fails below).
+  int status = 0;
+  const auto recorded = [&] {
+    std::error_code none_yet;
+    const uintmax_t bytes = fs::file_size(recording / "frames.bin", none_yet);
+    return none_yet ? 0 : bytes;
+  };
+  while (waitpid(child, &status, WNOHANG) == 0 && recorded() < 100'000) usleep(10'000);
+  ASSERT_EQ(::kill(child, SIGKILL), 0) << "quantum play stopped by itself";
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  ASSERT_TRUE(nlohmann::json::parse(read(recording / "recording.json"))["frames"].is_null());
+  const auto [played, warnings] = replay_frames(recording);
+  EXPECT_GT(played, 300);
+  EXPECT_NE(warnings.find("the recording was never closed"), std::string::npos) << warnings;
 }
 
 }  // namespace
