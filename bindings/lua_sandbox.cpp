@@ -70,7 +70,8 @@ std::string where_of(lua_State* L, lua_Debug& ar, const char* what) {
 // as deep as the sandbox allows (each a C frame, its Lua one gone when it ends in a tail call).
 constexpr int kLevelsLooked = 256;
 
-// The innermost script frame's "file:line: " (level 1 up), "" when no script runs.
+// The innermost script frame's "file:line: " (level 1 up), "" when no script runs (none called,
+// or a tail call left only C functions: a __tostring that returns string.format("%s", self)).
 std::string innermost_script_line(lua_State* L) {
   lua_Debug ar;
   for (int level = 1; level <= kLevelsLooked && lua_getstack(L, level, &ar); ++level)
@@ -95,9 +96,9 @@ bool names_a_running_line(lua_State* L, const char* m) {
 }
 
 // The message handler of every call: the error as text, starting with the script line that
-// raised it.
+// raised it (Sandbox::script_place).
 int on_error(lua_State* L) {
-  const std::string where = innermost_script_line(L);
+  const std::string where = Sandbox::of(L).script_place(L);
   if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) {
     const char* m = lua_tostring(L, 1);
     if (!names_a_running_line(L, m)) lua_pushstring(L, (where + m).c_str());
@@ -348,7 +349,7 @@ void Sandbox::run_out(lua_State* L, lua_Debug* ar) {
   // From now on every instruction raises this again: a script that catches it with pcall cannot
   // go on, and neither can an error handler.
   set_hook_period(1);
-  std::string where = ar ? where_of(L, *ar, "Sl") : innermost_script_line(L);
+  std::string where = ar ? where_of(L, *ar, "Sl") : script_place(L);
   if (spent_in_.empty()) spent_in_ = where.substr(0, where.find(':'));
   char message[160];
   std::snprintf(message, sizeof message,
@@ -424,15 +425,13 @@ bool Sandbox::run_on_lane(void (*job)(void*), void* arg) {
   const double cpu = lane_->stuck_cpu;
   longest_period_cpu_ = std::max(longest_period_cpu_, period_cpu_ + cpu);
   const Where& w = where_[std::clamp(where_depth_ - 1, 0, int(std::size(where_)) - 1)];
-  std::string where;
-  if (where_depth_ > 0 && w.source) where = w.source + (w.line > 0 ? ":" + std::to_string(w.line) : std::string()) + ": ";
   char text[400];
   std::snprintf(text, sizeof text,
                 "script stuck: one step of Lua %s ran on past the budget (%.0f ms of CPU, of %.0f ms) inside a "
                 "single instruction no hook can stop, such as filing again a table's keys chosen to collide; its "
                 "Lua state is abandoned",
                 w.line > 0 ? "in the function starting here" : "here", cpu * 1e3, limits_.cpu_seconds * 1e3);
-  stuck_ = where + text;
+  stuck_ = called_place() + text;
   return false;
 }
 
@@ -453,7 +452,7 @@ void Sandbox::print_line(lua_State* L, std::string_view text, size_t whole) {
                    kPrintedPerPeriod);
     return;
   }
-  std::string line = "print: " + innermost_script_line(L);
+  std::string line = "print: " + script_place(L);
   line.append(text);  // as written, NUL bytes too
   if (whole > text.size()) line += "... (" + std::to_string(whole) + " bytes in all)";
   line += '\n';
@@ -465,14 +464,15 @@ bool Sandbox::arm(std::string* refused) {
     if (refused) {
       // A call from inside a running script is refused at that script's line: the watchdog may
       // have spent the budget between two looks of the hook, before any script error named the place.
-      std::string where = depth_ > 0 ? innermost_script_line(L_) : std::string();
+      std::string where = depth_ > 0 ? script_place(L_) : std::string();
       if (where.empty() && !spent_in_.empty()) where = spent_in_ + ": ";
       *refused = where + "script runs too long: this frame's Lua budget is spent (call skipped)";
     }
     return false;
   }
-  if (depth_ >= kMostNested) {
-    if (refused) *refused = "calls into the scripts nested more than " + std::to_string(kMostNested) + " deep";
+  if (depth_ >= kMostNested) {  // handlers that call each other (on.give throws, on.throw gives)
+    if (refused)
+      *refused = script_place(L_) + "calls into the scripts nested more than " + std::to_string(kMostNested) + " deep";
     return false;
   }
   if (depth_++ > 0) return true;  // a call made from inside another spends the outer one's budget
@@ -491,6 +491,17 @@ void Sandbox::disarm() {
   period_cpu_ += seconds(thread_cpu_now()) - seconds(armed_at_);
   longest_period_cpu_ = std::max(longest_period_cpu_, period_cpu_);
   if (out_of_budget() || (limits_.cpu_seconds > 0 && period_cpu_ >= limits_.cpu_seconds)) spent_ = true;
+}
+
+std::string Sandbox::called_place() const {
+  const Where& w = where_[std::clamp(where_depth_ - 1, 0, int(std::size(where_)) - 1)];
+  if (where_depth_ == 0 || !w.source) return {};
+  return w.source + (w.line > 0 ? ":" + std::to_string(w.line) : std::string()) + ": ";
+}
+
+std::string Sandbox::script_place(lua_State* L) const {
+  std::string where = innermost_script_line(L);
+  return where.empty() ? called_place() : where;
 }
 
 Sandbox::Nested::Nested(lua_State* L, Sandbox& sandbox, const char* what) : sandbox_(sandbox) {

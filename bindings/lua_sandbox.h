@@ -164,6 +164,11 @@ class Sandbox {
     Sandbox& sandbox_;
   };
   static Sandbox& of(lua_State* L);
+  // Where an error in a call names its place, "file:line: ": the innermost script line running,
+  // or when none runs (a tail call left only C functions, as a __tostring that returns
+  // string.format("%s", self) does) the first line of the function the engine called; "" when
+  // that is no script's either (a value that is not a function).
+  std::string script_place(lua_State* L) const;
 
   // Scripts' print: one line on stderr, "print: file:line: text", the text cut at kPrintedLine
   // bytes (`whole` is its length before the cut). At most kPrintedPerPeriod lines a period, then
@@ -211,6 +216,7 @@ class Sandbox {
   [[noreturn]] static void park();
   // The watchdog's: abandons the sandbox if the lane is still in the stretch of Lua `seen`.
   bool abandon(uint64_t seen, double call_cpu);
+  std::string called_place() const;  // "file:line: " of the function the innermost call runs, or ""
   // Where the lane's calls in progress are, innermost last: a script function's file and first
   // line, or a file being loaded (line 0); no file for a C function. stuck() names the innermost.
   struct Where {

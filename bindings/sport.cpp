@@ -564,6 +564,15 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
   raw_field(L, sport, "modifiers");
   const int modifiers = lua_gettop(L);
   const size_t n_modifiers = lua_istable(L, modifiers) ? lua_objlen(L, modifiers) : 0;
+  // What a script put there since the sport loaded, told once a frame (the same words each
+  // frame: told once and counted) naming the function after which it was so.
+  const auto not_usable = [&](const std::string& what, int index) {
+    match.report_error((modifiers_broken_by_.empty() ? file_ + ": " : modifiers_broken_by_ + "since this function ran, ") +
+                       what + " is a " + luaL_typename(L, index) + ", not " +
+                       (what == "modifiers" ? "a list of functions" : "a function") + " (skipped)");
+  };
+  bool told = !lua_isnil(L, modifiers) && !lua_istable(L, modifiers);
+  if (told) not_usable("modifiers", modifiers);
   // The players and power-ups a power-up's factor sees, filled once for all fates.
   for (size_t k = 0; k < match.players().size() && !match.powerups().empty(); ++k) {
     player_tables_.push(L, k);
@@ -587,10 +596,15 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
     }
     for (size_t i = 1; i <= n_modifiers && !sandbox_->spent(); ++i) {  // spent: the rest keep their factor
       lua_rawgeti(L, modifiers, int(i));
+      if (!lua_isfunction(L, -1)) {
+        if (!told) not_usable("modifiers[" + std::to_string(i) + "]", -1), told = true;
+        lua_pop(L, 1);
+        continue;
+      }
       fate_tables_.push(L, k);
       lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
       std::string error;
-      if (!sandbox_->call(2, 1, error)) {
+      if (!call(2, 1, error)) {
         match.report_error(error + " (modifiers[" + std::to_string(i) + "] skipped)");
         continue;
       }
@@ -610,6 +624,35 @@ void Sport::script_factors(std::span<const game::FateView> fates, game::Match& m
     powerup_factors(k, match, factor, terms);
     out[k] = factor;
   }
+}
+
+bool Sport::call(int nargs, int nresults, std::string& error) {
+  lua_State* L = sandbox_->L();
+  lua_pushvalue(L, -nargs - 1);  // the function, kept below it for its place
+  lua_insert(L, -nargs - 2);
+  const bool ok = sandbox_->call(nargs, nresults, error);
+  const int function = lua_gettop(L) - (ok ? nresults : 0);
+  if (modifiers_usable(L)) modifiers_broken_by_.clear();
+  else if (modifiers_broken_by_.empty()) modifiers_broken_by_ = defined_at(L, function, file_);
+  lua_remove(L, function);
+  return ok;
+}
+
+// Whether the sport's modifiers are none or a list of functions, as loading checked. A list a
+// script made as long as memory allows is looked at until the frame's budget is spent (the
+// watchdog's flag), not past it; what is not looked at counts as usable.
+bool Sport::modifiers_usable(lua_State* L) {
+  lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
+  raw_field(L, -1, "modifiers");
+  bool usable = lua_isnil(L, -1) || lua_istable(L, -1);
+  if (lua_istable(L, -1))
+    for (size_t i = 1, n = lua_objlen(L, -1); i <= n && usable && !sandbox_->spent(); ++i) {
+      lua_rawgeti(L, -1, int(i));
+      usable = lua_isfunction(L, -1);
+      lua_pop(L, 1);
+    }
+  lua_pop(L, 2);
+  return usable;
 }
 
 // Every fate zeroed: the draw would have nothing left to choose from. The match goes on with
@@ -674,7 +717,7 @@ void Sport::run_handler(const game::GameEvent& e, game::Match& match) {
   lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
   push_event(L, e);
   std::string error;
-  if (!sandbox_->call(2, 0, error)) match.report_error(error + " (on." + game::to_string(e.type) + " skipped)");
+  if (!call(2, 0, error)) match.report_error(error + " (on." + game::to_string(e.type) + " skipped)");
 }
 
 void Sport::begin_frame(game::Match& match) {
@@ -758,7 +801,7 @@ void Sport::run_timers(game::Match& match) {
     luaL_unref(L, LUA_REGISTRYINDEX, timer.function);
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     std::string error;
-    if (!sandbox_->call(1, 0, error)) match.report_error(error + " (timer skipped)");
+    if (!call(1, 0, error)) match.report_error(error + " (timer skipped)");
   }
 }
 
@@ -857,7 +900,7 @@ void Sport::grant_protected(game::Match& match, int player, const std::string& n
     lua_pushvalue(L, -1);
     lua_insert(L, -5);  // a reference to the params table below the function, for after the call
     std::string error;
-    if (!sandbox_->call(3, 0, error)) {
+    if (!call(3, 0, error)) {
       lua_settop(L, top);
       throw ScriptError(error + " (start of power-up " + name + ")");
     }
@@ -888,7 +931,7 @@ void Sport::powerup_factors(size_t fate, game::Match& match, double& factor, gam
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     powerup_tables_.push(L, j);
     std::string error;
-    if (!sandbox_->call(4, 1, error)) {
+    if (!call(4, 1, error)) {
       match.report_error(error + " (power-up " + a.name + " skipped)");
     } else if (!lua_isnil(L, -1)) {
       const double f = checked_term(L, match, [&] {
@@ -1045,7 +1088,7 @@ void Sport::carry_state(Sport& old, game::Match& match) {
     lua_insert(L, -2);  // on_reload, game, state
     const Acting acting(*this, match, true);
     std::string error;
-    if (!sandbox_->call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
+    if (!call(2, 0, error)) match.report_error(error + " (on_reload skipped)");
   } else if (!lua_isnil(L, -2)) {  // nothing to carry: the new version's own state stays
     lua_pop(L, 1);
     lua_pushstring(L, "state");
@@ -1091,7 +1134,7 @@ void Sport::announce_powerup(const game::GameEvent& e, game::Match& match) {
     fill_player(L, match, size_t(e.actor_index));
     lua_rawgeti(L, LUA_REGISTRYINDEX, game_ref_);
     std::string error;
-    if (!sandbox_->call(2, 0, error)) match.report_error(error + " (stop of power-up " + e.powerup + " skipped)");
+    if (!call(2, 0, error)) match.report_error(error + " (stop of power-up " + e.powerup + " skipped)");
   }
   lua_settop(L, top);
 }

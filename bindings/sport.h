@@ -191,6 +191,12 @@ class Sport final : public game::Rules {
   void script_factors(std::span<const game::FateView> fates, game::Match& match, std::span<double> out,
                       game::FactorTerms& terms);
   void run_handler(const game::GameEvent& e, game::Match& match);
+  // Every call into the sport's scripts: sandbox_->call, then a look at the modifiers the call
+  // may have replaced (a handler's `sport.modifiers = {{}}`). The first call after which they
+  // are not a list of functions is remembered (modifiers_broken_by_: where that function starts),
+  // for script_factors' error to name; a call after which they are one again forgets it.
+  bool call(int nargs, int nresults, std::string& error);
+  bool modifiers_usable(lua_State* L);
   void run_timers(game::Match& match);
   void grant_protected(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);
   void carry_state(Sport& old, game::Match& match);
@@ -232,6 +238,7 @@ class Sport final : public game::Rules {
   bool disabled_ = false;
   std::set<std::string> disabled_powerups_;
   std::string said_;                     // the phrase being filled (its room is kept)
+  std::string modifiers_broken_by_;      // "file:line: " (see call), "" while the modifiers are usable
   game::Match* match_ = nullptr;
   const game::Match* reading_ = nullptr;
 };

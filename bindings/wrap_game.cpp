@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <sstream>
 
 #include "lua_push.h"
 #include "lua_reader.h"
@@ -246,6 +248,20 @@ struct ThrowTarget {
   Vec3 point;  // else where the ball should go
 };
 
+// A number as an error shows it: "nan" whatever its sign bit (0/0 sets it), "inf", "2.5".
+std::string number_text(double v) { return std::isnan(v) ? "nan" : (std::ostringstream() << v).str(); }
+
+// A velocity or point a script gave (argument `arg`): NaN or infinite (a float's range passed
+// counts as infinite) is refused here, naming the argument, before the world sees it.
+Vec3 finite_vector(lua_State* L, int arg, const char* what) {
+  const Vec3 v{to_float(lua_tonumber(L, -3)), to_float(lua_tonumber(L, -2)), to_float(lua_tonumber(L, -1))};
+  lua_pop(L, 3);
+  if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)))
+    throw ArgError("argument " + std::to_string(script_arg(L, arg)) + ": " + what + " must be finite, got {" +
+                   number_text(v.x) + ", " + number_text(v.y) + ", " + number_text(v.z) + "}");
+  return v;
+}
+
 ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to, double speed) {
   const Field& f = m.field();
   const Vec2 from = m.players()[size_t(thrower)].position;
@@ -253,19 +269,15 @@ ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to
     lua_rawgeti(L, to, 1);
     lua_rawgeti(L, to, 2);
     lua_rawgeti(L, to, 3);
-    const bool velocity = lua_isnumber(L, -3) && lua_isnumber(L, -2);
-    const Vec3 v{to_float(lua_tonumber(L, -3)), to_float(lua_tonumber(L, -2)), to_float(lua_tonumber(L, -1))};
+    if (lua_isnumber(L, -3) && lua_isnumber(L, -2)) return {true, finite_vector(L, to, "a velocity"), {}};
     lua_pop(L, 3);
-    if (velocity) return {true, v, {}};
     raw_field(L, to, "x");
     raw_field(L, to, "y");
     raw_field(L, to, "z");
     if (!lua_isnumber(L, -3) || !lua_isnumber(L, -2))
       throw ArgError("argument " + std::to_string(script_arg(L, to)) +
                      ": expected a velocity {vx, vy}, a point {x = .., y = ..} or a name");
-    const Vec3 p{to_float(lua_tonumber(L, -3)), to_float(lua_tonumber(L, -2)), to_float(lua_tonumber(L, -1))};
-    lua_pop(L, 3);
-    return {false, {}, p};
+    return {false, {}, finite_vector(L, to, "a point")};
   }
   const std::string name = check_string(L, to);
   std::vector<std::string> names;
@@ -292,10 +304,11 @@ ThrowTarget throw_target(lua_State* L, const game::Match& m, int thrower, int to
 }
 
 // A throw's or a hit's options (argument `arg`, a table or nil): speed (the sport's throw speed by
-// default), spread and speed_spread (the sport's `throws`), elevation (NaN: none given) and
+// default), spread and speed_spread (the sport's `throws`), elevation (none when not given) and
 // elevation_spread.
 struct Launch {
-  double speed, elevation;
+  double speed;
+  std::optional<double> elevation;
   ThrowSpread spread;
 };
 
@@ -303,23 +316,33 @@ Launch launch_options(lua_State* L, const game::Match& m, int arg) {
   if (!lua_isnoneornil(L, arg)) check_table(L, arg);
   const game::MatchConfig& c = m.config();
   double speed = c.throw_speed, degrees = c.throw_spread.direction / kRadiansPerDegree, share = c.throw_spread.speed;
-  double up_spread = c.throw_spread.elevation / kRadiansPerDegree, elevation = NAN;
+  double up_spread = c.throw_spread.elevation / kRadiansPerDegree;
+  std::optional<double> elevation;
   if (lua_istable(L, arg)) {
     const Reader r(L);
     const std::string place = "argument " + std::to_string(script_arg(L, arg));
     r.only_keys(arg, place, {"speed", "spread", "speed_spread", "elevation", "elevation_spread"});
-    speed = r.number(arg, "speed", place, speed, false);
-    degrees = r.number(arg, "spread", place, degrees, false);
-    share = r.number(arg, "speed_spread", place, share, false);
-    elevation = r.number(arg, "elevation", place, elevation, false);
-    up_spread = r.number(arg, "elevation_spread", place, up_spread, false);
+    // A number given is one: NaN (a script's 0/0) is no option left out, and infinity no most.
+    const auto given = [&](const char* key) -> std::optional<double> {
+      if (!r.field(arg, key)) return std::nullopt;
+      r.expect(LUA_TNUMBER, place + "." + key);
+      const double v = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+      if (!std::isfinite(v)) throw ArgError(place + "." + key + ": expected a finite number, got " + number_text(v));
+      return v;
+    };
+    speed = given("speed").value_or(speed);
+    degrees = given("spread").value_or(degrees);
+    share = given("speed_spread").value_or(share);
+    elevation = given("elevation");
+    up_spread = given("elevation_spread").value_or(up_spread);
   }
   if (!(speed > 0 && speed <= 1000)) throw ArgError("speed must be in (0, 1000] m/s");
   if (!(degrees >= 0 && degrees <= 90)) throw ArgError("spread must be in [0, 90] degrees");
   if (!(share >= 0 && share <= 1)) throw ArgError("speed_spread must be in [0, 1]");
   if (!(up_spread >= 0 && up_spread <= 90)) throw ArgError("elevation_spread must be in [0, 90] degrees");
-  if (!std::isnan(elevation) && !(elevation > 0 && elevation < 90)) throw ArgError("elevation must be in (0, 90) degrees");
-  if (!std::isnan(elevation) && !m.field().has_height()) throw ArgError("elevation needs a field with height (gravity)");
+  if (elevation && !(*elevation > 0 && *elevation < 90)) throw ArgError("elevation must be in (0, 90) degrees");
+  if (elevation && !m.field().has_height()) throw ArgError("elevation needs a field with height (gravity)");
   return {speed, elevation, {float(degrees * kRadiansPerDegree), float(share), float(up_spread * kRadiansPerDegree)}};
 }
 
@@ -337,7 +360,7 @@ int release(lua_State* L, World::Release how) {
   const Field& f = m.field();
   const int player = player_index(m, check_string(L, 1));
   Launch launch = launch_options(L, m, 3);
-  double& elevation = launch.elevation;
+  std::optional<double>& elevation = launch.elevation;
   const double speed = launch.speed;
   const bool kick = how == World::Release::Kick;
   const std::string verb = kick ? "kick" : "throw";
@@ -348,7 +371,7 @@ int release(lua_State* L, World::Release how) {
     const Vec2 p = m.players()[size_t(player)].position;
     if (!(std::hypot(to.point.x - p.x, to.point.y - p.y) > 0))
       throw ArgError("the " + verb + "er stands on the point it " + verb + "s at");
-    if (!f.has_height() || (kick && std::isnan(elevation))) {
+    if (!f.has_height() || (kick && !elevation)) {
       const float dx = to.point.x - p.x, dy = to.point.y - p.y, d = std::hypot(dx, dy);
       velocity = {float(speed * dx / d), float(speed * dy / d), 0};
     } else {
@@ -356,12 +379,12 @@ int release(lua_State* L, World::Release how) {
       const Vec3 from{arm.x, arm.y, kick ? f.ball_radius : m.world().reach(player)};
       const bool hoop = lua_type(L, 2) == LUA_TSTRING && m.field().goals.end() !=
           std::find_if(f.goals.begin(), f.goals.end(), [&](const Goal& g) { return g.hoop() && g.name == lua_tostring(L, 2); });
-      if (std::isnan(elevation) && hoop) elevation = kShotElevation / kRadiansPerDegree;
-      velocity = std::isnan(elevation) ? f.throw_at(from, to.point, float(speed))
-                                       : f.arc_velocity(from, to.point, float(elevation * kRadiansPerDegree));
+      if (!elevation && hoop) elevation = kShotElevation / kRadiansPerDegree;
+      velocity = !elevation ? f.throw_at(from, to.point, float(speed))
+                            : f.arc_velocity(from, to.point, float(*elevation * kRadiansPerDegree));
       if (velocity.x == 0 && velocity.y == 0 && velocity.z == 0)
-        throw ArgError("no " + verb + " at " + std::to_string(elevation) + " degrees reaches that point: " + verb +
-                       " higher");
+        throw ArgError("no " + verb + " at " + std::to_string(elevation.value_or(NAN)) + " degrees reaches that point: " +
+                       verb + " higher");
     }
   }
   m.throw_ball(player, velocity, launch.spread, how);
@@ -385,7 +408,7 @@ int hit(lua_State* L) {
     const ThrowTarget to = throw_target(L, m, player, 2, launch.speed);
     plan.kind = to.velocity ? HitPlan::Kind::Velocity : HitPlan::Kind::Point;
     plan.velocity = to.v, plan.point = to.point, plan.speed = float(launch.speed);
-    plan.elevation = std::isnan(launch.elevation) ? 0 : float(launch.elevation * kRadiansPerDegree);
+    plan.elevation = float(launch.elevation.value_or(0) * kRadiansPerDegree);
   }
   m.plan_hit(player, plan);
   return 0;

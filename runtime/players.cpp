@@ -111,8 +111,8 @@ void DroppedValues::tell(double t, size_t elsewhere, bool last) {
 }
 
 // Tracking glitches must not stop a match: positions stay within a field's size of the bounds
-// and speeds under the field's limit, as the core requires; values that are not numbers are
-// dropped and counted.
+// and speeds under the field's limit, as the core requires (values that are not numbers, or far
+// out of range, the input has dropped and counted).
 void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) {
   for (BodyInput& b : bodies_) b.velocity = {0, 0};  // no input: the body holds still
   const float slack = 0.5f * std::max(field_.bounds_max.x - field_.bounds_min.x, field_.bounds_max.y - field_.bounds_min.y);
@@ -120,19 +120,13 @@ void TrackedPlayers::apply(const tracking::TrackedFrame& f, double throw_speed) 
   const double tall = field_.has_height() ? 1.0 : 0.0;
   for (const tracking::TrackedAction& a : f.actions) {
     const double l = std::hypot(std::hypot(a.dx, a.dy), tall * a.dz);
-    if (a.type != "throw") continue;
-    if (!std::isfinite(l)) dropped_.count();
-    if (!(l > 0 && std::isfinite(l))) continue;
+    if (a.type != "throw" || !(l > 0)) continue;
     for (size_t k = 0; k < field_.bodies.size(); ++k)
       if (field_.bodies[k].tracked_as() == a.player)
         throws_.push_back({int(k), {float(throw_speed * a.dx / l), float(throw_speed * a.dy / l)},
                            float(throw_speed * tall * a.dz / l)});
   }
   for (const tracking::TrackedPlayer& p : f.players) {
-    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.vx) && std::isfinite(p.vy))) {
-      dropped_.count();
-      continue;
-    }
     for (size_t k = 0; k < field_.bodies.size(); ++k) {
       if (field_.bodies[k].tracked_as() != p.id) continue;
       bodies_[k].position = {std::clamp(to_float(p.x), field_.bounds_min.x - slack, field_.bounds_max.x + slack),

@@ -56,8 +56,8 @@ class DroppedValues {
  public:
   // What a tracking source drops, as told: `DroppedValues(spec, "tracking value", kTrackingWhy, ...)`.
   static constexpr const char* kTrackingWhy =
-      "not a number, not a sample, not a whole OSC packet, a line too long, or a recorded frame that cannot be read "
-      "or placed in time";
+      "not a number or out of range, not a sample, not a whole OSC packet, a line too long, a recorded frame that "
+      "cannot be read or placed in time, or the oldest of more players than a source keeps";
   // `source` names where they came from, `what` one value ("tracking value"), `why` the reasons.
   DroppedValues(std::string source, std::string what, std::string why, std::ostream* warnings)
       : source_(std::move(source)), what_(std::move(what)), why_(std::move(why)), warnings_(warnings) {}
@@ -171,7 +171,7 @@ class TrackedPlayers final : public PlayerSource {
   std::optional<double> t0_;
   bool seen_ = false;     // a frame has come
   double next_ask_ = 0;   // match time from which a live source is asked again
-  // Values that were not numbers (NaN, infinite), here and in the input.
+  // What the input dropped (tracking::TrackingInput::dropped), told.
   DroppedValues dropped_;
 };
 

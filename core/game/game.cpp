@@ -153,10 +153,9 @@ void Match::award(const std::string& team, double points) {
   if (!score_.count(team)) throw std::invalid_argument("award: no team '" + team + "' in this field");
   if (!(std::abs(points) <= kMostAward && points == std::trunc(points)))
     throw std::invalid_argument("award: points must be a whole number from -1000 to 1000");
-  // Saturates, never wraps: a team awarded past the most an int holds stays there.
+  // Saturates, never wraps, at ±kMostScore: a team awarded past it stays there.
   int& score = score_[team];
-  score = int(std::clamp<int64_t>(int64_t(score) + int64_t(points), std::numeric_limits<int>::min(),
-                                  std::numeric_limits<int>::max()));
+  score = int(std::clamp<int64_t>(int64_t(score) + int64_t(points), -kMostScore, kMostScore));
 }
 
 void Match::respawn(int spot, double delay) {
@@ -427,7 +426,7 @@ void Match::step(std::span<const BodyInput> input) {
     tell_rules(events_.size() - 1);
     if (!finished_) {  // rules that ignore the clock: the leader wins, equal scores draw
       std::string best;
-      int most = -1, leaders = 0;
+      int most = std::numeric_limits<int>::min(), leaders = 0;  // below any score: a leader at -3 wins too
       for (const auto& [team, goals] : score_) {
         if (goals > most) most = goals, best = team, leaders = 1;
         else if (goals == most) ++leaders;
@@ -617,7 +616,8 @@ double Match::handicap_now(int k) const {
   int lead = 0;
   for (const auto& [team, goals] : score_) lead = std::max(lead, goals);
   const auto own = score_.find(p.team);
-  const int behind = lead - (own == score_.end() ? 0 : own->second);
+  // In doubles: a lead of 2^31 - 1 over a team at -(2^31 - 1) is beyond an int.
+  const double behind = double(lead) - double(own == score_.end() ? 0 : own->second);
   return p.handicap * std::min(config_.balance_most, std::pow(1 + config_.balance_per_goal, behind));
 }
 

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <span>
@@ -169,6 +170,9 @@ inline BoundedFactor bounded_factor(double v) {
 
 // What one award may add to a score (or take from it, below 0).
 inline constexpr double kMostAward = 1000;
+// A score saturates at ±kMostScore (docs/lua-api.md): the int's range, but for its lowest value,
+// which has no positive twin.
+inline constexpr int kMostScore = std::numeric_limits<int>::max();
 
 // The stall bound (MatchConfig::stall, a sport's match.stall): at least a second, at most an hour.
 inline constexpr double kLeastStall = 1, kMostStall = 3600;
@@ -274,7 +278,7 @@ class Match {
 
   // --- Actions for the rules.
   void say(std::string_view text, std::string_view recording = {});
-  // Points are a whole number in [-kMostAward, kMostAward]; a score saturates at the int's range.
+  // Points are a whole number in [-kMostAward, kMostAward]; a score saturates at ±kMostScore.
   void award(const std::string& team, double points = 1);
   // Drops the ball at `spot` after `delay` seconds (a goal's celebration); replaces a pending drop.
   // A ball still in play is dead first (see dead_ball).

@@ -115,6 +115,11 @@ void ThrowDetector::add(const std::vector<AccelSample>& samples, TrackedFrame& f
     if (std::sqrt(s.ax * s.ax + s.ay * s.ay + s.az * s.az) < threshold_) continue;
     auto last = std::find_if(last_.begin(), last_.end(), [&](const auto& l) { return l.first == s.player; });
     if (last != last_.end() && s.t - last->second < refractory_) continue;
+    if (last == last_.end() && last_.size() == most_) {  // room made: the one who threw longest ago is forgotten
+      last = std::min_element(last_.begin(), last_.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+      last->first = s.player;
+      ++dropped_;
+    }
     if (last == last_.end()) last_.push_back({s.player, s.t});
     else last->second = s.t;
     const auto p = std::find_if(frame.players.begin(), frame.players.end(),

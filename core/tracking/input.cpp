@@ -28,6 +28,21 @@ constexpr double kSilence = 1.0;  // s without a TUIO message: the tracker is go
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// Beyond these a tracked value is a source's glitch, not a player (a TUIO sender's NaN, infinity
+// or 1e38): a field's own length (width) past its edge, farther than `play` keeps a body
+// (players.cpp clamps at half that), and 100 m/s, ten times a sprinter and four times the
+// fastest mallet.
+constexpr double kFarthestOff = 1;   // field sizes beyond the edge
+constexpr double kFastest = 100;     // m/s
+
+// Drops from `f` the players whose values are not numbers or out of range; how many.
+size_t drop_bad_values(TrackedFrame& f, const TrackedField& field) {
+  const double most_x = (0.5 + kFarthestOff) * field.length, most_y = (0.5 + kFarthestOff) * field.width;
+  return std::erase_if(f.players, [&](const TrackedPlayer& p) {
+    return !(std::fabs(p.x) <= most_x && std::fabs(p.y) <= most_y && std::hypot(p.vx, p.vy) <= kFastest);
+  });
+}
+
 // A live Kinect through libfreenect's synchronous wrapper: depth (11-bit) and colour, taken as
 // registered.
 class LiveKinect {
@@ -88,6 +103,7 @@ struct TrackingInput::Impl {
   // Throws from accelerometers, for the players of either hats or TUIO.
   std::optional<AccelSource> accel;
   ThrowDetector throws;
+  size_t dropped = 0;  // players of frames whose values were not numbers or out of range
 
   Status next_depth(TrackedFrame& out) {
     RecordedFrame f;
@@ -157,6 +173,7 @@ TrackingInput::TrackingInput(const std::string& spec, const TrackedField& field,
                                 "': expected fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT");
   }
   if (!o.accel.empty()) m.accel.emplace(o.accel);
+  m.throws = ThrowDetector(most_tracked(field.players.size()));
 }
 
 TrackingInput::~TrackingInput() = default;
@@ -168,8 +185,8 @@ const Calibration* TrackingInput::calibration() const {
 }
 
 size_t TrackingInput::dropped() const {
-  return (impl_->recording ? impl_->recording->dropped() : 0) + (impl_->accel ? impl_->accel->dropped() : 0) +
-         (impl_->tuio ? impl_->tuio->dropped() : 0);
+  return impl_->dropped + impl_->throws.dropped() + (impl_->recording ? impl_->recording->dropped() : 0) +
+         (impl_->accel ? impl_->accel->dropped() : 0) + (impl_->tuio ? impl_->tuio->dropped() : 0);
 }
 
 std::string TrackingInput::sightings() { return impl_->depth ? impl_->depth->sightings() : ""; }
@@ -225,9 +242,10 @@ std::vector<std::string> SetupCheck::check(TrackedFrame& frame, TrackingInput& i
 
 Status TrackingInput::next(TrackedFrame& frame, double timeout) {
   Impl& m = *impl_;
-  if (m.depth) return m.next_depth(frame);
-  const Status status = m.hats ? m.next_hats(frame) : m.next_tuio(frame, timeout);
-  if (status == Status::Frame && m.accel) m.throws.add(m.accel->until(frame.t), frame);
+  const Status status = m.depth ? m.next_depth(frame) : m.hats ? m.next_hats(frame) : m.next_tuio(frame, timeout);
+  if (status != Status::Frame) return status;
+  m.dropped += drop_bad_values(frame, m.field);
+  if (m.accel) m.throws.add(m.accel->until(frame.t), frame);  // its directions from the players kept
   return status;
 }
 

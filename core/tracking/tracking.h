@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <optional>
@@ -309,19 +310,32 @@ class AccelSource {
   int socket_ = -1;
 };
 
+// The most ids (TUIO objects, TUIO cursors) and names (accelerometers) one source keeps state for,
+// for a field of `players`: 64, six times the most players a shipped sport has (soccer's ten) and
+// room for a side of 22 with as many stray touches, or twice the field's players when it has
+// more. A sender of ever new ones (a flood: 100,000 names grew 14 MB and slowed every frame)
+// holds no more; the oldest is forgotten first, and counted as a dropped value.
+inline constexpr size_t kMostTracked = 64;
+inline size_t most_tracked(size_t players) { return std::max(kMostTracked, 2 * players); }
+
 // Turns accelerometer peaks into throws: a player's acceleration magnitude crossing `threshold`
 // (default 25 m/s^2, about 2.5 g: an arm's whip, well above running's 1-1.5 g) is a throw, in
 // the direction the player is moving (toward the other end when standing still). One throw per
-// player per `refractory` seconds.
+// player per `refractory` seconds, remembered for `most` players (most_tracked).
 class ThrowDetector {
  public:
-  explicit ThrowDetector(double threshold = 25, double refractory = 0.5) : threshold_(threshold), refractory_(refractory) {}
+  explicit ThrowDetector(size_t most = kMostTracked, double threshold = 25, double refractory = 0.5)
+      : most_(most), threshold_(threshold), refractory_(refractory) {}
   // Adds the throws among `samples` to `frame`, whose players give the directions.
   void add(const std::vector<AccelSample>& samples, TrackedFrame& frame);
+  size_t players() const { return last_.size(); }  // remembered now, at most `most`
+  size_t dropped() const { return dropped_; }      // the oldest forgotten to make room
 
  private:
+  size_t most_;
   double threshold_, refractory_;
   std::vector<std::pair<std::string, double>> last_;  // player, time of their last throw
+  size_t dropped_ = 0;
 };
 
 // --- TUIO 1.1 over OSC/UDP (liblo), so existing trackers can feed the engine.
@@ -342,7 +356,8 @@ class TuioSource {
   // nothing when none came.
   std::optional<TrackedFrame> next(double timeout);
   double silent() const;  // seconds since the last message (since opening, before the first)
-  // Packets dropped so far: not OSC, cut short, or refused by liblo. The match goes on.
+  // Packets dropped so far (not OSC, cut short, or refused by liblo), and objects and cursors
+  // forgotten beyond most_tracked(field's players), the oldest first. The match goes on.
   size_t dropped() const;
 
   struct State;

@@ -66,11 +66,13 @@ struct TuioSource::State {
     int player = -1;
     bool placed = false;  // a set message has given its position
     double x = 0, y = 0, vx = 0, vy = 0;
+    uint64_t heard = 0;   // when a message last named it (heard_ counts them): the least is the oldest
   };
-  std::map<int32_t, Touch> objects, cursors;  // by session id
+  std::map<int32_t, Touch> objects, cursors;  // by session id, most_tracked(field's players) of each
+  uint64_t heard = 0;
   int frames = 0;
   bool complete = false;  // an fseq closed a frame since the last next()
-  size_t dropped = 0;     // packets that were not OSC, or that liblo refused
+  size_t dropped = 0;     // packets that were not OSC or that liblo refused, and touches forgotten
   std::array<uint8_t, 65536> packet{};  // one UDP datagram at most
 
   // Reads one datagram, waiting up to `timeout_ms`, and hands it to liblo if it is whole. False
@@ -110,6 +112,20 @@ struct TuioSource::State {
     }
   }
 
+  // The touch of session `id`, made as `was` when new; when that would take `touches` past its
+  // most, the one heard of longest ago is forgotten first, and counted.
+  Touch& touch(std::map<int32_t, Touch>& touches, int32_t id, const Touch& was) {
+    const auto [it, made] = touches.try_emplace(id, was);
+    it->second.heard = ++heard;
+    if (made) forget_oldest(touches);
+    return it->second;
+  }
+  void forget_oldest(std::map<int32_t, Touch>& touches) {
+    for (const size_t most = most_tracked(field.players.size()); touches.size() > most; ++dropped)
+      touches.erase(std::min_element(touches.begin(), touches.end(),
+                                     [](const auto& a, const auto& b) { return a.second.heard < b.second.heard; }));
+  }
+
   void message(bool object, const char* types, lo_arg** argv, int argc) {
     last = Clock::now();
     if (!first) first = last;
@@ -122,7 +138,7 @@ struct TuioSource::State {
         if (types[k] == 'i') {
           const int32_t id = int_arg(argv[k]);
           const auto known = touches.find(id);
-          alive[id] = known != touches.end() ? known->second : Touch{};
+          touch(alive, id, known != touches.end() ? known->second : Touch{});
         }
       touches = std::move(alive);
     } else if (command == "set") {
@@ -130,7 +146,7 @@ struct TuioSource::State {
       const std::string want = object ? "siiffffffff" : "sifffff";
       if (argc < int(want.size()) || std::string(types).compare(0, want.size(), want) != 0)
         return;  // not TUIO 1.1's shape: ignored, like any other unknown message
-      Touch& t = touches[int_arg(argv[1])];
+      Touch& t = touch(touches, int_arg(argv[1]), Touch{});
       if (object) {
         const int32_t cls = int_arg(argv[2]);
         t.player = cls >= 0 && size_t(cls) < field.players.size() ? cls : -1;

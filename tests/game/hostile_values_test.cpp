@@ -207,9 +207,9 @@ TEST(HostileValues, AScoreSaturatesRatherThanWrapping) {
   for (int k = 0; k < (INT_MAX / 1000) + 10; ++k) played.match.award("blue", 1000);
   EXPECT_EQ(played.match.score().at("blue"), INT_MAX);
   for (int k = 0; k < 2 * (INT_MAX / 1000) + 20; ++k) played.match.award("red", -1000);
-  EXPECT_EQ(played.match.score().at("red"), INT_MIN);
+  EXPECT_EQ(played.match.score().at("red"), -INT_MAX);  // the floor mirrors the ceiling (docs/lua-api.md)
   played.match.award("red", 1000);  // and counts again from there
-  EXPECT_EQ(played.match.score().at("red"), INT_MIN + 1000);
+  EXPECT_EQ(played.match.score().at("red"), -INT_MAX + 1000);
 }
 
 // A phrase that is not UTF-8 is refused when the sport loads, naming its key.
