@@ -48,7 +48,6 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   }
   if (changed_.empty()) return 0;
   const std::set<fs::path> files = std::exchange(changed_, {});
-  int reloaded = 0;
   bool sport_changed = false;
   std::vector<std::string> powerups;
   for (const fs::path& file : files) {
@@ -57,8 +56,8 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
     // Whatever changed may be read later (a power-up granted for the first time, a field in the
     // next match): a recording keeps it all.
     if (acted_on) acted_on->push_back(file);
-    if (dir == folder_ && file.filename() == "field.lua") {
-      errors << "quantum: " << file.string() << " changed: a field takes effect in the next match\n";
+    if (file == sport->field_file()) {
+      field_waits(file, errors);
       continue;
     }
     const bool module = module_folders_.count(dir) > 0;  // sport.lua, or a module it may require
@@ -68,12 +67,13 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   }
   if (sport_changed) {
     // A new sport loads the power-ups in use afresh when it first needs them.
-    try {  // between two frames of a running match: loading gets a frame's budget
-      auto fresh = std::make_unique<Sport>(folder_.string(), sport->engine(), Params(sport->params().pairs()), Limits{});
+    try {
+      auto fresh = Sport::reload(*sport);
       for (const auto& [kind, value] : factors_) fresh->set_factor(kind, value);
       // The new rules hear whatever on_reload sets off; the old ones are still there to read.
       match.set_rules(*fresh);
       fresh->take_over(*sport, match);
+      if (fresh->field_file() != sport->field_file()) field_waits(fresh->field_file(), errors);
       sport = std::move(fresh);
       errors << "quantum: reloaded " << (folder_ / "sport.lua").string() << '\n';
       return 1 + int(powerups.size());
@@ -82,16 +82,23 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
       errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
     }
   }
-  for (const std::string& name : powerups) {  // power-ups not in use load as they are when granted
-    try {
-      sport->reload_powerup(name);
-      errors << "quantum: reloaded power-up " << name << '\n';
+  if (powerups.empty()) return 0;
+  const std::vector<std::string> failed = sport->reload_powerups(powerups, match);
+  int reloaded = 0;
+  for (size_t k = 0; k < powerups.size(); ++k) {
+    if (failed[k].empty()) {
+      errors << "quantum: reloaded power-up " << powerups[k] << '\n';
       ++reloaded;
-    } catch (const std::exception& e) {
-      errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
+    } else {
+      errors << "quantum: reload failed: " << failed[k] << " (the previous version goes on)\n";
     }
   }
   return reloaded;
+}
+
+void Reloader::field_waits(const fs::path& file, std::ostream& errors) {
+  if (std::exchange(field_told_, true)) return;
+  errors << "quantum: " << file.string() << " changed: the new field takes effect at the next match\n";
 }
 
 }  // namespace quantum::lua

@@ -1,7 +1,9 @@
 // Hot reload while a match runs: the sport's folder, its power-up folders and the engine's Lua
 // helpers are watched (inotify); a changed sport.lua (or a module it requires) or power-up
-// script in use is loaded again between two frames, and the match plays on with it. A script
-// that fails to load is reported and the old one keeps running.
+// script in use is loaded again between two frames, within a frame's budget, and the match
+// plays on with it. A script that fails to load is reported and the old one keeps running. Only
+// what changed is loaded: the field stays the match's, and a changed one waits for the next
+// match.
 #pragma once
 
 #include <filesystem>
@@ -31,10 +33,13 @@ class Reloader {
   // Takes `file` as changed, as if it had been saved (the next poll reloads it).
   void changed(const std::filesystem::path& file);
 
-  // Reloads whatever changed since the last call. A new sport takes over from `sport` (state
-  // carried, see Sport::take_over) and becomes the match's rules; `sport` then owns it. Each
-  // reload is one line on `errors`: "quantum: reloaded FILE" (or "power-up NAME"), or
-  // "quantum: reload failed: FILE:LINE: ...". Returns the number of files reloaded.
+  // Reloads whatever changed since the last call, all within one frame's budget (Sport::reload,
+  // Sport::reload_powerups). A new sport takes over from `sport` (state carried, see
+  // Sport::take_over) and becomes the match's rules; `sport` then owns it. Each reload is one
+  // line on `errors`: "quantum: reloaded FILE" (or "power-up NAME"), or "quantum: reload failed:
+  // FILE:LINE: ...". A changed field file (or sport.lua naming another) is not loaded: the
+  // first is one line, "quantum: FILE changed: the new field takes effect at the next match", and
+  // the rest say nothing. Returns the number of files reloaded.
   // `acted_on`, when given, gets every changed file the poll saw, loaded or not: what a recording
   // keeps.
   int poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors,
@@ -47,6 +52,9 @@ class Reloader {
   std::map<int, std::filesystem::path> watches_;  // watch descriptor -> folder
   std::set<std::filesystem::path> powerup_folders_, module_folders_;
   std::set<std::filesystem::path> changed_;
+  bool field_told_ = false;
+
+  void field_waits(const std::filesystem::path& file, std::ostream& errors);
 };
 
 }  // namespace quantum::lua

@@ -133,6 +133,13 @@ class Sport::Acting {
 };
 
 Sport::Sport(const std::string& folder, const fs::path& engine, Params params, const Limits& load)
+    : Sport(folder, engine, std::move(params), load, nullptr) {}
+
+std::unique_ptr<Sport> Sport::reload(const Sport& current) {
+  return std::unique_ptr<Sport>(new Sport(current.folder_, current.engine_, current.params_, Limits{}, &current.field_));
+}
+
+Sport::Sport(const std::string& folder, const fs::path& engine, Params params, const Limits& load, const Field* playing)
     : folder_(normal_folder(find_sport(folder).string()).string()),
       file_((fs::path(folder_) / "sport.lua").string()),
       engine_(engine),
@@ -142,7 +149,6 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
       sandbox_(Sandbox::make(Limits{}, true, module_folders_)) {
   std::fill(std::begin(by_kind_), std::end(by_kind_), 1.0);
   lua_State* L = sandbox_->L();
-  std::string field_file;
   sandbox_->set_budget(load);
   sandbox_->protect([&] {
     sandbox_->push_environment();
@@ -154,12 +160,13 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
       const std::string name = Reader(L).string(lua_gettop(L), "field", "", "field.lua", false);
       std::string looked;
       const fs::path found = confined_path({fs::path(folder_)}, name, "field", looked);
-      field_file = (found.empty() ? fs::path(folder_) / name : found).string();  // load_field says it is not there
+      field_file_ = (found.empty() ? fs::path(folder_) / name : found).lexically_normal();  // load_field says it is not there
     });
     sport_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   });
-  // Outside the sport's budget: the field file runs in a sandbox of its own, with its own.
-  field_ = load_field(field_file, &params_);
+  // Outside the sport's budget: the field file runs in a sandbox of its own, with its own. A
+  // reload's match plays on its field, which the new version reads (its bodies' handicaps).
+  field_ = playing ? *playing : load_field(field_file_.string(), &params_);
   sandbox_->protect([&] {
     lua_rawgeti(L, LUA_REGISTRYINDEX, sport_ref_);
     or_script_error(file_, [&] { read_sport(lua_gettop(L)); });
@@ -168,11 +175,12 @@ Sport::Sport(const std::string& folder, const fs::path& engine, Params params, c
     push_game_api(L, this);
     game_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
   });
+  timers_.reserve(16);
+  if (playing) return;  // a reload: take_over spends the rest of its frame's budget
   // Loading is not a frame: what it spent must not leave the first frame (or a grant before it)
   // without a budget, as it did on a slow machine.
   sandbox_->set_budget(Limits{});
   sandbox_->new_period();
-  timers_.reserve(16);
 }
 
 Sport::~Sport() = default;
@@ -950,21 +958,28 @@ void Sport::powerup_factors(size_t fate, game::Match& match, double& factor, gam
   }
 }
 
-void Sport::reload_powerup(const std::string& name) {
-  const auto it = powerups_.find(name);
-  if (it == powerups_.end()) return;  // never used: it loads fresh when granted
-  const int old = it->second;
-  const std::string old_file = powerup_files_[name];
-  powerups_.erase(it);
-  try {
-    sandbox_->protect([&] { powerup(name); });
-    disabled_powerups_.erase(name), overruns_.erase(name);  // a new version gets a fresh start
-  } catch (...) {
-    powerups_[name] = old;
-    powerup_files_[name] = old_file;
-    throw;
+std::vector<std::string> Sport::reload_powerups(const std::vector<std::string>& names, game::Match& match) {
+  begin_frame(match);
+  std::vector<std::string> errors;
+  for (const std::string& name : names) {
+    errors.emplace_back();
+    const auto it = powerups_.find(name);
+    if (it == powerups_.end()) continue;  // never used: it loads fresh when granted
+    const int old = it->second;
+    const std::string old_file = powerup_files_[name];
+    powerups_.erase(it);
+    try {
+      sandbox_->protect([&] { powerup(name); });
+      disabled_powerups_.erase(name), overruns_.erase(name);  // a new version gets a fresh start
+      luaL_unref(sandbox_->L(), LUA_REGISTRYINDEX, old);
+    } catch (const std::exception& e) {
+      powerups_[name] = old;
+      powerup_files_[name] = old_file;
+      errors.back() = e.what();
+    }
   }
-  luaL_unref(sandbox_->L(), LUA_REGISTRYINDEX, old);
+  sandbox_->new_period();
+  return errors;
 }
 
 namespace {
@@ -1051,7 +1066,6 @@ void Sport::take_over(Sport& old, game::Match& match) {
     } catch (const std::exception&) {
     }
   }
-  sandbox_->new_period();
   if (old.sandbox_->abandoned()) return;  // its state cannot be read: the new version starts afresh
   old.sandbox_->new_period();  // reading its state is the engine's work, whatever the old scripts spent
   try {

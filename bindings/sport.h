@@ -38,7 +38,8 @@ struct SportAudio {
 
 // What loading sport.lua and the modules it requires may spend before a match: a second of CPU,
 // as a field file gets (on a slow machine, or under the sanitizers, loading alone passed a
-// frame's 20 ms). A reload loads between two frames of a running match: Limits{}, a frame's.
+// frame's 20 ms). A reload loads between two frames of a running match: Limits{}, a frame's
+// (Sport::reload).
 inline constexpr Limits kLoadLimits{64u << 20, 100'000'000, 1.0};
 
 class Sport final : public game::Rules {
@@ -53,11 +54,19 @@ class Sport final : public game::Rules {
                  Params params = {}, const Limits& load = kLoadLimits);
   ~Sport() override;
 
+  // `current`'s sport.lua loaded again while its match runs (a reload): all of it, and the
+  // take_over that must follow, within one frame's budget (Limits{}), on the field `current`
+  // plays on and with its parameters. The field file does not run again: a match keeps its
+  // field, and a changed one takes effect at the next match. Throws as the constructor does.
+  static std::unique_ptr<Sport> reload(const Sport& current);
+
   const std::string& name() const { return name_; }
   const std::string& folder() const { return folder_; }
   const std::filesystem::path& engine() const { return engine_; }
   const Params& params() const { return params_; }
   const Field& field() const { return field_; }
+  // The field file sport.lua names, the one its next match loads (lexically normal).
+  const std::filesystem::path& field_file() const { return field_file_; }
   uint32_t particles() const { return particles_; }
   double seconds() const { return seconds_; }
   double stall() const { return stall_; }  // match.stall: see game::MatchConfig::stall
@@ -135,14 +144,19 @@ class Sport final : public game::Rules {
   // std::invalid_argument for a bad name or value.
   void grant(game::Match& match, int player, const std::string& name, std::map<std::string, double> opts);
 
-  // Loads power-up `name` again from its file (it changed). Throws ScriptError, naming the file
-  // and line, when it does not load; the version loaded before stays.
-  void reload_powerup(const std::string& name);
+  // Loads the power-ups `names` again from their files (they changed), between two frames: all of
+  // them within one frame's budget, a period of their own (begin_frame's: the frame before keeps
+  // its overrun counted; the next frame starts whole, as what a failed version spent is no
+  // script's that plays on). Returns each one's error (a ScriptError's, naming the file and line,
+  // or a ReadError's), "" when it loaded; one that does not load keeps the version loaded before.
+  // Names not loaded yet are skipped: they load fresh when granted.
+  std::vector<std::string> reload_powerups(const std::vector<std::string>& names, game::Match& match);
   bool has_powerup(const std::string& name) const { return powerups_.count(name) > 0; }
 
-  // After a reload: this (new) sport takes over from `old`. Its `on_reload(game, state)` gets a
-  // copy of the old sport table's `state` (plain data: numbers, strings, booleans, tables);
-  // without one, the copy becomes its `state`. The old version's timers are not carried.
+  // After a reload: this (new) sport takes over from `old`, in what is left of reload()'s budget:
+  // the power-ups the match holds load, then its `on_reload(game, state)` gets a copy of the old
+  // sport table's `state` (plain data: numbers, strings, booleans, tables); without one, the copy
+  // becomes its `state`. The old version's timers are not carried.
   void take_over(Sport& old, game::Match& match);
 
   // game.after(seconds, fn): fn (on top of the stack, popped) runs once, `seconds` from now, as
@@ -161,6 +175,10 @@ class Sport final : public game::Rules {
 
  private:
   struct Script;
+  // Loads sport.lua within `load`; `playing` is the field of the match a reload joins (kept, with
+  // the parameters its file read), null to load the one sport.lua names.
+  Sport(const std::string& folder, const std::filesystem::path& engine, Params params, const Limits& load,
+        const Field* playing);
   struct Timer {
     double due;
     int id;
@@ -213,6 +231,7 @@ class Sport final : public game::Rules {
   Params params_;  // before the sandbox: its `param` function points here
   Sandbox::Ptr sandbox_;
   int sport_ref_ = LUA_NOREF, game_ref_ = LUA_NOREF;
+  std::filesystem::path field_file_;
   Field field_;
   uint32_t particles_ = 1000;
   double seconds_ = 180;
