@@ -23,6 +23,7 @@
 
 #include "confined_path.h"
 #include "lua_bounded.h"
+#include "lua_random.h"
 #include "lua_wrap.h"
 
 namespace quantum::lua {
@@ -523,7 +524,8 @@ Sandbox::Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> m
   luaJIT_setmode(L_, 0, LUAJIT_MODE_ENGINE | LUAJIT_MODE_OFF);
   // Scripts sharing this state (a sport, its modules and power-ups) must not change what the
   // others run: the libraries are sealed (lua_wrap.h), the string metatable protected, and each
-  // script file runs in an environment of its own, a copy of this template (new_environment).
+  // script file runs in an environment of its own, a copy of this template (new_environment)
+  // with a math library of its own (its random numbers, lua_random.h).
   lua_pushstring(L_, "");
   lua_getmetatable(L_, -1);
   lua_pushstring(L_, "read-only");
@@ -540,7 +542,7 @@ Sandbox::Sandbox(Limits limits, bool rules, std::vector<std::filesystem::path> m
   }
   lua_pushcfunction(L_, guarded_rawset);
   lua_setfield(L_, env, "rawset");
-  for (const char* name : {"math", "string", "table"}) {
+  for (const char* name : {"string", "table"}) {
     lua_newtable(L_);
     lua_getglobal(L_, name);
     seal(L_, -2, -1, name);
@@ -614,7 +616,7 @@ void Sandbox::require_module(const std::string& name, int cache) {
                     "not available to rules");
 }
 
-void Sandbox::new_environment(int cache) {
+void Sandbox::new_environment(int cache, const std::string& file) {
   const int top = lua_gettop(L_);
   lua_newtable(L_);
   const int env = top + 1;
@@ -627,6 +629,15 @@ void Sandbox::new_environment(int cache) {
   lua_pop(L_, 1);
   lua_pushvalue(L_, env);
   lua_setfield(L_, env, "_G");
+  // A module's random numbers are named after the script whose copy it is too (its cache's [1],
+  // which no module name is): each copy draws its own.
+  std::string name = stream_name(file);
+  if (cache != 0) {
+    lua_rawgeti(L_, cache, 1);
+    name = lua_tostring(L_, -1) + (" " + name);
+    lua_pop(L_, 1);
+  }
+  set_own_math(L_, env, name);
   if (!rules_) return;
   // Each script's own `require` and module cache: a power-up's `require "two_teams"` is its own
   // copy, so what it does to the module's table the sport never sees. A module shares the cache
@@ -634,8 +645,13 @@ void Sandbox::new_environment(int cache) {
   lua_pushstring(L_, "require");
   lua_newtable(L_);
   lua_pushlightuserdata(L_, this);
-  if (cache != 0) lua_pushvalue(L_, cache);
-  else lua_newtable(L_);
+  if (cache != 0) {
+    lua_pushvalue(L_, cache);
+  } else {
+    lua_newtable(L_);
+    lua_pushstring(L_, name.c_str());
+    lua_rawseti(L_, -2, 1);
+  }
   lua_pushcclosure(L_, guard<lua::require_module>, 4);
   lua_setfield(L_, env, "require");
 }
@@ -738,7 +754,7 @@ void Sandbox::run_file(const std::string& file, int cache) {
       m = file + ": binary chunk (precompiled bytecode) refused: scripts must be Lua text";
     throw ScriptError(m.rfind(file, 0) == 0 ? m : file + ": " + m);
   }
-  new_environment(cache);
+  new_environment(cache, file);
   lua_setfenv(L_, -2);
   std::string error;
   if (!call(0, 1, error)) throw ScriptError(error.rfind(file, 0) == 0 ? error : file + ": " + error);

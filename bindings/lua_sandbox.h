@@ -17,6 +17,7 @@
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -63,9 +64,9 @@ class Sandbox {
   };
   using Ptr = std::unique_ptr<Sandbox, Release>;
 
-  // Of Lua's own libraries the scripts get the base functions, math, string (its pattern
-  // functions bounded), table and os.clock: no io, the rest of os, debug, package, ffi, jit, load,
-  // loadstring, dofile or collectgarbage. With `rules` (sports, not field files), `require` loads
+  // Of Lua's own libraries the scripts get the base functions, math (its random numbers each
+  // script's own), string (its pattern functions bounded), table and os.clock: no io, the rest
+  // of os, debug, package, ffi, jit, load, loadstring, dofile or collectgarbage. With `rules` (sports, not field files), `require` loads
   // the script's own Lua modules, as text, from `module_folders` only (see require_module).
   static Ptr make(Limits limits, bool rules, std::vector<std::filesystem::path> module_folders = {});
   // The name of every sandbox's thread (as `top -H` and a debugger show it).
@@ -193,6 +194,12 @@ class Sandbox {
   // Every file run so far (run_file, and the modules require loaded), in order.
   const std::vector<std::string>& files() const { return files_; }
 
+  // The seed of the match the scripts play in, from which each script's random numbers start
+  // (lua_random.h): a sport sets it for every call that has a match. None while files load
+  // before one.
+  void set_seed(uint64_t seed) { seed_ = seed; }
+  const std::optional<uint64_t>& seed() const { return seed_; }
+
  private:
   friend class Watchdog;
   struct Lane;
@@ -245,7 +252,8 @@ class Sandbox {
   // limit): the instruction that fills a block cannot be interrupted, so one that would end past
   // the budget is refused before it starts, never abandoned halfway.
   bool in_time_for(size_t bytes) const;
-  void new_environment(int cache);  // pushes a copy of the template, its module cache `cache`
+  // Pushes a copy of the template for script `file`, its module cache `cache` (0: a new one).
+  void new_environment(int cache, const std::string& file);
 
   Limits limits_;
   bool rules_;  // scripts get `require`
@@ -276,6 +284,7 @@ class Sandbox {
   int on_error_ = LUA_NOREF;  // the message handler that puts the file and line on every error
   std::vector<std::filesystem::path> module_folders_;
   std::vector<std::string> files_;
+  std::optional<uint64_t> seed_;
   std::atomic<uint64_t> lane_state_{kEngine};
   uint64_t stretches_ = 0;  // the lane's own count of stretches of Lua (lane_state_ >> 2)
   Where where_[kMostNested + 2] = {};

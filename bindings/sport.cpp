@@ -114,13 +114,15 @@ void or_script_error(const std::string& file, Read&& read) {
 }  // namespace
 
 // While a handler, a timer or a power-up's start or stop runs, the rules may act on the match;
-// while factors are computed they may only read it. Nested calls restore what was before.
+// while factors are computed they may only read it. Nested calls restore what was before. The
+// scripts' random numbers are the match's (Sandbox::set_seed).
 class Sport::Acting {
  public:
   Acting(Sport& sport, game::Match& match, bool may_act)
       : sport_(sport), outer_(sport.match_), outer_reading_(sport.reading_) {
     sport.match_ = may_act ? &match : nullptr;
     sport.reading_ = &match;
+    sport.sandbox_->set_seed(match.config().seed);
   }
   ~Acting() { sport_.match_ = outer_, sport_.reading_ = outer_reading_; }
   Acting(const Acting&) = delete;

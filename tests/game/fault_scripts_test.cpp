@@ -1,5 +1,6 @@
 // Issue 43, the Lua side (docs/reliability.md, "Faults"): a reload while a match runs loads only
-// what changed, within a frame's CPU bound, and a changed field waits for the next match.
+// what changed, within a frame's CPU bound, and a changed field waits for the next match; each
+// script draws random numbers of its own, which no other script can change.
 #include <gtest/gtest.h>
 
 #include <stdlib.h>
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -237,6 +239,128 @@ TEST(FaultReloads, AReloadWithItsPowerUpsAndOnReloadSpendsOneFramesBudget) {
   std::cout << "  a reload of three budgets' worth of Lua: " << done.cpu_seconds * 1e3 << " ms of CPU\n";
   live.play(10);
   EXPECT_NEAR(live.match->time(), 20 / live.match->fps(), 1e-6);
+}
+
+// Air hockey whose drop handler, at the first drop, runs `start` and then `tick` every 0.1 s
+// (each a Lua statement with `game`), with power-ups `powerups` (name -> script) and `extra` Lua
+// before it returns its table.
+fs::path ticking_sport(const Rules& r, const std::string& start, const std::string& tick,
+                       const std::vector<std::pair<std::string, std::string>>& powerups = {},
+                       const std::string& extra = "") {
+  save(r.sport_lua(), r.sport_ending_with(extra + "\nlocal function tick(game)\n  " + tick + "\n  game.after(0.1, tick)\nend\n"
+                                          "local drop, ticking = sport.on.drop, false\n"
+                                          "sport.on.drop = function(game, e)\n"
+                                          "  if not ticking then ticking = true " + start + " game.after(0.1, tick) end\n"
+                                          "  drop(game, e)\nend"));
+  for (const auto& [name, script] : powerups) save(r.powerups / (name + ".lua"), script);
+  return r.sport;
+}
+
+const std::string kSayDraw = "game.say('draw ' .. math.random(1000000))";
+
+// What a ticking sport (ticking_sport's arguments) says starting with `prefix`, a draw, in 3 s of
+// a match of `seed`.
+std::vector<std::string> said_draws(const std::string& prefix, const std::string& start, const std::string& tick,
+                                    const std::vector<std::pair<std::string, std::string>>& powerups,
+                                    uint64_t seed = 5) {
+  const Rules r;
+  Live live(ticking_sport(r, start, tick, powerups), seed);
+  std::vector<std::string> draws = live.play(180, prefix);
+  EXPECT_TRUE(live.match->errors().empty()) << live.match->errors()[0];
+  return draws;
+}
+
+// The sport's draws beside a power-up "evil" whose factor (asked for every frame) runs `factor`.
+std::vector<std::string> sport_draws(const std::string& factor, uint64_t seed = 5) {
+  return said_draws("draw ", "game.grant(\"Red's mallet\", 'evil', { seconds = 600 })", kSayDraw,
+                    {{"evil", "return { duration = 600, factor = function(fate) " + factor + " end }\n"}}, seed);
+}
+
+// A power-up "dice" says its draw when it starts; the sport grants it every 0.1 s, after `tick`.
+std::vector<std::string> powerup_draws(const std::string& tick) {
+  return said_draws("dice ", "", tick + " game.grant(\"Red's mallet\", 'dice', { seconds = 0.05 })",
+                    {{"dice", "return { duration = 1, factor = function() end,\n"
+                              "  start = function(holder, game) game.say('dice ' .. math.random(1000000)) end }\n"}});
+}
+
+// A script draws the same numbers whether or not another script reseeds, and not one number.
+void expect_unmoved(const std::vector<std::string>& alone, const std::vector<std::string>& beside_a_reseed) {
+  ASSERT_GE(alone.size(), 20u);
+  EXPECT_EQ(beside_a_reseed, alone);
+  EXPECT_GT(std::set<std::string>(alone.begin(), alone.end()).size(), alone.size() / 2);
+}
+
+// Before, the power-up's reseed made the sport draw the same number at every tick.
+TEST(FaultRandom, APowerUpsRandomseedLeavesTheSportsDrawsAlone) {
+  expect_unmoved(sport_draws(""), sport_draws("math.randomseed(12345)"));
+}
+
+TEST(FaultRandom, TheSportsRandomseedLeavesAPowerUpsDrawsAlone) {
+  expect_unmoved(powerup_draws(""), powerup_draws("math.randomseed(12345)"));
+}
+
+// Five draws of the function `file` returns, in a fresh sandbox of the match seed `seed` whose
+// modules are in `folder`.
+std::vector<double> draws_of(const fs::path& file, const fs::path& folder, uint64_t seed = 5) {
+  auto sandbox = lua::Sandbox::make(lua::Limits{}, true, {folder});
+  sandbox->set_seed(seed);
+  std::vector<double> out;
+  sandbox->protect([&] {
+    lua_State* L = sandbox->L();
+    sandbox->run_file(file.string());
+    for (int i = 0; i < 5; ++i) {
+      lua_pushvalue(L, -1);
+      std::string error;
+      EXPECT_TRUE(sandbox->call(0, 1, error)) << error;
+      out.push_back(lua_tonumber(L, -1));
+      lua_pop(L, 1);
+    }
+  });
+  return out;
+}
+
+// Before, every script of a state drew from LuaJIT's one generator, seeded alike in every state.
+TEST(FaultRandom, TwoScriptsAndTwoCopiesOfAModuleDrawDifferentNumbers) {
+  const Rules r;
+  const std::string own = "return function() return math.random() end\n";
+  const std::string through_module = "local m = require 'dice' return function() return m.draw() end\n";
+  save(r.sport / "dice.lua", "return { draw = function() return math.random() end }\n");
+  for (const char* name : {"one.lua", "two.lua"}) save(r.sport / name, own);
+  for (const char* name : {"three.lua", "four.lua"}) save(r.sport / name, through_module);
+  const std::vector<double> one = draws_of(r.sport / "one.lua", r.sport), two = draws_of(r.sport / "two.lua", r.sport);
+  EXPECT_NE(one, two);
+  EXPECT_EQ(draws_of(r.sport / "one.lua", r.sport), one) << "a script's numbers are the same every time";
+  const std::vector<double> three = draws_of(r.sport / "three.lua", r.sport), four = draws_of(r.sport / "four.lua", r.sport);
+  EXPECT_NE(three, four);
+  EXPECT_NE(three, one);
+  for (double d : one) EXPECT_TRUE(d >= 0 && d < 1) << d;
+}
+
+// Before, the match's seed did not reach the scripts' numbers at all.
+TEST(FaultRandom, TheSameSeedGivesTheSameNumbersAndAnotherSeedOthers) {
+  const std::vector<std::string> five = sport_draws(""), six = sport_draws("", 6);
+  EXPECT_EQ(sport_draws(""), five);
+  ASSERT_FALSE(five.empty());
+  ASSERT_FALSE(six.empty());
+  EXPECT_NE(five.front(), six.front());
+}
+
+// A reload starts the new version's numbers again, from the match's seed and the script's name:
+// its first draw is the first the version before drew in the match.
+TEST(FaultRandom, AReloadStartsTheScriptsNumbersAgainFromTheMatchsSeed) {
+  const Rules r;
+  Live live(ticking_sport(r, "", kSayDraw, {},
+                          "sport.on_reload = function(game) game.say('reload ' .. math.random(1000000)) end"));
+  const std::vector<std::string> draws = live.play(60, "draw ");
+  ASSERT_GE(draws.size(), 3u);
+  lua::Reloader reloader(*live.sport, {}, false);
+  for (int k = 0; k < 2; ++k) {
+    const Reload done = reload(live, reloader, {r.sport_lua()});
+    ASSERT_EQ(done.reloaded, 1) << done.said;
+    ASSERT_FALSE(live.match->said().empty());
+    EXPECT_EQ(live.match->said().back().text, "reload " + draws.front().substr(5));
+    live.match->clear_news();
+  }
 }
 
 }  // namespace
