@@ -1,5 +1,7 @@
 #include "output_files.h"
 
+#include "system/regular_file.h"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -24,18 +26,6 @@ namespace {
 
 std::string error_text(int error) { return std::strerror(error); }
 
-// What a path that is there but not a regular file is, for the message that refuses it.
-std::string kind_of(const fs::file_status& s) {
-  switch (s.type()) {
-    case fs::file_type::fifo: return "a FIFO (a named pipe)";
-    case fs::file_type::character:
-    case fs::file_type::block: return "a device";
-    case fs::file_type::socket: return "a socket";
-    case fs::file_type::directory: return "a folder";
-    default: return "not a regular file";
-  }
-}
-
 const char* const kNotAFile = ", not a regular file: an output is written as a file (- writes to standard output)";
 
 bool ends_gz(const std::string& path) { return path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0; }
@@ -48,7 +38,7 @@ void check_output_file(const std::string& option, const std::string& path) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (fs::is_directory(status)) refuse("is a folder, not a file");
-  if (fs::exists(status) && !fs::is_regular_file(status)) refuse("is " + kind_of(status) + kNotAFile);
+  if (fs::exists(status) && !fs::is_regular_file(status)) refuse(std::string("is ") + system::kind_of(status.type()) + kNotAFile);
   const fs::path parent = fs::path(path).parent_path();
   const fs::path folder = parent.empty() ? fs::path(".") : parent;
   if (!fs::exists(folder, ec)) refuse("no folder " + folder.string());
@@ -269,19 +259,9 @@ void LineFile::say_failure(std::ostream& errors) {
 }
 
 LineReader::LineReader(const std::string& path, size_t longest) : path_(path), longest_(longest), block_(1 << 16, '\0') {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (fs::exists(status) && !fs::is_regular_file(status))
-    throw std::runtime_error(path + ": is " + kind_of(status) + ", not a file");
-  // O_NONBLOCK: a FIFO put there since the check opens at once, and fstat refuses it.
-  const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) throw std::runtime_error(path + ": cannot be read (" + error_text(errno) + ")");
-  struct stat st {};
-  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    throw std::runtime_error(path + ": is not a regular file");
-  }
-  fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  std::string why;
+  const int fd = system::open_regular(path, why);
+  if (fd < 0) throw std::runtime_error(path + ": " + why);
   file_ = gzdopen(fd, "rb");
   if (!file_) {
     ::close(fd);

@@ -295,8 +295,8 @@ TEST(FaultOutputs, OutputsThatAreNotRegularFilesAreRefusedBeforeTheMatch) {
       {"--events " + fifo, "--events " + fifo + ": is a FIFO"},
       {"--decisions " + fifo, "--decisions " + fifo + ": is a FIFO"},
       {"--audio wav:" + fifo, "--audio " + fifo + ": is a FIFO"},
-      {"--events /dev/null", "--events /dev/null: is a device"},
-      {"--decisions /dev/full", "--decisions /dev/full: is a device"},
+      {"--events /dev/null", "--events /dev/null: is a character device"},
+      {"--decisions /dev/full", "--decisions /dev/full: is a character device"},
   };
   for (const auto& [option, said] : cases) {
     // timeout: a hang fails the case, not the suite.
