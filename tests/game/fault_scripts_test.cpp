@@ -221,8 +221,9 @@ TEST(FaultReloads, AnEndlessReloadedSportIsRefusedWithinAFramesBound) {
 }
 
 // Before, a reload's loading, the power-ups in use and on_reload each had a frame's budget: a
-// version that spent most of one loading, beside a power-up and an on_reload that never end,
-// took three. Now all of it shares one.
+// version that spent half of one loading, beside a power-up and an on_reload that never end,
+// took two and a half. Now all of it shares one. Half, not more: the rest of the loading is C++
+// that the sanitizers slow down (at 0.9 a sanitized reload ran past the budget one time in a few).
 TEST(FaultReloads, AReloadWithItsPowerUpsAndOnReloadSpendsOneFramesBudget) {
   const Rules r;
   save(r.powerups / "slow.lua", "return { duration = 600, factor = function() end }\n");
@@ -231,12 +232,12 @@ TEST(FaultReloads, AReloadWithItsPowerUpsAndOnReloadSpendsOneFramesBudget) {
   live.play(10);
   lua::Reloader reloader(*live.sport, {}, false);
   save(r.powerups / "slow.lua", "while true do end\nreturn { duration = 600, factor = function() end }\n");
-  save(r.sport_lua(), r.sport_ending_with(spend(0.9 * lua::Limits{}.cpu_seconds) +
+  save(r.sport_lua(), r.sport_ending_with(spend(0.5 * lua::Limits{}.cpu_seconds) +
                                           "sport.on_reload = function() while true do end end"));
   const Reload done = reload(live, reloader, {r.sport_lua()});
   EXPECT_EQ(done.reloaded, 1) << done.said;
   EXPECT_LE(done.cpu_seconds, hostile::kFrameBound);
-  std::cout << "  a reload of three budgets' worth of Lua: " << done.cpu_seconds * 1e3 << " ms of CPU\n";
+  std::cout << "  a reload of two and a half budgets' worth of Lua: " << done.cpu_seconds * 1e3 << " ms of CPU\n";
   live.play(10);
   EXPECT_NEAR(live.match->time(), 20 / live.match->fps(), 1e-6);
 }
