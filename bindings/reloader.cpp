@@ -76,10 +76,13 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
       if (fresh->field_file() != sport->field_file()) field_waits(fresh->field_file(), errors);
       sport = std::move(fresh);
       errors << "quantum: reloaded " << (folder_ / "sport.lua").string() << '\n';
+      // The new sport loads the power-ups afresh: an old failure of theirs is its to repeat.
+      failures_.clear();
       return 1 + int(powerups.size());
     } catch (const std::exception& e) {
       match.set_rules(*sport);
       errors << "quantum: reload failed: " << e.what() << " (the previous version goes on)\n";
+      failures_["sport.lua"] = e.what();
     }
   }
   if (powerups.empty()) return 0;
@@ -88,9 +91,11 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   for (size_t k = 0; k < powerups.size(); ++k) {
     if (failed[k].empty()) {
       errors << "quantum: reloaded power-up " << powerups[k] << '\n';
+      failures_.erase(powerups[k]);
       ++reloaded;
     } else {
       errors << "quantum: reload failed: " << failed[k] << " (the previous version goes on)\n";
+      failures_[powerups[k]] = failed[k];
     }
   }
   return reloaded;

@@ -44,6 +44,9 @@ class Reloader {
   // keeps.
   int poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors,
            std::vector<std::filesystem::path>* acted_on = nullptr);
+  // The reloads that failed and have not loaded since: script ("sport.lua", a power-up's name)
+  // -> what failed ("FILE:LINE: ..."), for a view's error screen.
+  const std::map<std::string, std::string>& failures() const { return failures_; }
 
  private:
   std::filesystem::path folder_;
@@ -52,6 +55,7 @@ class Reloader {
   std::map<int, std::filesystem::path> watches_;  // watch descriptor -> folder
   std::set<std::filesystem::path> powerup_folders_, module_folders_;
   std::set<std::filesystem::path> changed_;
+  std::map<std::string, std::string> failures_;
   bool field_told_ = false;
 
   void field_waits(const std::filesystem::path& file, std::ostream& errors);

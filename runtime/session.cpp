@@ -40,6 +40,8 @@ std::vector<double> per_player(const std::vector<double>& given, const std::vect
   return v;
 }
 
+constexpr const char* kPlayersLost = "the players cannot be seen: the match is paused until they are back";
+
 const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
 
 }  // namespace
@@ -138,7 +140,10 @@ void Session::tell() {
   ledger_.hold(news.events, news.said);
   // A rule that fails every frame is one line, not thousands: each error once, counted.
   for (const std::string& e : news.errors)
-    if (++errors_seen_[e] == 1) errors_ << "quantum: rules error: " << e << '\n';
+    if (++errors_seen_[e] == 1) {
+      errors_ << "quantum: rules error: " << e << '\n';
+      rule_problems_.push_back(e);
+    }
   rule_errors_ += int(news.errors.size());
   write_settled();
   if (watcher_) watcher_(news);
@@ -171,6 +176,7 @@ bool Session::frame() {
       // The new version starts with a clean slate: an error it still makes is shown again.
       report_repeated_errors();
       errors_seen_.clear();
+      rule_problems_.clear();
     }
     if (recorder_ && !reloaded.empty()) recorder_->reloaded(reloaded);
   }
@@ -182,6 +188,7 @@ bool Session::frame() {
   } else {
     const bool lost = status == PlayerSource::Status::Lost;
     if (lost != paused_) pause_or_resume(lost);
+    forget_fixed_problems();
     if (!paused_) {
       for (const game::Throw& t : players_->throws()) m.let_go(t);
       m.step(players_->bodies());
@@ -200,6 +207,41 @@ bool Session::frame() {
   if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   else if (real_time_) keep_time();
   return !over_;
+}
+
+bool Session::run_to(double t) {
+  const bool real_time = std::exchange(real_time_, false);
+  bool going = !over_;
+  while (going && match_->time() + 1e-9 < t) going = frame();
+  real_time_ = real_time;
+  resync();
+  return going;
+}
+
+std::vector<Session::Problem> Session::problems() const {
+  std::vector<Problem> standing;
+  for (const std::string& e : rule_problems_) standing.push_back({"rules error", e});
+  if (reloader_)
+    for (const auto& [script, failure] : reloader_->failures())
+      if (!dismissed_.count(failure)) standing.push_back({"reload failed", failure});
+  if (paused_ && !dismissed_.count(kPlayersLost)) standing.push_back({"players lost", kPlayersLost});
+  return standing;
+}
+
+void Session::dismiss_problems() {
+  for (const Problem& p : problems())
+    if (p.kind != "rules error") dismissed_.insert(p.text);
+  rule_problems_.clear();
+}
+
+void Session::forget_fixed_problems() {
+  std::erase_if(dismissed_, [this](const std::string& text) {
+    if (text == kPlayersLost) return !paused_;
+    if (reloader_)
+      for (const auto& [script, failure] : reloader_->failures())
+        if (failure == text) return false;
+    return true;
+  });
 }
 
 void Session::keep_time() {

@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <span>
 #include <string>
 #include <vector>
@@ -106,6 +107,22 @@ class Session {
   void set_speed(double speed);
   void resync();
 
+  // Frames as fast as they run, without the clock, until the match time reaches `t` or the
+  // session is over (a desk seeking forward); then the clock is taken up from there. Returns
+  // frame()'s last answer.
+  bool run_to(double t);
+
+  // What stands in the match's way now, for a view to show until it is fixed or dismissed: a
+  // rules error (until a new version of the sport loads), a reload that failed (until that script
+  // reloads), players that cannot be seen (until they are back). Oldest first.
+  struct Problem {
+    std::string kind;  // "rules error", "reload failed", "players lost"
+    std::string text;  // FILE:LINE: message, as on the error stream
+  };
+  std::vector<Problem> problems() const;
+  // Hides the problems standing now; a new one, or the same one again after it was fixed, shows.
+  void dismiss_problems();
+
   // Called with each frame's news, and with news made between frames (a spec's grant), before
   // it is forgotten.
   void watch(std::function<void(const News&)> watcher) { watcher_ = std::move(watcher); }
@@ -128,6 +145,7 @@ class Session {
 
  private:
   void pause_or_resume(bool lost);
+  void forget_fixed_problems();  // a problem dismissed, fixed and back shows again
   void report_repeated_errors();
   void write_settled(bool all = false);
   void commit_outputs();  // the frame's whole lines to every file, each failure said once
@@ -144,6 +162,8 @@ class Session {
   std::unique_ptr<LineFile> log_, decisions_;
   PhraseLedger ledger_;  // the event log's and the transcript's lines until their phrases are settled
   std::map<std::string, int> errors_seen_;  // each rule error once, with how often it came
+  std::vector<std::string> rule_problems_;  // rule errors since the sport last loaded, not dismissed
+  std::set<std::string> dismissed_;         // reload failures and "players lost" a person has seen
   std::function<void(const News&)> watcher_;
   double wall_start_ = 0;  // the steady clock's seconds at match time 0 (at this speed)
   // Real-time pacing: the clock the frames have taken, pauses left out, counted up to kept_from_.

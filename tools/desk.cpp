@@ -1,25 +1,35 @@
 #include "desk.h"
 
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <ostream>
 
-#include "lua_reader.h"
-#include "picture.h"
+#include "desk_screens.h"
 #include "interrupts.h"
+#include "lua_reader.h"
+#include "output_files.h"
+#include "picture.h"
+#include "playback.h"
 #include "video.h"
 #include "window.h"
 
 namespace quantum::tools {
 namespace {
 
-constexpr const char* kHelp = "space pause   s step   m slow motion   p paths   r restart   q quit";
-constexpr const char* kHandHelp = "click or t throw   space pause   s step   m slow   p paths   r restart   q quit";
+using runtime::kKeyEnd, runtime::kKeyEnter, runtime::kKeyEscape, runtime::kKeyHome, runtime::kKeyLeft,
+    runtime::kKeyNone, runtime::kKeyRight;
 
-// Keys of the live view. highgui gives the character's code (or -1).
+// Keys of the live view: a character's code, or a runtime::SpecialKey.
 enum Key : int {
-  kPause = ' ', kStep = 's', kSlow = 'm', kPaths = 'p', kRestart = 'r', kQuit = 'q', kThrow = 't', kEscape = 27
+  kPause = ' ', kStep = 's', kStepForward = '.', kStepBack = ',', kSlow = 'm', kSlower = '[', kFaster = ']',
+  kPaths = 'p', kRestart = 'r', kQuit = 'q', kThrow = 't', kFullScreen = 'f',
 };
+constexpr double kSpeeds[] = {0.125, 0.25, 0.5, 1, 2, 4, 8};
+constexpr double kArrowSeconds = 5;
 
 // The player a person plays with the mouse: `name`, or the first when "".
 int hand_body(const Field& field, const std::string& name) {
@@ -31,91 +41,234 @@ int hand_body(const Field& field, const std::string& name) {
   throw std::invalid_argument("--input mouse:" + name + ": " + lua::unknown_key(name, names, "player"));
 }
 
+// What the mouse does in this sport: what the hand's player does with the ball.
+std::string mouse_keys(const Field& field, int body) {
+  const BodySpec& b = field.bodies[size_t(body)];
+  const std::string moves = "mouse: " + b.name;
+  if (b.catches) return moves + ", click or t: throw   ";
+  if (b.hits) return moves + " (hits the ball)   ";
+  if (b.kicks) return moves + " (kicks the ball)   ";
+  return moves + " (the ball bounces off it)   ";
+}
+
+std::string view_keys(bool looks_back) {
+  return std::string("space pause   s . step   ") + (looks_back ? ", back   left/right 5 s   home end   " : "") +
+         "[ ] speed   m slow   p paths   f full screen   r restart   q quit";
+}
+
+bool seeks(int key) {
+  return key == kStepBack || key == kKeyLeft || key == kKeyRight || key == kKeyHome || key == kKeyEnd;
+}
+
+double next_speed(double speed, int step) {
+  const auto at = std::find(std::begin(kSpeeds), std::end(kSpeeds), speed);
+  const long k = at == std::end(kSpeeds) ? 3 : at - std::begin(kSpeeds);
+  return kSpeeds[std::clamp<long>(k + step, 0, long(std::size(kSpeeds)) - 1)];
+}
+
+std::string score_line(const PlayResult& result) {
+  std::string s = "final score:";
+  for (const auto& [team, goals] : result.score) s += " " + team + " " + std::to_string(goals);
+  return s + (result.winner.empty() ? "  (a draw)" : "  (" + result.winner + " wins)");
+}
+
+// --view-log: what the view shows a person in words, a JSON line each time it changes (a screen
+// reader's, or a test's, way into the window).
+class ViewLog {
+ public:
+  explicit ViewLog(const std::string& path) : file_("--view-log", path) {}
+  void shows(double t, const std::string& what, const std::string& text) {
+    if (!file_.stream() || last_[what] == text) return;
+    last_[what] = text;
+    *file_.stream() << nlohmann::json{{"t", t}, {"shows", what}, {"text", text}}.dump() << '\n';
+    file_.commit();
+  }
+  void close() { file_.close(); }
+
+ private:
+  runtime::LineFile file_;
+  std::map<std::string, std::string> last_;
+};
+
 }  // namespace
 
 PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std::ostream& out, std::ostream& errors,
                         bool transcript) {
   if (desk.hand && !desk.view) throw std::invalid_argument("--input mouse needs --view: the mouse moves over the view");
+  if (!desk.view_log.empty() && !desk.view) throw std::invalid_argument("--view-log needs --view: it tells what the view shows");
   if (!desk.snapshot.empty()) runtime::check_snapshot_file(desk.snapshot);
   std::vector<runtime::Output> outputs = runtime::outputs_of(o);
   outputs.push_back({"--video", desk.video});
   outputs.push_back({"--snapshot", desk.snapshot});
+  outputs.push_back({"--view-log", desk.view_log});
   runtime::check_distinct(outputs);
   // Someone watches: the match runs in real time unless asked otherwise.
   o.watched = desk.view;
-  std::optional<runtime::Window> window;
   runtime::Hand hand;
-  const std::string wav = o.audio.rfind("wav:", 0) == 0 ? o.audio.substr(4) : "";
-  bool quit = false;
-  PlayResult result;
-  // Restart (the r key) plays the match again from the start, as a new session.
-  for (bool again = true; again && !quit;) {
-    again = false;
-    std::unique_ptr<runtime::PlayerSource> players;
-    if (desk.hand) {
-      const lua::Sport sport(o.sport, lua::engine_rules_folder(), lua::Params(o.params));
-      const Field& field = sport.field();
-      std::vector<double> skills = o.skills.empty() ? std::vector<double>(field.bodies.size(), 0.6) : o.skills;
-      players = std::make_unique<runtime::HandPlayers>(field, skills, o.seed, sport.throw_speed(),
-                                                       hand_body(field, desk.hand_player), hand);
-    }
-    runtime::Session session(o, transcript ? &out : nullptr, errors, std::move(players));
-    runtime::end_matches_on_signals();
-    if (desk.view && !window) window.emplace("Quantum games: " + session.sport().name());
-    runtime::Picture picture(session.match().field());
-    runtime::Ticker ticker;
-    session.watch([&](const runtime::News& news) { ticker.hear(news); });
-    runtime::Overlay overlay{session.sport().name(), "", desk.view ? (desk.hand ? kHandHelp : kHelp) : "", &ticker, ""};
-    cv::Mat image;
-    picture.draw(session.match(), overlay, image);
-    std::optional<runtime::VideoFile> video;
-    if (!desk.video.empty()) video.emplace(desk.video, image.cols, image.rows, desk.video_fps);
-    bool paused = false, slow = false, step = false, snapped = false, restart_refused = false;
-    double next_video_frame = 0;
-    for (bool playing = true; playing && !quit;) {
-      if (window) {
-        const int key = window->show(image, paused ? 30 : 1);
-        if (window->closed() || key == kQuit || key == kEscape) quit = true;
-        if (key == kPause) paused = !paused, session.resync();
-        if (key == kStep) paused = true, step = true;
-        if (key == kSlow) slow = !slow, session.set_speed(slow ? 0.25 : 1.0);
-        if (key == kPaths) picture.set_paths(!picture.options().paths);
-        if (key == kRestart && o.record.empty()) again = true, playing = false;
-        if (key == kRestart && !o.record.empty()) restart_refused = true;
-        const runtime::Window::Mouse m = window->mouse();
-        hand.throws += m.clicks + (key == kThrow ? 1 : 0);
-        hand.over = m.over && m.y >= 0 && m.y < picture.field_height() && m.x >= 0 && m.x < image.cols;
-        if (hand.over) hand.at = picture.to_field(m.x, m.y);
-      }
-      if (!paused || step) {
-        if (paused) session.resync();  // a single step is due a frame from now, however long the pause
-        playing = playing && session.frame();
-        ticker.mark(session.fates());
-        // The last draw that realized something: "why did that happen?" at a glance.
-        if (const Decision* d = session.match().decision(); d && d->realized >= 0)
-          overlay.last_draw = runtime::describe_draw(*d, session.match().field());
-        step = false;
-      }
-      overlay.status = restart_refused ? "no restart while recording: the recording is of one match"
-                       : paused            ? "paused"
-                       : slow              ? "slow motion (1/4)"
-                                           : "";
-      if (window || video || !snapped) picture.draw(session.match(), overlay, image);
-      // The video takes the picture of every moment it has a frame for, in match time; the
-      // moment the match ends closes it (a 4 s match at 30 frames a second is 120 frames).
-      while (video && playing && session.match().time() + 1e-9 >= next_video_frame) {
-        video->add(image);
-        next_video_frame = video->frames() / video->fps();
-      }
-      if (!desk.snapshot.empty() && !snapped && desk.snapshot_at >= 0 && session.match().time() + 1e-9 >= desk.snapshot_at) {
-        runtime::write_snapshot(desk.snapshot, image);
-        snapped = true;
-      }
-    }
-    finish_and_keep(session, result);
-    if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
-    if (video) video->finish(wav);
+  int hand_player = -1;
+  Playback::Players players;
+  if (desk.hand) {
+    const lua::Sport sport(o.sport, lua::engine_rules_folder(), lua::Params(o.params));
+    const Field field = sport.field();
+    hand_player = hand_body(field, desk.hand_player);
+    const std::vector<double> skills = o.skills.empty() ? std::vector<double>(field.bodies.size(), 0.6) : o.skills;
+    players = [field, skills, seed = o.seed, speed = sport.throw_speed(), hand_player, &hand] {
+      return std::make_unique<runtime::HandPlayers>(field, skills, seed, speed, hand_player, hand);
+    };
   }
+  // A video takes the match's moments in order: no looking back while one is written.
+  const bool looks_back = desk.view && desk.video.empty();
+  const bool own_record = o.record.empty();
+  Playback playback(o, transcript ? &out : nullptr, errors, players, looks_back);
+  runtime::end_matches_on_signals();
+  ViewLog view_log(desk.view_log);
+  runtime::Ticker ticker;
+  const auto listen = [&] { playback.shown().watch([&](const runtime::News& news) { ticker.hear(news); }); };
+  listen();
+
+  // A copy: going back in a replay opens a new session, and a reload may load another field for
+  // the next match; the view draws this match's.
+  const Field field = playback.live().match().field();
+  runtime::Picture picture(field);
+  runtime::Overlay overlay{playback.live().sport().name(), "", "", &ticker, ""};
+  cv::Mat image, view;
+  picture.draw(playback.shown().match(), overlay, image);
+  runtime::TimeBar bar;
+  bar.keys = (desk.hand ? mouse_keys(field, hand_player) : "") + view_keys(looks_back);
+  view_log.shows(0, "keys", bar.keys);
+  std::optional<runtime::Window> window;
+  if (desk.view)
+    window.emplace("Quantum games: " + playback.live().sport().name(),
+                   cv::Size(image.cols, image.rows + runtime::TimeBar::kHeight));
+  std::optional<runtime::VideoFile> video;
+  if (!desk.video.empty()) video.emplace(desk.video, image.cols, image.rows, desk.video_fps);
+
+  PlayResult result;
+  bool paused = false, step = false, snapped = false, over = false, quit = false, dragging = false;
+  std::string refused;  // why the last key could not be done
+  double next_video_frame = 0, speed = 1;
+  const auto seek = [&](double t) {
+    const bool restarts = playback.replay() && t < playback.shown().match().time() - 1e-9;
+    playback.seek(t);
+    listen();
+    if (restarts) over = false;
+    view_log.shows(playback.shown().match().time(), "seek", runtime::clock_text(playback.shown().match().time()));
+  };
+  // The window's picture: the match's, the time bar under it, and over it what a person must see.
+  const auto compose = [&] {
+    const game::Match& shown = playback.shown().match();
+    bar.length = std::max(playback.length(), playback.played());
+    bar.played = playback.played(), bar.now = shown.time(), bar.speed = speed;
+    bar.note = playback.replay() ? "replay" : playback.looking_back() ? "looking back" : "live";
+    view.create(image.rows + runtime::TimeBar::kHeight, image.cols, image.type());
+    image.copyTo(view(cv::Rect(0, 0, image.cols, image.rows)));
+    cv::Mat strip = view(cv::Rect(0, image.rows, image.cols, runtime::TimeBar::kHeight));
+    runtime::draw_time_bar(bar, strip);
+    const std::vector<runtime::Session::Problem> problems = playback.live().problems();
+    runtime::draw_problems(problems, view);
+    for (const runtime::Session::Problem& p : problems) view_log.shows(shown.time(), "problem", p.kind + ": " + p.text);
+    if (problems.empty()) view_log.shows(shown.time(), "problem", "");
+    view_log.shows(shown.time(), "status", overlay.status);
+    if (over && !playback.looking_back()) {
+      runtime::draw_final_whistle(score_line(result), view);
+      view_log.shows(shown.time(), "final whistle", score_line(result));
+    }
+  };
+  if (window) {
+    compose();
+    window->show(view);
+    playback.shown().resync();  // opening the window took its time, not the match's
+  }
+  while (!quit) {
+    if (window) {
+      const int key = window->show(view, paused || over ? 30 : 1);
+      quit = window->closed() || key == kQuit || key == kKeyEscape || (over && key != kKeyNone && !seeks(key));
+      refused.clear();
+      if (key == kPause) paused = !paused, playback.shown().resync();
+      if (key == kStep || key == kStepForward) paused = true, step = true;
+      if (key == kSlow) speed = speed == 0.25 ? 1 : 0.25;
+      if (key == kSlower || key == kFaster) speed = next_speed(speed, key == kFaster ? 1 : -1);
+      if (key == kSlow || key == kSlower || key == kFaster) playback.set_speed(speed);
+      if (key == kPaths) picture.set_paths(!picture.options().paths);
+      if (key == kFullScreen) window->toggle_full_screen();
+      if (key == kKeyEnter) playback.live().dismiss_problems();
+      if (seeks(key) && !looks_back) refused = "no looking back while a video is written";
+      if (seeks(key) && looks_back) {
+        const double now = playback.shown().match().time(), frame = 1 / playback.live().match().fps();
+        if (key == kStepBack) paused = true;
+        seek(key == kStepBack ? now - frame
+             : key == kKeyLeft ? now - kArrowSeconds
+             : key == kKeyRight ? now + kArrowSeconds
+             : key == kKeyHome ? 0
+                               : playback.played());
+      }
+      if (key == kRestart && !own_record) refused = "no restart while recording: the recording is of one match";
+      if (key == kRestart && own_record && !playback.replay()) {
+        finish_and_keep(playback.live(), result);
+        playback.restart();
+        listen();
+        over = false;
+      }
+      const runtime::Window::Mouse m = window->mouse();
+      const bool on_bar = m.over && m.y >= image.rows && m.y < view.rows;
+      bar.pointed = on_bar && looks_back ? bar.time_at(m.x, view.cols) : -1;
+      // A drag forward plays on at once; back, it goes when the button is let go (going back
+      // replays from the start).
+      if (bar.pointed >= 0 && (m.clicks > 0 || (m.down && bar.pointed > playback.shown().match().time()) ||
+                               (dragging && !m.down)))
+        seek(bar.pointed);
+      dragging = on_bar && m.down;
+      hand.throws += m.clicks * !on_bar + (key == kThrow ? 1 : 0);
+      hand.over = !playback.looking_back() && m.over && m.y >= 0 && m.y < picture.field_height() && m.x >= 0 &&
+                  m.x < image.cols;
+      if (hand.over) hand.at = picture.to_field(m.x, m.y);
+    }
+    if (quit) break;
+    bool playing = !over;
+    if (!over && (!paused || step)) {
+      if (paused) playback.shown().resync();  // a single step is due a frame from now, however long the pause
+      const bool looked_back = playback.looking_back();
+      playing = playback.frame();
+      if (looked_back && !playback.looking_back()) listen();
+      ticker.mark(playback.shown().fates());
+      // The last draw that realized something: "why did that happen?" at a glance.
+      if (const Decision* d = playback.shown().match().decision(); d && d->realized >= 0)
+        overlay.last_draw = runtime::describe_draw(*d, field);
+      step = false;
+    }
+    const game::Match& shown = playback.shown().match();
+    overlay.status = !refused.empty()         ? refused
+                     : playback.looking_back() ? "looking back: the match waits (end: back to it)"
+                     : paused                  ? "paused"
+                     : speed != 1              ? "speed " + (std::ostringstream() << speed).str() + "x"
+                                               : "";
+    if (window || video || !snapped) picture.draw(shown, overlay, image);
+    // The video takes the picture of every moment it has a frame for, in match time; the
+    // moment the match ends closes it (a 4 s match at 30 frames a second is 120 frames).
+    while (video && playing && shown.time() + 1e-9 >= next_video_frame) {
+      video->add(image);
+      next_video_frame = video->frames() / video->fps();
+    }
+    if (!desk.snapshot.empty() && !snapped && desk.snapshot_at >= 0 && shown.time() + 1e-9 >= desk.snapshot_at) {
+      runtime::write_snapshot(desk.snapshot, image);
+      snapped = true;
+    }
+    if (!playing && !over) {
+      over = true;
+      finish_and_keep(playback.live(), result);
+      // Asked to end (Ctrl-C, SIGTERM): nobody waits at the window for the final whistle.
+      if (playback.live().interrupted()) break;
+    }
+    if (!window) {
+      if (over) break;
+      continue;
+    }
+    compose();
+  }
+  finish_and_keep(playback.live(), result);
+  if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
+  if (video) video->finish(o.audio.rfind("wav:", 0) == 0 ? o.audio.substr(4) : "");
+  view_log.close();
   return result;
 }
 

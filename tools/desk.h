@@ -1,6 +1,7 @@
-// The designer's desk: `quantum play` and `quantum replay` with a live view (--view), a video
-// (--video FILE.mp4), a picture of one moment (--snapshot FILE.png, --snapshot-at T) and play by
-// mouse (--input mouse[:PLAYER]). docs/desk.md shows it.
+// The designer's desk: `quantum play` and `quantum replay` with a live view (--view: a window
+// that fits the screen, a time bar to seek in, an error screen), a video (--video FILE.mp4), a
+// picture of one moment (--snapshot FILE.png, --snapshot-at T) and play by mouse
+// (--input mouse[:PLAYER]). docs/desk.md shows it.
 #pragma once
 
 #include <iosfwd>
@@ -19,6 +20,7 @@ struct DeskOptions {
   double snapshot_at = -1;
   bool hand = false;         // a person moves a player with the mouse (needs the view)...
   std::string hand_player;   // ...this one ("": the first)
+  std::string view_log;      // what the view shows, in words: JSON lines (needs the view)
 
   bool wanted() const { return view || !video.empty() || !snapshot.empty() || hand; }
 };

@@ -344,8 +344,10 @@ int main(int argc, char** argv) {
   quantum::tools::DeskOptions desk;
   // The desk's options, on play and on replay alike.
   auto add_desk = [](CLI::App* command, quantum::tools::DeskOptions& d) {
-    command->add_flag("--view", d.view, "show the match in a window (keys: space pause, s step, m slow motion, "
-                                        "p paths, r restart, q quit)");
+    command->add_flag("--view", d.view, "show the match in a window (keys: space pause, s step, left/right seek, "
+                                        "[ ] speed, p paths, f full screen, r restart, q quit; docs/desk.md)");
+    command->add_option("--view-log", d.view_log, "write what the view shows (errors, status, the final whistle) "
+                                                  "as JSON lines to FILE")->type_name("FILE");
     command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)")
         ->type_name("FILE.mp4");
     checked(command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str(),

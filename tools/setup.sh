@@ -23,13 +23,14 @@ engine_packages=(
   libcairo2-dev                # quantum-synth --markers: the markers as a PDF at their printed size
   libcli11-dev nlohmann-json3-dev
   zlib1g-dev                   # logs named .gz, written and read compressed
+  libx11-dev                   # the desk's window: the screen's size, and a clear error without a display
   libboost-math-dev            # chi-square distribution for the rule specs' statistics
 )
 test_packages=(
   lua-busted                   # rule specs (quantum test)
   gnuplot-nox                  # quantum balance --plot
   ffmpeg                       # the desk's videos (--video); ffprobe checks them in the tests
-  xvfb xauth imagemagick       # the tests open the desk's window on a virtual display and photograph it
+  xvfb xauth imagemagick xdotool  # the tests open the desk's window on a virtual display, press its keys and photograph it
   file                         # cpack's Debian package (tests/install)
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-dev        # tools/sanitize.sh: the sanitizers and libFuzzer (docs/reliability.md)
