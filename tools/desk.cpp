@@ -52,12 +52,13 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   for (bool again = true; again && !quit;) {
     again = false;
     std::unique_ptr<runtime::PlayerSource> players;
+    int hand_player = -1;  // the body the mouse drives, marked on the picture
     if (desk.hand) {
       const lua::Sport sport(o.sport, lua::engine_rules_folder(), lua::Params(o.params));
       const Field& field = sport.field();
       std::vector<double> skills = o.skills.empty() ? std::vector<double>(field.bodies.size(), 0.6) : o.skills;
-      players = std::make_unique<runtime::HandPlayers>(field, skills, o.seed, sport.throw_speed(),
-                                                       hand_body(field, desk.hand_player), hand);
+      hand_player = hand_body(field, desk.hand_player);
+      players = std::make_unique<runtime::HandPlayers>(field, skills, o.seed, sport.throw_speed(), hand_player, hand);
     }
     runtime::Session session(o, transcript ? &out : nullptr, errors, std::move(players));
     runtime::end_matches_on_signals();
@@ -65,7 +66,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     runtime::Picture picture(session.match().field());
     runtime::Ticker ticker;
     session.watch([&](const runtime::News& news) { ticker.hear(news); });
-    runtime::Overlay overlay{session.sport().name(), "", desk.view ? (desk.hand ? kHandHelp : kHelp) : "", &ticker, ""};
+    runtime::Overlay overlay{session.sport().name(), "", desk.view ? (desk.hand ? kHandHelp : kHelp) : "", &ticker, "", hand_player};
     cv::Mat image;
     picture.draw(session.match(), overlay, image);
     std::optional<runtime::VideoFile> video;
@@ -84,7 +85,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         if (key == kRestart && !o.record.empty()) restart_refused = true;
         const runtime::Window::Mouse m = window->mouse();
         hand.throws += m.clicks + (key == kThrow ? 1 : 0);
-        hand.over = m.over && m.y >= 0 && m.y < picture.field_height() && m.x >= 0 && m.x < image.cols;
+        hand.over = m.over && picture.over_field(m.x, m.y);
         if (hand.over) hand.at = picture.to_field(m.x, m.y);
       }
       if (!paused || step) {
