@@ -361,10 +361,9 @@ void Picture::draw_layer() {
         cv::line(layer_, px_side({g.a.x - g.rim_radius, g.a.y - g.rim_radius, g.rim_height}),
                  px_side({g.a.x + g.rim_radius, g.a.y + g.rim_radius, g.rim_height}), kGoal, 3, cv::LINE_AA);
   }
-  // The legend's titles and key.
+  // The legend's titles and key (the announcer's comes with its lines: `quantum simulate` has none).
   text(layer_, fit("outcomes, Newtonian -> tweaked (together 100%)", legend_.room), legend_.outcomes, kDim);
   text(layer_, fit("likeliest paths, Newtonian -> tweaked", legend_.paths_room), legend_.paths, kDim);
-  text(layer_, "announcer", legend_.announcer, kDim);
   key(&layer_, legend_.room);
 }
 
@@ -680,6 +679,7 @@ void Picture::draw_legend(const World& world, const FateReport& report, const Ov
   }
   // The announcer's last phrases, and what became of them.
   if (overlay.ticker) {
+    text(image, "announcer", legend_.announcer, kDim);
     const std::deque<Ticker::Line>& lines = overlay.ticker->lines();
     cv::Point at = legend_.announcer;
     const int room = legend_.room - (at.x - legend_.key.x);
