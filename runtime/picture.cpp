@@ -651,17 +651,17 @@ void Picture::draw_legend(const World& world, const FateReport& report, const Ov
     text(image, fit(name, room - numbers), at + cv::Point(numbers, 0), kText);
   };
   // Every outcome with its totals, the likeliest first; those without a cell of their own share the last.
-  totals_ = ranked_.empty() ? std::vector<OutcomeTotal>{} : outcome_totals(report, world.field());
+  const std::vector<OutcomeTotal> totals = ranked_.empty() ? std::vector<OutcomeTotal>{} : outcome_totals(report, world.field());
   const size_t cells = size_t(legend_.outcome_rows * legend_.outcome_columns);
-  for (size_t k = 0; k < totals_.size() && k < cells; ++k) {
+  for (size_t k = 0; k < totals.size() && k < cells; ++k) {
     const cv::Point at = legend_.outcomes + cv::Point(int(k) % legend_.outcome_columns * outcome_width_,
                                                       (1 + int(k) / legend_.outcome_columns) * line_);
-    if (k + 1 == cells && totals_.size() > cells) {
+    if (k + 1 == cells && totals.size() > cells) {
       double mass = 0, tweaked = 0;
-      for (size_t rest = k; rest < totals_.size(); ++rest) mass += totals_[rest].mass, tweaked += totals_[rest].tweaked_mass;
-      row(at, kDim, mass, tweaked, std::to_string(totals_.size() - k) + " rarer outcomes", outcome_width_);
+      for (size_t rest = k; rest < totals.size(); ++rest) mass += totals[rest].mass, tweaked += totals[rest].tweaked_mass;
+      row(at, kDim, mass, tweaked, std::to_string(totals.size() - k) + " rarer outcomes", outcome_width_);
     } else {
-      row(at, fate_colour(totals_[k].fate, 0), totals_[k].mass, totals_[k].tweaked_mass, totals_[k].name, outcome_width_);
+      row(at, fate_colour(totals[k].fate, 0), totals[k].mass, totals[k].tweaked_mass, totals[k].name, outcome_width_);
     }
   }
   // The likeliest paths, in the colours they are drawn in.

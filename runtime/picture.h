@@ -86,7 +86,8 @@ struct FieldLabel {
 class Picture {
  public:
   // Lays the picture out for the options' size and draws what never changes (the field's lines,
-  // the legend's titles): a few milliseconds, so a window makes a new one when it is resized.
+  // the legend's titles): under a millisecond for full HD (BM_DeskResize), so a window makes a new
+  // one when it is resized (keeping options().paths).
   explicit Picture(const Field& field, PictureOptions options = {});
   const PictureOptions& options() const { return options_; }
   void set_paths(bool on) { options_.paths = on; }
@@ -160,7 +161,6 @@ class Picture {
   // This frame's fates: group indices likeliest (tweaked) first, each group's colour.
   std::vector<size_t> ranked_;
   std::vector<cv::Vec3b> group_colour_;
-  std::vector<OutcomeTotal> totals_;
   // The cloud gathered per pixel of the view from above, touching only the pixels it covers and
   // those around them: each one's cell (-1: none).
   struct Cell {
