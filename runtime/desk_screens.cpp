@@ -87,7 +87,9 @@ void draw_time_bar(const TimeBar& bar, cv::Mat& strip) {
   if (!bar.note.empty()) line += "   " + bar.note;
   if (bar.pointed >= 0) line += "   (click: go to " + clock_text(bar.pointed) + ")";
   text(strip, line, {left, y + h + 18}, kText, 0.45);
-  text(strip, bar.keys, {left, y + h + 38}, kDim, 0.4);
+  // The keys in one line: smaller in a narrow window rather than cut off.
+  const double keys_size = std::clamp(0.4 * (right - left) / std::max(1, text_width(bar.keys, 0.4)), 0.3, 0.4);
+  text(strip, bar.keys, {left, y + h + 38}, kDim, keys_size);
 }
 
 void draw_problems(std::span<const Session::Problem> problems, cv::Mat& image) {

@@ -47,7 +47,8 @@ int special_key(int code) {
 }  // namespace
 
 Window::Window(const std::string& title, cv::Size aspect) : title_(title), screen_(screen_size()) {
-  cv::namedWindow(title_, cv::WINDOW_NORMAL | cv::WINDOW_KEEPRATIO | cv::WINDOW_GUI_NORMAL);
+  cv::namedWindow(title_, cv::WINDOW_NORMAL | (aspect.empty() ? cv::WINDOW_FREERATIO : cv::WINDOW_KEEPRATIO) |
+                              cv::WINDOW_GUI_NORMAL);
   const cv::Size size = fitting(aspect);
   cv::resizeWindow(title_, size.width, size.height);
   cv::setMouseCallback(title_, on_mouse, this);
@@ -58,6 +59,7 @@ Window::~Window() { cv::destroyWindow(title_); }
 cv::Size Window::fitting(cv::Size aspect) const {
   // Room for the window's title bar and the desktop's panels, which X does not tell apart.
   const double room_x = 0.95 * screen_.width, room_y = 0.88 * screen_.height;
+  if (aspect.empty()) return {int(room_x), int(room_y)};
   const double scale = std::min(room_x / std::max(1, aspect.width), room_y / std::max(1, aspect.height));
   return {std::max(1, int(aspect.width * scale)), std::max(1, int(aspect.height * scale))};
 }

@@ -26,7 +26,9 @@ enum SpecialKey : int {
 class Window {
  public:
   // Opens a window on the display for pictures of `aspect` (their size: only its shape counts),
-  // as large as fits the screen with room for its frame and the desktop's panels. Throws
+  // as large as fits the screen with room for its frame and the desktop's panels, shown with
+  // their shape kept; an empty `aspect`: as large as the screen has room for, pictures
+  // stretched to the window (a desk that draws them at size() keeps them sharp). Throws
   // std::runtime_error, in one line that names DISPLAY, when there is no display to open it on
   // (unset, or no X server there: highgui would abort the process instead).
   Window(const std::string& title, cv::Size aspect);
@@ -38,7 +40,7 @@ class Window {
   // may have resized or made full screen (the image is scaled to it, its shape kept, so an
   // image of another size shows too, only less sharp).
   cv::Size size() const;
-  // The largest size of the given shape that fits the screen.
+  // The largest size of the given shape that fits the screen (empty: the screen's room).
   cv::Size fitting(cv::Size aspect) const;
   void toggle_full_screen();
   bool full_screen() const { return full_screen_; }

@@ -130,16 +130,27 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   // the next match; the view draws this match's.
   const Field field = playback.live().match().field();
   runtime::Picture picture(field);
-  runtime::Overlay overlay{playback.live().sport().name(), "", "", &ticker, ""};
+  runtime::Overlay overlay{playback.live().sport().name(), "", "", &ticker, "", hand_player};
   cv::Mat image, view;
   picture.draw(playback.shown().match(), overlay, image);
   runtime::TimeBar bar;
   bar.keys = (desk.hand ? mouse_keys(field, hand_player) : "") + view_keys(looks_back);
   view_log.shows(0, "keys", bar.keys);
+  // The view draws its picture at the window's size, whatever the person makes it; a video's
+  // frames keep the size they started with, and the window scales them.
+  const bool follows_window = desk.view && desk.video.empty();
+  const auto fit_picture = [&](cv::Size area) {
+    runtime::PictureOptions fitted = picture.options();
+    fitted.width = area.width, fitted.height = std::max(1, area.height - runtime::TimeBar::kHeight);
+    picture = runtime::Picture(field, fitted);
+    picture.draw(playback.shown().match(), overlay, image);
+  };
   std::optional<runtime::Window> window;
-  if (desk.view)
+  if (desk.view) {
     window.emplace("Quantum games: " + playback.live().sport().name(),
-                   cv::Size(image.cols, image.rows + runtime::TimeBar::kHeight));
+                   follows_window ? cv::Size() : cv::Size(image.cols, image.rows + runtime::TimeBar::kHeight));
+    if (follows_window) fit_picture(window->fitting(cv::Size()));
+  }
   std::optional<runtime::VideoFile> video;
   if (!desk.video.empty()) video.emplace(desk.video, image.cols, image.rows, desk.video_fps);
 
@@ -209,6 +220,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         listen();
         over = false;
       }
+      if (const cv::Size area = window->size(); follows_window && !area.empty() && area != view.size()) fit_picture(area);
       const runtime::Window::Mouse m = window->mouse();
       const bool on_bar = m.over && m.y >= image.rows && m.y < view.rows;
       bar.pointed = on_bar && looks_back ? bar.time_at(m.x, view.cols) : -1;
@@ -219,8 +231,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         seek(bar.pointed);
       dragging = on_bar && m.down;
       hand.throws += m.clicks * !on_bar + (key == kThrow ? 1 : 0);
-      hand.over = !playback.looking_back() && m.over && m.y >= 0 && m.y < picture.field_height() && m.x >= 0 &&
-                  m.x < image.cols;
+      hand.over = !playback.looking_back() && m.over && picture.over_field(m.x, m.y);
       if (hand.over) hand.at = picture.to_field(m.x, m.y);
     }
     if (quit) break;
