@@ -346,7 +346,8 @@ int main(int argc, char** argv) {
   auto add_desk = [](CLI::App* command, quantum::tools::DeskOptions& d) {
     command->add_flag("--view", d.view, "show the match in a window (keys: space pause, s step, m slow motion, "
                                         "p paths, r restart, q quit)");
-    command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)")
+    command->add_option("--video", d.video, "render the match to a video file, its container by its ending: .mp4, .mov, "
+                                            ".mkv, .avi or .webm (with its sound when --audio wav:FILE)")
         ->type_name("FILE.mp4");
     checked(command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str(),
             number_in("FPS", 1, 240));
