@@ -329,7 +329,8 @@ int main(int argc, char** argv) {
     command->add_option("--field-size", field_size, "with a Kinect: L,W, the field between the markers' centres in m, "
                                                     "instead of what the Kinect measures")->type_name("L,W");
     command->add_flag("--fit-field", setup.fit, "with a Kinect: stretch the sport's field over a table of another size");
-    command->add_flag("--strict", setup.strict, "with a Kinect: stop when the table is not the sport's field size");
+    command->add_flag("--strict", setup.strict, "with a Kinect or a hat camera: stop when the table (the hall) is not "
+                                                "the sport's field size");
   };
   std::string play_field_size;
   add_setup(play, play_field_size, game.setup);
@@ -483,7 +484,10 @@ int main(int argc, char** argv) {
     if (test->parsed()) code = quantum::tools::run_specs(spec_paths);
     if (sports->parsed()) code = quantum::tools::list_sports(std::cout) == 0 ? 0 : 1;
     if (audit->parsed()) code = quantum::tools::audit(audit_files, std::cout, std::cerr, isatty(STDERR_FILENO));
-    if (track->parsed()) quantum::tools::track(tracking, std::cout);
+    if (track->parsed()) {
+      tracking.field_given = track->count("--field") > 0;
+      quantum::tools::track(tracking, std::cout);
+    }
     if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
     if (balance->parsed()) {
       if (!study_skills.empty()) study.skills = quantum::tools::parse_skills(study_skills);

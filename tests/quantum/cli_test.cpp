@@ -478,6 +478,36 @@ TEST(Cli, AKinectMeasuresItsTableAndSaysWhenItIsNotTheSportsField) {
   std::filesystem::remove_all(dir);
 }
 
+// A hat camera's markers cannot measure the field: without --field the default's (air hockey's
+// 2 m table) is said to be taken, and a field the markers do not fit is a warning (an error with
+// --strict): the synthetic hall is 20 x 10 m seen from 13 m up, which a 2 x 1 m field puts 1.3 m
+// up, under the hats; a square field is not the markers' shape. The hall's own field is quiet.
+TEST(Cli, TrackSaysWhenAHatCamerasFieldIsNotTheHallItSees) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_hall_" + std::to_string(getpid()));
+  quantum::tools::HatSceneOptions o;
+  o.seconds = 0.5;
+  quantum::tools::write_hat_video(dir.string(), o);
+  const std::string source = "track video:" + (dir / "hats.avi").string() + " --frames 3";
+  const Outcome table = quantum(source);
+  EXPECT_EQ(table.status, 0) << table.err;
+  EXPECT_NE(table.err.find("warning: video:" + (dir / "hats.avi").string() + ": no --field: its markers are taken for "
+                           "the corners of airhockey's 2.00 x 1.00 m field, the default"), std::string::npos) << table.err;
+  EXPECT_NE(table.err.find("the markers, taken for the corners of a 2.00 x 1.00 m field, put the camera 1.30 m above the "
+                           "floor, below the hats (1.80 m up): the field they show is larger, at least 4.3 x 2.2 m"),
+            std::string::npos) << table.err;
+  const Outcome hall = quantum(source + " --field handball");
+  EXPECT_EQ(hall.status, 0) << hall.err;
+  EXPECT_EQ(hall.err, "");
+  const Outcome square = quantum(source + " --field handball --field-size 20,20");
+  EXPECT_NE(square.err.find("the markers' rectangle is 2.00 times as long as wide, but the 20.00 x 20.00 m field is 1.00 "
+                            "times"), std::string::npos) << square.err;
+  const Outcome strict = quantum(source + " --strict");
+  EXPECT_EQ(strict.status, 1);
+  EXPECT_NE(strict.err.find("below the hats"), std::string::npos) << strict.err;
+  EXPECT_NE(strict.err.find("(--strict)"), std::string::npos) << strict.err;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, TrackWithoutADeviceSaysSoInOneLine) {
   for (const char* source : {"kinect", "camera:7"}) {
     const Outcome r = quantum(std::string("track ") + source + " --frames 1");
