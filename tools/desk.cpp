@@ -1,5 +1,6 @@
 #include "desk.h"
 
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -31,12 +32,21 @@ int hand_body(const Field& field, const std::string& name) {
   throw std::invalid_argument("--input mouse:" + name + ": " + lua::unknown_key(name, names, "player"));
 }
 
+// The snapshot's confirmation: "1100x880, the match at 2.5 s".
+runtime::Written snapshot_written(const std::string& path, const cv::Mat& image, double t) {
+  char what[96];
+  std::snprintf(what, sizeof what, "%dx%d, the match at %.1f s", image.cols, image.rows, t);
+  return {path, what};
+}
+
 }  // namespace
 
 PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std::ostream& out, std::ostream& errors,
-                        bool transcript) {
+                        bool transcript, const Telling* telling) {
   if (desk.hand && !desk.view) throw std::invalid_argument("--input mouse needs --view: the mouse moves over the view");
   if (!desk.snapshot.empty()) runtime::check_snapshot_file(desk.snapshot);
+  if (!desk.video.empty()) runtime::check_video_file(desk.video);
+  if (!desk.snapshot.empty()) o.must_reach = desk.snapshot_at;
   std::vector<runtime::Output> outputs = runtime::outputs_of(o);
   outputs.push_back({"--video", desk.video});
   outputs.push_back({"--snapshot", desk.snapshot});
@@ -70,10 +80,13 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     picture.draw(session.match(), overlay, image);
     std::optional<runtime::VideoFile> video;
     if (!desk.video.empty()) video.emplace(desk.video, image.cols, image.rows, desk.video_fps);
+    const auto progress = match_progress(session, telling, errors, desk.video.empty() ? "match" : "video " + desk.video);
     bool paused = false, slow = false, step = false, snapped = false, restart_refused = false;
+    runtime::Written snapshot;
     double next_video_frame = 0;
     for (bool playing = true; playing && !quit;) {
       if (window) {
+        const runtime::Session::Drawing showing(session);
         const int key = window->show(image, paused ? 30 : 1);
         if (window->closed() || key == kQuit || key == kEscape) quit = true;
         if (key == kPause) paused = !paused, session.resync();
@@ -90,12 +103,14 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
       if (!paused || step) {
         if (paused) session.resync();  // a single step is due a frame from now, however long the pause
         playing = playing && session.frame();
+        if (progress) (*progress)(session.match().time());
         ticker.mark(session.fates());
         // The last draw that realized something: "why did that happen?" at a glance.
         if (const Decision* d = session.match().decision(); d && d->realized >= 0)
           overlay.last_draw = runtime::describe_draw(*d, session.match().field());
         step = false;
       }
+      const runtime::Session::Drawing drawing(session);
       overlay.status = restart_refused ? "no restart while recording: the recording is of one match"
                        : paused            ? "paused"
                        : slow              ? "slow motion (1/4)"
@@ -110,11 +125,20 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
       if (!desk.snapshot.empty() && !snapped && desk.snapshot_at >= 0 && session.match().time() + 1e-9 >= desk.snapshot_at) {
         runtime::write_snapshot(desk.snapshot, image);
         snapped = true;
+        snapshot = snapshot_written(desk.snapshot, image, session.match().time());
       }
     }
+    if (progress) progress->clear();
     finish_and_keep(session, result);
-    if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
+    if (!desk.snapshot.empty() && !snapped) {
+      runtime::write_snapshot(desk.snapshot, image);
+      snapshot = snapshot_written(desk.snapshot, image, session.match().time());
+      // A match that ends itself (a score reached) can end before the moment asked for.
+      if (desk.snapshot_at >= 0) errors << "quantum: --snapshot-at: the match ended before it: the snapshot is its end\n";
+    }
     if (video) video->finish(wav);
+    if (video) result.written.push_back({desk.video, video->describe()});
+    if (!snapshot.path.empty()) result.written.push_back(snapshot);
   }
   return result;
 }

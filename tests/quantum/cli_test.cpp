@@ -124,7 +124,9 @@ TEST(Cli, SimulateRunsEveryShippedSport) {
     const std::string events = std::filesystem::temp_directory_path() / ("quantum_cli_simulate_" + std::string(sport));
     const Outcome r = quantum("simulate " + folder + " --seconds 30 --seed 5 --events " + events);
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_EQ(r.err, "");
+    // Nothing on stderr but the event log's confirmation.
+    EXPECT_EQ(r.err.rfind("quantum: wrote " + events + ": ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.out.find("simulated 30 s of " + field.name), std::string::npos) << r.out;
     std::istringstream lines(slurp(events));
     std::string line;
@@ -348,7 +350,10 @@ TEST(Cli, PlayRecordsTheMatchToAWav) {
   const std::string wav = stem + ".wav", events = stem + ".jsonl";
   const Outcome r = quantum("play rules/airhockey --seconds 8 --quiet --audio wav:" + wav + " --events " + events);
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(r.err, "");
+  // Nothing on stderr but the two files' confirmations, the log's first.
+  EXPECT_EQ(r.err.rfind("quantum: wrote " + events + ": ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("\nquantum: wrote " + wav + ": "), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
   // The sound lasts as long as the match and its last phrase, ringing out: when that ends, the
   // events log says (a goal in the last second is called after the whistle).
   double last_phrase = 0;
