@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <thread>
 #include <ostream>
 
@@ -188,6 +189,13 @@ void MatchAudio::finish(double now) {
   render(t + 0.5);
   wav_->close();
   if (wav_lost_) throw audio::AudioError("--audio wav:" + wav_path_ + ": could not write every sample");
+}
+
+std::optional<Written> MatchAudio::written() const {
+  if (!wav_ || wav_lost_) return std::nullopt;
+  char what[64];
+  std::snprintf(what, sizeof what, "%.1f s of sound", rendered_until_);
+  return Written{wav_path_, what};
 }
 
 }  // namespace quantum::runtime

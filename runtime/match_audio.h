@@ -7,12 +7,14 @@
 #include <iosfwd>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "audio/audio.h"
 #include "game/game.h"
+#include "output_files.h"
 #include "sport.h"
 
 namespace quantum::runtime {
@@ -40,6 +42,8 @@ class MatchAudio {
   void finish(double now);
 
   bool on_device() const { return mixer_ && !mixer_->loopback(); }  // the match runs in real time
+  // After finish(): the WAV file, when there is one and every sample was written ("41.2 s of sound").
+  std::optional<Written> written() const;
   // What became of phrases, settled since the last clear_fates(): spoken, cut off, dropped, or
   // silent when there is no sound to speak them with.
   std::span<const audio::PhraseFate> fates() const { return {fates_.data(), n_fates_}; }

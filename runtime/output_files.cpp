@@ -28,6 +28,19 @@ std::string error_text(int error) { return std::strerror(error); }
 
 const char* const kNotAFile = ", not a regular file: an output is written as a file (- writes to standard output)";
 
+// What a file or a folder's files hold on the disk.
+uintmax_t size_of(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) {
+    const uintmax_t n = fs::file_size(path, ec);
+    return ec ? 0 : n;
+  }
+  uintmax_t n = 0;
+  for (auto it = fs::recursive_directory_iterator(path, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+    if (it->is_regular_file(ec)) n += it->file_size(ec);
+  return n;
+}
+
 bool ends_gz(const std::string& path) { return path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0; }
 
 }  // namespace
@@ -100,6 +113,19 @@ void check_distinct(std::span<const Output> outputs) {
 void say_lost(std::ostream& errors, const std::string& shown) {
   errors << "quantum: cannot write to " << shown
          << " (a full disk, a closed pipe?): what follows is lost; the match goes on, and quantum will exit with 1\n";
+}
+
+std::string bytes(uintmax_t n) {
+  char text[32];
+  if (n >= 1000 * 1000) std::snprintf(text, sizeof text, "%.1f MB", double(n) / 1e6);
+  else if (n >= 1000) std::snprintf(text, sizeof text, "%.0f KB", double(n) / 1e3);
+  else std::snprintf(text, sizeof text, "%ju bytes", n);
+  return text;
+}
+
+void say_written(std::ostream& out, const Written& w) {
+  if (w.path.empty() || w.path == "-") return;
+  out << "quantum: wrote " << w.path << ": " << (w.what.empty() ? "" : w.what + ", ") << bytes(size_of(w.path)) << '\n';
 }
 
 // The one thread that makes every DurableFile's writes durable, each within kSyncEvery of being
@@ -236,7 +262,9 @@ void LineFile::commit() {
   std::string& text = pending_.text;
   const size_t end = text.rfind('\n');
   if (end == std::string::npos) return;
-  if (ok_) ok_ = hand_over(std::string_view(text).substr(0, end + 1));
+  const std::string_view lines = std::string_view(text).substr(0, end + 1);
+  if (ok_) ok_ = hand_over(lines);
+  lines_ += size_t(std::count(lines.begin(), lines.end(), '\n'));
   text.erase(0, end + 1);
 }
 
@@ -244,13 +272,18 @@ void LineFile::close() {
   if (path_.empty() || closed_) return;
   closed_ = true;
   commit();
-  if (!pending_.text.empty() && ok_) ok_ = hand_over(pending_.text);
+  if (!pending_.text.empty() && ok_) ok_ = hand_over(pending_.text), ++lines_;
   pending_.text.clear();
   if (file_ && !file_->close()) ok_ = false;
   if (!ok_) throw std::runtime_error("could not write every line to " + shown());
 }
 
 std::string LineFile::shown() const { return path_ == "-" ? "stdout" : path_; }
+
+std::optional<Written> LineFile::written() const {
+  if (!file_ || !closed_ || !ok_) return std::nullopt;
+  return Written{path_, std::to_string(lines_) + " lines"};
+}
 
 void LineFile::say_failure(std::ostream& errors) {
   if (ok_ || told_) return;

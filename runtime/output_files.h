@@ -1,12 +1,14 @@
 // The files a match writes (--events, --decisions, --record, --audio wav:, --video, --snapshot,
 // --csv, --plot): checked before anything plays, so a typo costs a second and not a match; written
-// so that a kill, a crash or a power cut leaves them whole; and one wording for a write that fails
-// while the match goes on (docs/reliability.md, "Faults").
+// so that a kill, a crash or a power cut leaves them whole; one wording for a write that fails
+// while the match goes on (docs/reliability.md, "Faults"), and one for a file written whole.
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <span>
 #include <streambuf>
@@ -39,6 +41,19 @@ void check_distinct(std::span<const Output> outputs);
 
 // The line a session writes to `errors`, once, when a write to `shown` first fails (a full disk).
 void say_lost(std::ostream& errors, const std::string& shown);
+
+// An output a command wrote whole: its path (a file or a folder) and what it holds ("6.0 s, 180
+// frames, 1100x880").
+struct Written {
+  std::string path, what;
+};
+
+// The line that confirms an output: "quantum: wrote match.mp4: 6.0 s, 180 frames, 1100x880, 1.2
+// MB", its size on the disk added (a folder's being its files'). Nothing for standard output ("-").
+void say_written(std::ostream& out, const Written& written);
+
+// "1.2 MB", "45 KB", "312 bytes".
+std::string bytes(uintmax_t n);
 
 // A file that a kill, a crash or a power cut leaves whole up to the last write: each write()
 // hands its bytes to the file at once, in one system call, and a thread of the engine's makes
@@ -88,6 +103,8 @@ class LineFile {
   void close();
   // Once, as soon as a write has failed (a full disk, a closed pipe): a line to `errors` that says so.
   void say_failure(std::ostream& errors);
+  // After close(): the file (not standard output), when it got every line, and how many ("312 lines").
+  std::optional<Written> written() const;
 
  private:
   // The lines waiting for commit(): an ostream's buffer that grows instead of flushing.
@@ -106,6 +123,7 @@ class LineFile {
   Pending pending_;
   std::ostream out_{&pending_};
   std::unique_ptr<DurableFile> file_;
+  size_t lines_ = 0;  // handed to the file
   bool ok_ = true, told_ = false, closed_ = false;
 };
 

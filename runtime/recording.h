@@ -87,6 +87,10 @@ class Recorder {
   // Completes recording.json (the frame count), replacing it whole: a kill at any moment leaves
   // the one written at the start or the completed one. Throws when anything could not be written.
   void close();
+  // After close(): whether every file was written, and the frames recorded.
+  bool whole() const { return closed_ && lost_.empty(); }
+  uint64_t frames() const { return count_; }
+  const std::filesystem::path& dir() const { return dir_; }
 
  private:
   std::filesystem::path dir_;

@@ -1,5 +1,6 @@
 #include "session.h"
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <exception>
@@ -9,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "event_log.h"
 #include "interrupts.h"
@@ -18,10 +20,6 @@
 
 namespace quantum::runtime {
 namespace {
-
-double clock_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 // In its own stream: the shared error stream's format stays as it was.
 std::string one_decimal(double v) { return (std::ostringstream() << std::fixed << std::setprecision(1) << v).str(); }
@@ -93,6 +91,13 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
   if (!players_ && replay)
     players_ = std::make_unique<RecordedPlayers>(o.replay, std::move(replay->work), match_->field(), &errors_, replay->frames);
+  planned_end_ = {config.seconds, replay ? "the recording's time limit" : o.seconds > 0 ? "--seconds" : "the sport's time limit"};
+  if (replay && replay->frames && double(*replay->frames) / match_->fps() < planned_end_.seconds)
+    planned_end_ = {double(*replay->frames) / match_->fps(), "the recording's end"};
+  if (until_ > 0 && until_ < planned_end_.seconds) planned_end_ = {until_, "--until"};
+  if (o.must_reach > planned_end_.seconds + 1e-9)
+    throw std::invalid_argument("--snapshot-at " + (std::ostringstream() << o.must_reach).str() + ": the match ends at " +
+                                seconds(planned_end_.seconds) + " (" + planned_end_.by + "), before that moment");
   if (!players_) {
     if (o.input == "bots") {
       const std::vector<double> skills(sport_->field().bodies.size(), 0.6);
@@ -135,8 +140,10 @@ void Session::tell() {
   game::Match& m = *match_;
   const News news{m.events(), m.said(), m.errors(), ledger_.next_id()};
   players_->hear(news.events);
+  const double sound_from = clock_seconds();
   for (const game::GameEvent& e : news.events) audio_->event(e);
   for (size_t i = 0; i < news.said.size(); ++i) audio_->said(news.said[i], news.first_phrase + i);
+  costs_.sound += clock_seconds() - sound_from;
   ledger_.hold(news.events, news.said);
   // A rule that fails every frame is one line, not thousands: each error once, counted.
   for (const std::string& e : news.errors)
@@ -165,6 +172,8 @@ void Session::pause_or_resume(bool lost) {
 
 bool Session::frame() {
   if (over_) return false;
+  const double began = clock_seconds();
+  costs_.drawing += std::exchange(drawn_, 0.0);
   game::Match& m = *match_;
   audio_->clear_fates();
   tell();  // what happened between frames (a spec's grant, a scene set up)
@@ -190,19 +199,25 @@ bool Session::frame() {
     if (lost != paused_) pause_or_resume(lost);
     forget_fixed_problems();
     if (!paused_) {
+      const double engine_from = clock_seconds();
       for (const game::Throw& t : players_->throws()) m.let_go(t);
       m.step(players_->bodies());
+      costs_.engine += clock_seconds() - engine_from;
       if (decisions_->stream() && m.decision())
         write_decision(*decisions_->stream(), *m.decision(), {m.decision_terms(), m.decision_contacts_from(), m.powerup_names()},
                        m.field());
     }
   }
   tell();
+  const double sound_from = clock_seconds();
   audio_->frame(m.time());
+  costs_.sound += clock_seconds() - sound_from;
   write_settled();
   commit_outputs();
   if (!m.finished() && !over_) interrupted_ = interrupting_signal();
   over_ = over_ || m.finished() || (until_ > 0 && m.time() >= until_ - 1e-9) || interrupted_;
+  costs_.frames += clock_seconds() - began;
+  ++costs_.count;
   // A camera is asked again while paused, not spun on.
   if (paused_ && players_->live()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   else if (real_time_) keep_time();
@@ -258,11 +273,48 @@ void Session::keep_time() {
   late_said_ = true;
   const game::Match& m = *match_;
   errors_ << "quantum: the match runs " << seconds(late) << " behind real time after " << seconds(m.time())
-          << " of play: its frames take longer than the " << seconds(1 / (m.fps() * speed_))
-          << " they may, with a cloud of " << m.config().particles << " particles; fewer (--particles) keep it in time\n";
+          << " of play: " << late_because() << '\n';
+}
+
+// Which of the engine, the drawing and the sound took a late frame's time, and what keeps the
+// match in time then: fewer particles are offered only when the engine is the cost.
+std::string Session::late_because() const {
+  const double n = double(std::max<uint64_t>(1, costs_.count));
+  const std::string cloud = " with a cloud of " + std::to_string(match_->config().particles) + " particles";
+  struct Part {
+    std::string name;  // as the warning names it
+    double each;       // s a frame
+    std::string what, remedy;
+  };
+  const Part parts[] = {
+      {"the engine", costs_.engine / n, cloud, "; fewer particles (--particles) keep it in time"},
+      {"the drawing", costs_.drawing / n, "", "; a video (--video FILE) is drawn without the clock"},
+      {"the sound", costs_.sound / n, "", "; --audio none keeps it in time"},
+      {"the rest of the frame", (costs_.frames - costs_.engine - costs_.sound) / n,
+       ", for the players' input, the logs, watchers and reloads", ""},
+  };
+  const Part& most = *std::max_element(std::begin(parts), std::end(parts),
+                                       [](const Part& a, const Part& b) { return a.each < b.each; });
+  std::string others;
+  for (const Part& p : parts)
+    if (&p != &most) others += (others.empty() ? "" : ", ") + p.name + " " + seconds(p.each);
+  return "its frames take " + seconds((costs_.frames + costs_.drawing) / n) + ", longer than the " +
+         seconds(1 / (match_->fps() * speed_)) + " they may, and " + most.name + " takes most of it: " + seconds(most.each) +
+         " a frame" + most.what + " (" + others + ")" + most.remedy;
 }
 
 std::span<const audio::PhraseFate> Session::fates() const { return audio_->fates(); }
+
+std::vector<Written> Session::written() const {
+  std::vector<Written> files;
+  for (const LineFile* log : {log_.get(), decisions_.get()})
+    if (const std::optional<Written> w = log->written()) files.push_back(*w);
+  if (const std::optional<Written> wav = audio_->written()) files.push_back(*wav);
+  if (recorder_ && recorder_->whole())
+    files.push_back({recorder_->dir().string(), std::to_string(recorder_->frames()) + " frames (" +
+                                                    seconds(double(recorder_->frames()) / match_->fps()) + ")"});
+  return files;
+}
 
 void Session::write_settled(bool all) {
   ledger_.settle(audio_->fates());
@@ -294,6 +346,7 @@ void Session::set_speed(double speed) {
 }
 
 void Session::resync() {
+  drawn_ = 0;
   kept_from_ = clock_seconds();
   wall_start_ = kept_from_ - match_->time() / speed_;
 }

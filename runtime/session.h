@@ -19,6 +19,7 @@
 #include "output_files.h"
 #include "phrase_ledger.h"
 #include "players.h"
+#include "progress.h"
 #include "sport.h"
 
 namespace quantum::lua {
@@ -60,6 +61,9 @@ struct SessionOptions {
   // as possible otherwise.
   enum class Pacing { Automatic, RealTime, Fast } pacing = Pacing::Automatic;
   bool watched = false;         // a person watches the match (a live view): automatic pacing is real time
+  // A moment of the match a front end must reach (--snapshot-at), or < 0: one past the session's
+  // end (Session::planned_end()) is refused before any file is opened.
+  double must_reach = -1;
 };
 
 // The files (and standard output) a session with these options writes, for check_distinct():
@@ -143,6 +147,36 @@ class Session {
   // Takes `file` as saved: the next frame reloads it as if inotify had seen it (benchmarks).
   void reload(const std::string& file);
 
+  // Where the session ends unless its match ends itself sooner (a score reached, a signal): the
+  // match time, and what puts the end there ("--seconds", "the sport's time limit", "--until",
+  // "the recording's time limit", "the recording's end").
+  struct End {
+    double seconds = 0;
+    std::string by;
+  };
+  const End& planned_end() const { return planned_end_; }
+  // Whether frames wait for the clock (SessionOptions::pacing).
+  bool real_time() const { return real_time_; }
+  // The files the session wrote whole, after finish(), each with what it holds ("312 lines"), for
+  // their confirmation lines (say_written): the event and decision logs, the WAV file, the recording.
+  std::vector<Written> written() const;
+
+  // The front end's drawing between frames (a view, a video): the late-match warning weighs it
+  // against the engine's and the sound's time. A Drawing times what it lives through. What is
+  // drawn before a resync() (a paused view, drawn again and again) is no frame's.
+  void drew(double seconds) { drawn_ += seconds; }
+  class Drawing {
+   public:
+    explicit Drawing(Session& session) : session_(session), from_(clock_seconds()) {}
+    ~Drawing() { session_.drew(clock_seconds() - from_); }
+    Drawing(const Drawing&) = delete;
+    Drawing& operator=(const Drawing&) = delete;
+
+   private:
+    Session& session_;
+    double from_;
+  };
+
  private:
   void pause_or_resume(bool lost);
   void forget_fixed_problems();  // a problem dismissed, fixed and back shows again
@@ -150,6 +184,17 @@ class Session {
   void write_settled(bool all = false);
   void commit_outputs();  // the frame's whole lines to every file, each failure said once
   void keep_time();  // real-time pacing: waits for the clock, or says once that the match runs late
+  std::string late_because() const;  // what took a late match's frames their time
+
+  // What the frames took, their waits for the clock aside: the engine (the match's step, with
+  // its rules), the sound (phrases spoken, the mix), the front end's drawing (drew()) and the
+  // frames as a whole (frame()'s own time; the drawing is between frames).
+  struct Costs {
+    double engine = 0, sound = 0, drawing = 0, frames = 0;
+    uint64_t count = 0;
+  } costs_;
+  double drawn_ = 0;  // drew() since the last frame
+  End planned_end_;
 
   std::ostream* transcript_;
   std::ostream& errors_;

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -25,10 +24,6 @@ namespace quantum::tools {
 namespace {
 
 namespace fs = std::filesystem;
-
-double clock_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 // A 95 % Wilson interval for k successes in n: honest near 0 and 1, where a normal one is not.
 std::pair<double, double> wilson(int k, int n) {
@@ -129,25 +124,8 @@ void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std:
   }
 }
 
-Progress::Progress(int matches, bool terminal) : matches_(matches), terminal_(terminal), started_(clock_seconds()) {}
-
-void Progress::operator()(int done) {
-  if (!terminal_) return;
-  const double now = clock_seconds();
-  if (done < matches_ && now - last_ < 0.25) return;  // a terminal redrawn four times a second is plenty
-  last_ = now;
-  const double rate = done / std::max(1e-9, now - started_);
-  const int left = int(std::lround((matches_ - done) / std::max(1e-9, rate)));
-  std::fprintf(stderr, "\r%d/%d matches, %.1f a second, %d:%02d left  ", done, matches_, rate, left / 60, left % 60);
-  std::fflush(stderr);
-}
-
-void Progress::finish() {
-  if (terminal_) std::fprintf(stderr, "\r%*s\r", 60, "");
-}
-
-void plot_study(const runtime::SessionOptions& options, const BalanceResult& study, int sweep_matches,
-                const std::string& dir, bool terminal, std::ostream& log) {
+runtime::Written plot_study(const runtime::SessionOptions& options, const BalanceResult& study, int sweep_matches,
+                            const std::string& dir, runtime::ProgressLine* progress, std::ostream& log) {
   runtime::make_output_folder("--plot", dir);
   auto open = [&](const std::string& name) {
     std::ofstream f(fs::path(dir) / name);
@@ -162,11 +140,14 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
   const std::vector<BodySpec>& bodies = sport.field().bodies;
   const std::string first_team = bodies.empty() ? "" : bodies.front().team;
   const std::string first_name = sport.team_name(first_team);
+  int played = study.matches;  // so far, the sweeps' points before this one's
   auto run = [&](runtime::SessionOptions o, const char* what) {
+    if (progress) progress->clear();  // a terminal's progress line, off the line below
     log << what << std::endl;  // a study takes minutes: say where it is as it goes
-    Progress progress(sweep_matches, terminal);
-    BalanceResult r = balance(o, sweep_matches, [&](int done) { progress(done); });
-    progress.finish();
+    BalanceResult r = balance(o, sweep_matches, [&](int done) {
+      if (progress) (*progress)(played + done);
+    });
+    played += sweep_matches;
     return r;
   };
 
@@ -176,7 +157,10 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
   handicap_data << "handicap,win_rate,low,high,matches\n";
   std::ofstream handicap_rows = open("handicap_matches.csv");
   bool header = true;
-  for (double h : {0.5, 0.71, 1.0, 1.41, 2.0}) {
+  constexpr double kHandicaps[] = {0.5, 0.71, 1.0, 1.41, 2.0};
+  constexpr double kStrengths[] = {0.0, 0.5, 1.0, 1.5};
+  static_assert(std::size(kHandicaps) + std::size(kStrengths) == kSweepPoints);
+  for (double h : kHandicaps) {
     runtime::SessionOptions o = options;
     o.handicaps = given;
     for (size_t b = 0; b < bodies.size(); ++b)
@@ -198,7 +182,7 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
   factor_data << "strength,contacts_per_rally,contacts_error,goals_per_minute,goals_error,points_per_minute,points_error\n";
   std::ofstream factor_rows = open("factor_matches.csv");
   header = true;
-  for (double strength : {0.0, 0.5, 1.0, 1.5}) {
+  for (double strength : kStrengths) {
     runtime::SessionOptions o = options;
     for (const std::string& kind : fate_kind_names()) {
       const auto set = options.factors.find(kind);
@@ -270,7 +254,9 @@ void plot_study(const runtime::SessionOptions& options, const BalanceResult& stu
           << "![goals per minute](goals_vs_factors.png)\n\nData: [factor_sweep.csv](factor_sweep.csv), every match in "
           << "[factor_matches.csv](factor_matches.csv).\n";
   if (!summary) throw std::runtime_error("--plot " + dir + ": cannot write summary.md");
+  if (progress) progress->clear();
   log << "plots and summary in " << dir << "/summary.md\n";
+  return {dir, "summary.md, 3 PNG plots and 5 CSV files, " + std::to_string(played) + " matches in all"};
 }
 
 }  // namespace quantum::tools

@@ -37,24 +37,16 @@ BalanceResult balance(const runtime::SessionOptions& options, int matches,
 void write_csv(std::ostream& out, const BalanceResult& r, const std::vector<std::string>& extra_names = {},
                const std::vector<double>& extra = {}, bool header = true);
 
-// "37/200 matches, 2.1 a second, 1:18 left" on one line of a terminal, redrawn as matches end;
-// nothing when `out` is not a terminal.
-class Progress {
- public:
-  Progress(int matches, bool terminal);
-  void operator()(int done);
-  void finish();
-
- private:
-  int matches_;
-  bool terminal_;
-  double started_, last_ = -1;
-};
+// The points of a --plot sweep: five handicaps of the first team, four strengths of the fate
+// factors. A study with --plot plays matches + kSweepPoints * sweep_matches matches.
+inline constexpr int kSweepPoints = 9;
 
 // --plot DIR: the study's CSV, a sweep of the first team's handicap and one of the fate factors'
-// strength (each point `sweep_matches` matches), their PNG plots (gnuplot) and summary.md.
-// Throws when DIR cannot be written or gnuplot fails.
-void plot_study(const runtime::SessionOptions& options, const BalanceResult& study, int sweep_matches,
-                const std::string& dir, bool terminal, std::ostream& log);
+// strength (each point `sweep_matches` matches), their PNG plots (gnuplot) and summary.md. Each
+// sweep's point is named on `log` as it starts; `progress` (if any) counts the study's matches,
+// the sweeps' after the study's own. Returns what DIR holds, for its confirmation line. Throws
+// when DIR cannot be written or gnuplot fails.
+runtime::Written plot_study(const runtime::SessionOptions& options, const BalanceResult& study, int sweep_matches,
+                            const std::string& dir, runtime::ProgressLine* progress, std::ostream& log);
 
 }  // namespace quantum::tools

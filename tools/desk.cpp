@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <iterator>
 #include <memory>
 #include <optional>
@@ -72,6 +73,13 @@ std::string score_line(const PlayResult& result) {
   return s + (result.winner.empty() ? "  (a draw)" : "  (" + result.winner + " wins)");
 }
 
+// The snapshot's confirmation: "1100x880, the match at 2.5 s".
+runtime::Written snapshot_written(const std::string& path, const cv::Mat& image, double t) {
+  char what[96];
+  std::snprintf(what, sizeof what, "%dx%d, the match at %.1f s", image.cols, image.rows, t);
+  return {path, what};
+}
+
 // --view-log: what the view shows a person in words, a JSON line each time it changes (a screen
 // reader's, or a test's, way into the window).
 class ViewLog {
@@ -93,10 +101,12 @@ class ViewLog {
 }  // namespace
 
 PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std::ostream& out, std::ostream& errors,
-                        bool transcript) {
+                        bool transcript, const Telling* telling) {
   if (desk.hand && !desk.view) throw std::invalid_argument("--input mouse needs --view: the mouse moves over the view");
   if (!desk.view_log.empty() && !desk.view) throw std::invalid_argument("--view-log needs --view: it tells what the view shows");
   if (!desk.snapshot.empty()) runtime::check_snapshot_file(desk.snapshot);
+  if (!desk.video.empty()) runtime::check_video_file(desk.video);
+  if (!desk.snapshot.empty()) o.must_reach = desk.snapshot_at;
   std::vector<runtime::Output> outputs = runtime::outputs_of(o);
   outputs.push_back({"--video", desk.video});
   outputs.push_back({"--snapshot", desk.snapshot});
@@ -153,6 +163,8 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   }
   std::optional<runtime::VideoFile> video;
   if (!desk.video.empty()) video.emplace(desk.video, image.cols, image.rows, desk.video_fps);
+  const auto progress = match_progress(playback.live(), telling, errors, desk.video.empty() ? "match" : "video " + desk.video);
+  runtime::Written snapshot;
 
   PlayResult result;
   bool paused = false, step = false, snapped = false, over = false, quit = false, dragging = false;
@@ -192,6 +204,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   }
   while (!quit) {
     if (window) {
+      const runtime::Session::Drawing showing(playback.live());
       const int key = window->show(view, paused || over ? 30 : 1);
       quit = window->closed() || key == kQuit || key == kKeyEscape || (over && key != kKeyNone && !seeks(key));
       refused.clear();
@@ -240,6 +253,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
       if (paused) playback.shown().resync();  // a single step is due a frame from now, however long the pause
       const bool looked_back = playback.looking_back();
       playing = playback.frame();
+      if (progress) (*progress)(playback.shown().match().time());
       if (looked_back && !playback.looking_back()) listen();
       ticker.mark(playback.shown().fates());
       // The last draw that realized something: "why did that happen?" at a glance.
@@ -247,6 +261,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
         overlay.last_draw = runtime::describe_draw(*d, field);
       step = false;
     }
+    const runtime::Session::Drawing drawing(playback.live());
     const game::Match& shown = playback.shown().match();
     overlay.status = !refused.empty()         ? refused
                      : playback.looking_back() ? "looking back: the match waits (end: back to it)"
@@ -263,9 +278,11 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     if (!desk.snapshot.empty() && !snapped && desk.snapshot_at >= 0 && shown.time() + 1e-9 >= desk.snapshot_at) {
       runtime::write_snapshot(desk.snapshot, image);
       snapped = true;
+      snapshot = snapshot_written(desk.snapshot, image, shown.time());
     }
     if (!playing && !over) {
       over = true;
+      if (progress) progress->clear();
       finish_and_keep(playback.live(), result);
       // Asked to end (Ctrl-C, SIGTERM): nobody waits at the window for the final whistle.
       if (playback.live().interrupted()) break;
@@ -276,9 +293,17 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     }
     compose();
   }
+  if (progress) progress->clear();
   finish_and_keep(playback.live(), result);
-  if (!desk.snapshot.empty() && !snapped) runtime::write_snapshot(desk.snapshot, image);
+  if (!desk.snapshot.empty() && !snapped) {
+    runtime::write_snapshot(desk.snapshot, image);
+    snapshot = snapshot_written(desk.snapshot, image, playback.shown().match().time());
+    // A match that ends itself (a score reached) can end before the moment asked for.
+    if (desk.snapshot_at >= 0) errors << "quantum: --snapshot-at: the match ended before it: the snapshot is its end\n";
+  }
   if (video) video->finish(o.audio.rfind("wav:", 0) == 0 ? o.audio.substr(4) : "");
+  if (video) result.written.push_back({desk.video, video->describe()});
+  if (!snapshot.path.empty()) result.written.push_back(snapshot);
   view_log.close();
   return result;
 }

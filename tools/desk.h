@@ -14,7 +14,7 @@ namespace quantum::tools {
 
 struct DeskOptions {
   bool view = false;         // a window, at 60 Hz, with keys
-  std::string video;         // an MP4 file, rendered at `video_fps`, headless
+  std::string video;         // a video file (its container by its ending: video.h), rendered at `video_fps`, headless
   double video_fps = 30;
   std::string snapshot;      // a PNG of the moment `snapshot_at` (< 0: the end)
   double snapshot_at = -1;
@@ -26,8 +26,10 @@ struct DeskOptions {
 };
 
 // Plays the session's match at the desk: frames as the view (if any) lets them run, each one
-// drawn for the window, the video and the snapshot. Returns the match's result.
+// drawn for the window, the video and the snapshot; with `telling`, a progress line while it
+// plays faster than the clock (play.h). Returns the match's result, with the video and the
+// snapshot among its files written.
 PlayResult play_at_desk(runtime::SessionOptions options, const DeskOptions& desk, std::ostream& out,
-                        std::ostream& errors, bool transcript);
+                        std::ostream& errors, bool transcript, const Telling* telling = nullptr);
 
 }  // namespace quantum::tools

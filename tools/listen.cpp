@@ -145,6 +145,26 @@ std::vector<int16_t> mono_16k(const std::string& path) {
   return samples;
 }
 
+// A match's sound runs from its start to half a second past its last frame or its last phrase,
+// whichever is later (MatchAudio::finish). A WAV may be a quarter of a second short of the log's
+// last moment (a phrase's end is logged to the frame, the sound resampled), and 1.5 s past it when
+// the log has the match's end (the half second, and a phrase started a few frames late). A log
+// without its end (--until, a killed match) says nothing of how long the sound went on.
+constexpr double kShortBy = 0.25, kLongBy = 1.5;
+
+// Throws when `wav`'s length cannot be the sound of the match `events` logs up to `last`.
+void check_length(const std::string& wav, double wav_seconds, const std::string& events, double last, bool ended) {
+  const bool short_of = wav_seconds < last - kShortBy, past = ended && wav_seconds > last + kLongBy;
+  if (!short_of && !past) return;
+  char why[400];
+  std::snprintf(why, sizeof why,
+                "%s is %.1f s of sound, but %s's match %s at %.1f s (its last event or phrase): not the sound of that "
+                "match, which would end %.2f s %s that at the %s",
+                wav.c_str(), wav_seconds, events.c_str(), ended ? "ends" : "is still on", last, short_of ? kShortBy : kLongBy,
+                short_of ? "before" : "after", short_of ? "earliest" : "latest");
+  throw std::runtime_error(why);
+}
+
 }  // namespace
 
 bool Heard::heard() const { return (" " + recognised + " ").find(" " + words + " ") != std::string::npos; }
@@ -159,6 +179,8 @@ Listening listen(const std::string& wav, const std::string& events) {
   Listening l;
   std::vector<std::string> grammar;  // every phrase's words, once
   std::string line;
+  double last = 0;  // the log's last moment: its last event, or the end of its last phrase
+  bool ended = false;
   while (log.next(line)) {
     const size_t n = log.number();
     if (line.empty()) continue;
@@ -168,6 +190,10 @@ Listening listen(const std::string& wav, const std::string& events) {
     } catch (const nlohmann::json::exception& e) {
       throw std::runtime_error(events + ":" + std::to_string(n) + ": not JSON: " + e.what());
     }
+    if (j.contains("t") && j["t"].is_number()) last = std::max(last, j["t"].get<double>());
+    ended = ended || j.value("type", "") == "match_end";
+    for (const auto& p : j.value("phrases", nlohmann::json::array()))
+      if (p.contains("end") && p["end"].is_number()) last = std::max(last, p["end"].get<double>());
     if (!j.contains("said")) continue;
     if (!j.contains("phrases"))
       throw std::runtime_error(events + ":" + std::to_string(n) + ": no \"phrases\": log the match with sound "
@@ -188,8 +214,9 @@ Listening listen(const std::string& wav, const std::string& events) {
     }
   }
   if (const std::string torn = log.torn(); !torn.empty()) std::cerr << "quantum listen: warning: " << torn << '\n';
-  if (grammar.empty()) return l;
   const std::vector<int16_t> sound = mono_16k(wav);
+  check_length(wav, double(sound.size()) / kRate, events, last, ended);
+  if (grammar.empty()) return l;
 
   Decoder d;
   // Beams far wider than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): on espeak-ng's voice the

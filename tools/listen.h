@@ -31,8 +31,10 @@ struct Listening {
   int goal_calls = 0, goal_calls_heard = 0;
 };
 
-// Throws std::runtime_error naming the file for a WAV or log it cannot read, and when the
-// recognizer or its model is missing (Debian: pocketsphinx, pocketsphinx-en-us).
+// Throws std::runtime_error naming the file for a WAV or log it cannot read, a WAV whose length
+// is not the logged match's (it must end at most 0.25 s before the log's last event or phrase,
+// and, when the log has the match's end, at most 1.5 s after it), and when the recognizer or its
+// model is missing (Debian: pocketsphinx, pocketsphinx-en-us).
 Listening listen(const std::string& wav, const std::string& events);
 
 // One line per played phrase ("heard" or "MISSED", with what was recognised), then totals.

@@ -115,7 +115,7 @@ std::string describe(const Counted& counted, const Figures& f) {
 PlayResult result_of(const runtime::Session& session) {
   const game::Match& match = session.match();
   return {match.score(), match.winner(), match.stats(), session.rule_errors(), match.finished(), counted(match.field()),
-          session.interrupted(), nullptr};
+          session.interrupted(), nullptr, {}};
 }
 
 void finish_and_keep(runtime::Session& session, PlayResult& result) {
@@ -127,18 +127,27 @@ void finish_and_keep(runtime::Session& session, PlayResult& result) {
   const std::exception_ptr unwritten = result.unwritten;
   result = result_of(session);
   result.unwritten = unwritten;
+  result.written = session.written();
+}
+
+std::unique_ptr<runtime::ProgressLine> match_progress(const runtime::Session& session, const Telling* telling,
+                                                      std::ostream& errors, const std::string& what) {
+  if (!telling || session.real_time() || (telling->terminal && telling->transcript_there)) return nullptr;
+  return std::make_unique<runtime::ProgressLine>(errors, telling->terminal, what, session.planned_end().seconds, "s", 1);
 }
 
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript,
-                const DeskOptions* desk) {
+                const DeskOptions* desk, const Telling* telling) {
   PlayResult result;
   if (desk && desk->wanted()) {
-    result = play_at_desk(options, *desk, out, errors, transcript);
+    result = play_at_desk(options, *desk, out, errors, transcript, telling);
   } else {
     runtime::Session session(options, transcript ? &out : nullptr, errors);
     runtime::end_matches_on_signals();
-    while (session.frame()) {
-    }
+    const std::unique_ptr<runtime::ProgressLine> progress = match_progress(session, telling, errors, "match");
+    while (session.frame())
+      if (progress) (*progress)(session.match().time());
+    if (progress) progress->clear();
     finish_and_keep(session, result);
   }
   if (transcript) {
@@ -150,6 +159,8 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
     out << "rallies " << result.stats.rallies << ", " << describe(result.counted, result.figures()) << played;
     out.flush();
   }
+  if (telling)
+    for (const runtime::Written& w : result.written) runtime::say_written(errors, w);
   if (result.unwritten) std::rethrow_exception(result.unwritten);
   return result;
 }

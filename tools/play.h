@@ -6,6 +6,7 @@
 #include <iosfwd>
 #include <exception>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,7 @@ struct PlayResult {
   // The first output that could not be written whole, thrown by play() once the transcript has
   // its final lines: a failing file never costs the transcript its score.
   std::exception_ptr unwritten;
+  std::vector<runtime::Written> written;  // the files written whole, for their confirmation lines
   Figures figures() const;
 };
 
@@ -56,12 +58,28 @@ void finish_and_keep(runtime::Session& session, PlayResult& result);
 
 struct DeskOptions;
 
+// What `quantum play` and `replay` tell on the error stream besides warnings (progress.h): a
+// progress line while a match plays faster than the clock, and a line for every file written.
+struct Telling {
+  bool terminal = false;  // the error stream is a terminal: the progress line is drawn in place
+  // The transcript is shown on that terminal, where its lines say how far the match is: no
+  // progress line between them.
+  bool transcript_there = false;
+};
+
+// The progress line of a match that plays faster than the clock ("video match.mp4: 2.5 of 6.0
+// s"), told to `errors`; none for a match in real time (someone watches, listens or plays) or
+// when `telling` is null.
+std::unique_ptr<runtime::ProgressLine> match_progress(const runtime::Session& session, const Telling* telling,
+                                                      std::ostream& errors, const std::string& what);
+
 // Plays one match, at the desk when `desk` asks for a view, a video, a snapshot or the mouse
 // (desk.h). The transcript and the closing summary go to `out` (none when `transcript` is
-// false), rule errors and warnings to `errors`. Throws on bad options, a sport that does not
-// load or a bad field.
+// false), rule errors and warnings to `errors`, and with `telling` the progress and a line for
+// each file written after the summary. Throws on bad options, a sport that does not load or a
+// bad field.
 PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::ostream& errors, bool transcript = true,
-                const DeskOptions* desk = nullptr);
+                const DeskOptions* desk = nullptr, const Telling* telling = nullptr);
 
 // "realtime" or "fast", as --pace says it.
 runtime::SessionOptions::Pacing pacing(const std::string& pace);

@@ -23,6 +23,7 @@
 
 #include "lua_reader.h"
 #include "output_files.h"
+#include "progress.h"
 #include "version.h"
 
 #include "audit.h"
@@ -244,6 +245,13 @@ std::string left_over(const CLI::App& command) {
   return said(command, quantum::lua::unknown_key(first.substr(0, first.find('=')), long_options(command), "option"));
 }
 
+// What play and replay tell on stderr besides warnings: a progress line, unless the transcript is
+// on the same terminal (on stderr with `lines_out`), where its own lines say how far the match is.
+quantum::tools::Telling told(bool transcript, bool lines_out) {
+  const bool terminal = isatty(STDERR_FILENO);
+  return {terminal, transcript && isatty(lines_out ? STDERR_FILENO : STDOUT_FILENO)};
+}
+
 // A match a signal ended early exits as the shell reports a process the signal ended (130 for
 // Ctrl-C), its files complete.
 int interrupted(const quantum::tools::PlayResult& result) { return result.interrupted ? 128 + result.interrupted : 0; }
@@ -329,7 +337,8 @@ int main(int argc, char** argv) {
     command->add_option("--field-size", field_size, "with a Kinect: L,W, the field between the markers' centres in m, "
                                                     "instead of what the Kinect measures")->type_name("L,W");
     command->add_flag("--fit-field", setup.fit, "with a Kinect: stretch the sport's field over a table of another size");
-    command->add_flag("--strict", setup.strict, "with a Kinect: stop when the table is not the sport's field size");
+    command->add_flag("--strict", setup.strict, "with a Kinect or a hat camera: stop when the table (the hall) is not "
+                                                "the sport's field size");
   };
   std::string play_field_size;
   add_setup(play, play_field_size, game.setup);
@@ -348,7 +357,8 @@ int main(int argc, char** argv) {
                                         "[ ] speed, p paths, f full screen, r restart, q quit; docs/desk.md)");
     command->add_option("--view-log", d.view_log, "write what the view shows (errors, status, the final whistle) "
                                                   "as JSON lines to FILE")->type_name("FILE");
-    command->add_option("--video", d.video, "render the match to an MP4 file (with its sound when --audio wav:FILE)")
+    command->add_option("--video", d.video, "render the match to a video file, its container by its ending: .mp4, .mov, "
+                                            ".mkv, .avi or .webm (with its sound when --audio wav:FILE)")
         ->type_name("FILE.mp4");
     checked(command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str(),
             number_in("FPS", 1, 240));
@@ -484,7 +494,10 @@ int main(int argc, char** argv) {
     if (test->parsed()) code = quantum::tools::run_specs(spec_paths);
     if (sports->parsed()) code = quantum::tools::list_sports(std::cout) == 0 ? 0 : 1;
     if (audit->parsed()) code = quantum::tools::audit(audit_files, std::cout, std::cerr, isatty(STDERR_FILENO));
-    if (track->parsed()) quantum::tools::track(tracking, std::cout);
+    if (track->parsed()) {
+      tracking.field_given = track->count("--field") > 0;
+      quantum::tools::track(tracking, std::cout);
+    }
     if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
     if (balance->parsed()) {
       if (!study_skills.empty()) study.skills = quantum::tools::parse_skills(study_skills);
@@ -499,11 +512,13 @@ int main(int argc, char** argv) {
         if (!csv) throw std::runtime_error("--csv " + balance_csv + ": cannot be written");
       }
       if (!balance_plot.empty()) quantum::runtime::make_output_folder("--plot", balance_plot);
-      const bool terminal = isatty(STDERR_FILENO);
-      quantum::tools::Progress progress(matches, terminal);
+      // One progress line for the whole study, its sweeps' matches included.
+      const int sweep = sweep_matches ? sweep_matches : std::max(10, matches / 4);
+      const int total = matches + (balance_plot.empty() ? 0 : quantum::tools::kSweepPoints * sweep);
+      quantum::runtime::ProgressLine progress(std::cerr, isatty(STDERR_FILENO), "balance", total, "matches");
       const quantum::tools::BalanceResult r =
           quantum::tools::balance(study, matches, [&](int done) { progress(done); });
-      progress.finish();
+      progress.clear();
       std::cout << r.matches << " matches of " << study.sport << " (seeds " << study.seed << " to "
                 << study.seed + uint64_t(matches) - 1 << ", skills " << (study_skills.empty() ? "0.6 each" : study_skills)
                 << ", handicaps " << (study_handicaps.empty() ? "the sport's" : study_handicaps)
@@ -520,14 +535,18 @@ int main(int argc, char** argv) {
       std::snprintf(figure, sizeof figure, "\nstalls %d, in %d of %d matches", r.stalls, r.stalled_matches, r.matches);
       std::cout << figure;
       std::cout << '\n';
+      std::vector<quantum::runtime::Written> written;
       if (balance_csv == "-") quantum::tools::write_csv(std::cout, r);
       else if (!balance_csv.empty()) {
         quantum::tools::write_csv(csv, r);
         if (!csv.flush()) throw std::runtime_error("--csv " + balance_csv + ": cannot be written");
+        csv.close();
+        written.push_back({balance_csv, std::to_string(r.matches) + " matches"});
       }
       if (!balance_plot.empty())
-        quantum::tools::plot_study(study, r, sweep_matches ? sweep_matches : std::max(10, matches / 4), balance_plot,
-                                   terminal, std::cout);
+        written.push_back(quantum::tools::plot_study(study, r, sweep, balance_plot, &progress, std::cout));
+      std::cout.flush();
+      for (const quantum::runtime::Written& w : written) quantum::runtime::say_written(std::cerr, w);
     }
     if (play->parsed()) {
       if (!skills.empty()) game.skills = quantum::tools::parse_skills(skills);
@@ -542,12 +561,15 @@ int main(int argc, char** argv) {
       }
       // With JSON lines on stdout the transcript moves to stderr, keeping stdout pure JSON lines.
       const bool lines_out = game.events == "-" || game.decisions == "-";
-      code = interrupted(quantum::tools::play(game, lines_out ? std::cerr : std::cout, std::cerr, !quiet, &desk));
+      const quantum::tools::Telling telling = told(!quiet, lines_out);
+      code = interrupted(quantum::tools::play(game, lines_out ? std::cerr : std::cout, std::cerr, !quiet, &desk, &telling));
     }
     if (replay->parsed()) {
       if (!replay_pace.empty()) again.pacing = quantum::tools::pacing(replay_pace);
       const bool lines_out = again.events == "-" || again.decisions == "-";
-      code = interrupted(quantum::tools::play(again, lines_out ? std::cerr : std::cout, std::cerr, !replay_quiet, &replay_desk));
+      const quantum::tools::Telling telling = told(!replay_quiet, lines_out);
+      code = interrupted(
+          quantum::tools::play(again, lines_out ? std::cerr : std::cout, std::cerr, !replay_quiet, &replay_desk, &telling));
     }
     if (simulate->parsed()) {
       // With events on stdout the summary moves to stderr, keeping stdout pure JSON lines.

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 
 #include "box2d_backend.h"
 #include "interrupts.h"
@@ -270,6 +271,11 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   }
   log.close();
   decisions.close();
+  // Each file written, on stderr: the summary on `summary` is what other tools read.
+  for (const runtime::LineFile* file : {&log, &decisions})
+    if (const std::optional<runtime::Written> w = file->written()) runtime::say_written(std::cerr, *w);
+  if (have_snapshot_moment)
+    runtime::say_written(std::cerr, {o.snapshot, std::to_string(image.cols) + "x" + std::to_string(image.rows)});
 
   summary << "simulated " << o.seconds << " s of " << world.field().name << " (" << o.backend << " backend, "
           << o.particles << " particles, seed " << o.seed << ")\n";

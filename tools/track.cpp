@@ -1,6 +1,7 @@
 #include "track.h"
 
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <thread>
 
@@ -38,6 +39,16 @@ void track(const TrackOptions& o, std::ostream& out) {
   params.check_read(o.field);
   const tracking::TrackedField tracked = tracking::tracked_field(field, parse_field_size(o.field_size));
   tracking::TrackingInput input(o.source, tracked, {o.accel, o.fov});
+  // A hat camera's markers cannot measure the field (a Kinect's can): the size is the field's,
+  // and the default's is a table's, never a hall's.
+  const bool hats = o.source.rfind("video:", 0) == 0 || o.source.rfind("camera:", 0) == 0;
+  if (hats && !o.field_given && o.field_size.empty()) {
+    char size[64];
+    std::snprintf(size, sizeof size, "%.2f x %.2f m", tracked.length, tracked.width);
+    std::cerr << "quantum: warning: " << o.source << ": no --field: its markers are taken for the corners of " << o.field
+              << "'s " << size << " field, the default; give the field the camera sees (--field SPORT or FILE, or "
+              << "--field-size L,W)\n";
+  }
   bool lost = false;
   tracking::SetupCheck setup(o.source, tracking::tracked_field(field), o.setup);
   tracking::TrackedFrame frame;

@@ -1,8 +1,10 @@
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "tracking/tracking.h"
 
@@ -33,7 +35,46 @@ void HatTracker::calibrate(const cv::Mat& bgr) {
   camera_.width = bgr.cols, camera_.height = bgr.rows;
   camera_.fx = camera_.fy = float((bgr.cols / 2.0) / std::tan(config_.horizontal_fov * M_PI / 360));
   camera_.cx = (bgr.cols - 1) / 2.0f, camera_.cy = (bgr.rows - 1) / 2.0f;
-  pose_ = locate_camera(bgr, field_, camera_);
+  const std::vector<MarkerImage> found = find_markers(bgr);
+  pose_ = locate_camera(found, field_, camera_);
+  // The field's shape, free of its assumed size: the markers' centres as the picture of a unit
+  // square, taken back through the pinhole, have the field's length and width as the lengths of
+  // its first two columns (the rotation's columns, scaled).
+  std::vector<cv::Point2f> square, image;
+  for (const MarkerImage& m : found) {
+    const Vec2 p = marker_position(m.id, 1, 1);
+    square.emplace_back(p.x, p.y);
+    image.push_back(m.centre);
+  }
+  const cv::Matx33d k(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+  const cv::Matx33d h = k.inv() * cv::Matx33d(cv::findHomography(square, image));
+  const double length = std::hypot(h(0, 0), h(1, 0), h(2, 0)), width = std::hypot(h(0, 1), h(1, 1), h(2, 1));
+  view_ = HatView{(-(pose_->r.t() * pose_->t))[2], config_.hat_height, length / width};
+}
+
+std::string hat_view_mismatch(const HatView& view, const TrackedField& field) {
+  char line[600];
+  const double above = view.camera_height - view.hat_height;
+  if (above < kAboveHats) {
+    // The field that would put the camera kAboveHats over the hats: the size scales the height.
+    const double scale = (view.hat_height + kAboveHats) / view.camera_height;
+    std::snprintf(line, sizeof line,
+                  "the markers, taken for the corners of a %.2f x %.2f m field, put the camera %.2f m above the floor, "
+                  "%s the hats (%.2f m up): the field they show is larger, at least %.1f x %.1f m for a camera %.0f m "
+                  "over the hats. Give the field the camera sees (--field on track, the sport on play) or "
+                  "--field-size L,W",
+                  field.length, field.width, view.camera_height, above < 0 ? "below" : "barely above", view.hat_height,
+                  scale * field.length, scale * field.width, kAboveHats);
+    return line;
+  }
+  const double shape = field.length / field.width;
+  if (std::fabs(view.shape / shape - 1) <= kShapeTolerance) return "";
+  std::snprintf(line, sizeof line,
+                "the markers' rectangle is %.2f times as long as wide, but the %.2f x %.2f m field is %.2f times: a "
+                "field of another shape (--field, --field-size L,W), or markers not on its corners (ids 0-3 as in "
+                "docs/tracking.md)",
+                view.shape, field.length, field.width, shape);
+  return line;
 }
 
 void HatTracker::masks(const cv::Mat& bgr) {

@@ -184,6 +184,10 @@ const Calibration* TrackingInput::calibration() const {
   return impl_->depth && impl_->depth->ready() ? &impl_->depth->calibration() : nullptr;
 }
 
+const HatView* TrackingInput::hat_view() const {
+  return impl_->hats && impl_->hats->view() ? &*impl_->hats->view() : nullptr;
+}
+
 size_t TrackingInput::dropped() const {
   return impl_->dropped + impl_->throws.dropped() + (impl_->recording ? impl_->recording->dropped() : 0) +
          (impl_->accel ? impl_->accel->dropped() : 0) + (impl_->tuio ? impl_->tuio->dropped() : 0);
@@ -232,6 +236,13 @@ std::vector<std::string> SetupCheck::check(TrackedFrame& frame, TrackingInput& i
       } else {
         lines.push_back("warning: " + mismatch);
       }
+    }
+  }
+  if (const HatView* view = input.hat_view(); view && !viewed_) {
+    viewed_ = true;
+    if (const std::string mismatch = hat_view_mismatch(*view, tracked); !mismatch.empty()) {
+      if (options_.strict) throw TrackingError(source_ + ": " + mismatch + " (--strict)");
+      lines.push_back("warning: " + source_ + ": " + mismatch);
     }
   }
   for (TrackedPlayer& p : frame.players) p.x *= sx_, p.y *= sy_, p.vx *= sx_, p.vy *= sy_;

@@ -36,6 +36,9 @@ class TrackingInput {
 
   // A Kinect's self-calibration, once its background is learnt; null before and for other sources.
   const Calibration* calibration() const;
+  // What a hat camera's markers said of the field, after its first frame; null before and for
+  // other sources.
+  const HatView* hat_view() const;
   // What the source has seen since the last call (for a Kinect: markers, background, blobs and
   // arms), to tell an operator whose players are not found; "" when it has nothing to add.
   std::string sightings();
@@ -76,7 +79,8 @@ class NobodySeen {
 
 // What `quantum track` and `play --input` do with a source's frames before using them: tell its
 // calibration once, and when the table is not the sport's field warn (or with `strict` stop); with
-// `fit`, stretch the table's metres over the sport's field; warn once when nobody is seen.
+// `fit`, stretch the table's metres over the sport's field; warn (or stop) once when a hat
+// camera's markers do not fit the field (hat_view_mismatch); warn once when nobody is seen.
 struct SetupOptions {
   bool strict = false, fit = false;
 };
@@ -94,7 +98,7 @@ class SetupCheck {
   std::string source_;
   TrackedField sport_;
   SetupOptions options_;
-  bool calibrated_ = false;
+  bool calibrated_ = false, viewed_ = false;
   float sx_ = 1, sy_ = 1;  // --fit-field's stretch
   NobodySeen nobody_;
 };

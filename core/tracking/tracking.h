@@ -226,6 +226,21 @@ struct HatConfig {
   double filter_measurement = 0.03;   // Kalman: m of measurement noise
 };
 
+// What a hat camera's markers say of the field they are taken to be the corners of. They fix the
+// field's shape and the camera's pose, but not their scale: a field taken ten times too small
+// puts the camera ten times too low. The hats give the scale away: they are hat_height up, and a
+// camera that sees a game from above is well above them.
+struct HatView {
+  double camera_height = 0;  // m above the floor, at the field's size
+  double hat_height = 0;     // m: HatConfig::hat_height
+  double shape = 0;          // the markers' rectangle, length over width, as the picture shows it
+};
+
+// "" when `view` fits `field`: the camera at least kAboveHats over the hats, and the markers'
+// rectangle the field's shape within kShapeTolerance; else what differs and what to do.
+inline constexpr double kAboveHats = 1.0, kShapeTolerance = 0.15;
+std::string hat_view_mismatch(const HatView& view, const TrackedField& field);
+
 // One CamShift tracker per hat. The first frame calibrates the camera from the playfield
 // markers and starts a tracker for every hat it shows; ids are the team and a number in order
 // along x ("blue 1", "blue 2", ...). A hat that comes later (a player walking in) gets the next
@@ -242,6 +257,8 @@ class HatTracker {
 
   // Where a pixel at the hats' height is on the field (after the first frame).
   Vec2 to_field(cv::Point2f pixel) const;
+  // What the first frame's markers said of the field (none before it).
+  const std::optional<HatView>& view() const { return view_; }
 
  private:
   struct Hat {
@@ -275,6 +292,7 @@ class HatTracker {
   HatConfig config_;
   DepthCamera camera_;  // the colour camera's pinhole, from its size and field of view
   std::optional<CameraPose> pose_;
+  std::optional<HatView> view_;
   std::vector<Hat> hats_;
   std::vector<Newcomer> newcomers_;
   std::vector<cv::Mat> masks_;  // per team colour: 255 where a pixel has it

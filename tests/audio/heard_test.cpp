@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <sndfile.h>
+#include <sys/wait.h>
 
 #include <cctype>
 #include <filesystem>
@@ -230,6 +231,33 @@ TEST(Heard, ABounceIsHeardOnItsSideInTheMatchMix) {
     EXPECT_GT(amplitude * amplitude, 4) << name;
     EXPECT_GT(side.quiet.left, 4 * side.quiet.right) << name;
   }
+}
+
+// The wrong WAV for a log is refused, saying both lengths, not heard as a match where nothing
+// was said: the sound must last to the log's last event or phrase (a quarter of a second short
+// at most) and, for a log of a finished match, end within 1.5 s of it.
+TEST(Listen, AWavOfAnotherLengthThanItsLogIsRefused) {
+  const Rendered short_match = render("airhockey", 4), long_match = render("airhockey", 12);
+  auto refusal = [](const std::string& wav, const std::string& events) {
+    try {
+      tools::listen(wav, events);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string too_short = refusal(short_match.wav, long_match.events);
+  EXPECT_NE(too_short.find(short_match.wav + " is "), std::string::npos) << too_short;
+  EXPECT_NE(too_short.find(" s of sound, but " + long_match.events + "'s match ends at 1"), std::string::npos) << too_short;
+  EXPECT_NE(too_short.find("which would end 0.25 s before that at the earliest"), std::string::npos) << too_short;
+  const std::string too_long = refusal(long_match.wav, short_match.events);
+  EXPECT_NE(too_long.find(long_match.wav + " is "), std::string::npos) << too_long;
+  EXPECT_NE(too_long.find(" s of sound, but " + short_match.events + "'s match ends at "), std::string::npos) << too_long;
+  EXPECT_NE(too_long.find("which would end 1.50 s after that at the latest"), std::string::npos) << too_long;
+  EXPECT_EQ(refusal(long_match.wav, long_match.events), "");
+  // The command exits with 1, as for any bad input.
+  const int status = std::system((QUANTUM_BINARY " listen " + short_match.wav + " " + long_match.events + " >/dev/null 2>&1").c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
 }
 
 }  // namespace

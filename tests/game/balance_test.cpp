@@ -6,10 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <map>
+
+#include <unistd.h>
 
 #include "balance.h"
 #include "field_loader.h"
@@ -103,7 +106,9 @@ bool is_png(const std::filesystem::path& file) {
   return std::string(magic + 1, 3) == "PNG" && std::filesystem::file_size(file) > 5000;
 }
 
-// --plot: every match a CSV row, the sweeps' PNG plots (gnuplot) and a summary that shows them.
+// --plot: every match a CSV row, the sweeps' PNG plots (gnuplot) and a summary that shows them;
+// one progress line counts the study's matches and the sweeps' after them (a clock of the test's
+// own, a second a call, draws it at every call), and the folder is confirmed with what it holds.
 TEST(Balance, APlottedStudyWritesEveryMatchItsPlotsAndASummary) {
   runtime::SessionOptions o;
   o.particles = 200;
@@ -113,8 +118,14 @@ TEST(Balance, APlottedStudyWritesEveryMatchItsPlotsAndASummary) {
   EXPECT_EQ(progress_calls, 4);
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "quantum_balance_plot";
   std::filesystem::remove_all(dir);
-  std::ostringstream log;
-  tools::plot_study(o, study, 2, dir.string(), false, log);
+  std::ostringstream log, told;
+  double now = 0;
+  runtime::ProgressLine progress(told, true, "balance", 4 + tools::kSweepPoints * 2, "matches", 0, [&] { return now += 1; });
+  const runtime::Written written = tools::plot_study(o, study, 2, dir.string(), &progress, log);
+  EXPECT_NE(told.str().find("\rbalance: 6 of 22 matches (27 %), 0:"), std::string::npos) << told.str();
+  EXPECT_NE(told.str().find("\rbalance: 22 of 22 matches (100 %)"), std::string::npos) << told.str();
+  EXPECT_EQ(written.path, dir.string());
+  EXPECT_EQ(written.what, "summary.md, 3 PNG plots and 5 CSV files, 22 matches in all");
   const std::vector<std::string> matches = lines_of(dir / "matches.csv");
   ASSERT_EQ(matches.size(), 5u);  // a header and four matches
   EXPECT_EQ(matches[0], "seed,winner,score_blue,score_red,rallies,contacts,goals,passes,possessions,seconds,stalls");
@@ -154,6 +165,22 @@ TEST(Balance, ASportsOwnScoreIsSummarisedNotItsGoals) {
   const std::string told = tools::describe(r.counted, r.totals);
   for (const char* part : {"passes per possession", "goals per minute", "points per minute"})
     EXPECT_NE(told.find(part), std::string::npos) << part << ": " << told;
+}
+
+// `quantum balance --csv FILE` confirms the file on stderr once it is whole; the summary on stdout
+// is as it was.
+TEST(Balance, TheCsvIsConfirmedOnceWritten) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_balance_csv_" + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string csv = (dir / "matches.csv").string(), err = (dir / "stderr.txt").string();
+  const int status = std::system((QUANTUM_BINARY " balance " QUANTUM_SOURCE_DIR "/rules/airhockey --matches 2 --seconds 3 "
+                                  "--particles 200 --csv " + csv + " >/dev/null 2>" + err).c_str());
+  EXPECT_EQ(status, 0);
+  const std::vector<std::string> said = lines_of(err);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0].rfind("quantum: wrote " + csv + ": 2 matches, ", 0), 0u) << said[0];
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

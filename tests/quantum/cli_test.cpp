@@ -124,7 +124,9 @@ TEST(Cli, SimulateRunsEveryShippedSport) {
     const std::string events = std::filesystem::temp_directory_path() / ("quantum_cli_simulate_" + std::string(sport));
     const Outcome r = quantum("simulate " + folder + " --seconds 30 --seed 5 --events " + events);
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_EQ(r.err, "");
+    // Nothing on stderr but the event log's confirmation.
+    EXPECT_EQ(r.err.rfind("quantum: wrote " + events + ": ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.out.find("simulated 30 s of " + field.name), std::string::npos) << r.out;
     std::istringstream lines(slurp(events));
     std::string line;
@@ -348,7 +350,10 @@ TEST(Cli, PlayRecordsTheMatchToAWav) {
   const std::string wav = stem + ".wav", events = stem + ".jsonl";
   const Outcome r = quantum("play rules/airhockey --seconds 8 --quiet --audio wav:" + wav + " --events " + events);
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(r.err, "");
+  // Nothing on stderr but the two files' confirmations, the log's first.
+  EXPECT_EQ(r.err.rfind("quantum: wrote " + events + ": ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("\nquantum: wrote " + wav + ": "), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
   // The sound lasts as long as the match and its last phrase, ringing out: when that ends, the
   // events log says (a goal in the last second is called after the whistle).
   double last_phrase = 0;
@@ -475,6 +480,36 @@ TEST(Cli, AKinectMeasuresItsTableAndSaysWhenItIsNotTheSportsField) {
   EXPECT_EQ(fitted.status, 0) << fitted.err;
   EXPECT_NE(fitted.err.find("quantum: calibration: 4 of 4 markers"), std::string::npos) << fitted.err;
   EXPECT_NE(fitted.err.find("--fit-field: the sport's 2.00 x 1.00 m field is stretched"), std::string::npos) << fitted.err;
+  std::filesystem::remove_all(dir);
+}
+
+// A hat camera's markers cannot measure the field: without --field the default's (air hockey's
+// 2 m table) is said to be taken, and a field the markers do not fit is a warning (an error with
+// --strict): the synthetic hall is 20 x 10 m seen from 13 m up, which a 2 x 1 m field puts 1.3 m
+// up, under the hats; a square field is not the markers' shape. The hall's own field is quiet.
+TEST(Cli, TrackSaysWhenAHatCamerasFieldIsNotTheHallItSees) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quantum_cli_hall_" + std::to_string(getpid()));
+  quantum::tools::HatSceneOptions o;
+  o.seconds = 0.5;
+  quantum::tools::write_hat_video(dir.string(), o);
+  const std::string source = "track video:" + (dir / "hats.avi").string() + " --frames 3";
+  const Outcome table = quantum(source);
+  EXPECT_EQ(table.status, 0) << table.err;
+  EXPECT_NE(table.err.find("warning: video:" + (dir / "hats.avi").string() + ": no --field: its markers are taken for "
+                           "the corners of airhockey's 2.00 x 1.00 m field, the default"), std::string::npos) << table.err;
+  EXPECT_NE(table.err.find("the markers, taken for the corners of a 2.00 x 1.00 m field, put the camera 1.30 m above the "
+                           "floor, below the hats (1.80 m up): the field they show is larger, at least 4.3 x 2.2 m"),
+            std::string::npos) << table.err;
+  const Outcome hall = quantum(source + " --field handball");
+  EXPECT_EQ(hall.status, 0) << hall.err;
+  EXPECT_EQ(hall.err, "");
+  const Outcome square = quantum(source + " --field handball --field-size 20,20");
+  EXPECT_NE(square.err.find("the markers' rectangle is 2.00 times as long as wide, but the 20.00 x 20.00 m field is 1.00 "
+                            "times"), std::string::npos) << square.err;
+  const Outcome strict = quantum(source + " --strict");
+  EXPECT_EQ(strict.status, 1);
+  EXPECT_NE(strict.err.find("below the hats"), std::string::npos) << strict.err;
+  EXPECT_NE(strict.err.find("(--strict)"), std::string::npos) << strict.err;
   std::filesystem::remove_all(dir);
 }
 
