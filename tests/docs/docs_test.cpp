@@ -6,19 +6,20 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 
+#include "../runtime/desk_support.h"
 #include "session.h"
 
 namespace quantum {
 namespace {
 
 namespace fs = std::filesystem;
+using test::output_of;
 
 struct Example {
   std::string doc, language, text;
@@ -145,17 +146,6 @@ TEST(Docs, EveryCppExampleQuotesAShippedFile) {
     ++quoted;
   }
   EXPECT_GT(quoted, 0);
-}
-
-// What a shell command prints, stdout and stderr alike.
-std::string output_of(const std::string& command) {
-  std::string out;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  if (!p) return out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  pclose(p);
-  return out;
 }
 
 std::string help_of(const std::string& command, const std::string& program = QUANTUM_BINARY) {

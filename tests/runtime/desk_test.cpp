@@ -15,22 +15,13 @@
 
 #include "count_of.h"
 #include "players.h"
+#include "desk_support.h"
 #include "session.h"
 
 namespace quantum {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string output_of(const std::string& command) {
-  std::string out;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  if (!p) return out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  pclose(p);
-  return out;
-}
 
 // A new empty folder of this test process's own (CTest runs tests side by side).
 fs::path fresh_folder(const std::string& name) {
@@ -41,17 +32,8 @@ fs::path fresh_folder(const std::string& name) {
 }
 
 using test::count_of;
-
-// Pixels of `image` within 12 of colour (B, G, R) on every channel.
-int pixels_of(const cv::Mat& image, cv::Vec3b colour) {
-  int n = 0;
-  for (int y = 0; y < image.rows; ++y)
-    for (int x = 0; x < image.cols; ++x) {
-      const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
-      n += std::abs(p[0] - colour[0]) < 12 && std::abs(p[1] - colour[1]) < 12 && std::abs(p[2] - colour[2]) < 12;
-    }
-  return n;
-}
+using test::output_of;
+using test::pixels_of;
 
 const cv::Vec3b kWall(230, 230, 230), kBlue(235, 140, 45), kRed(70, 70, 235);
 

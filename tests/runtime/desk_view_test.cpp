@@ -10,54 +10,26 @@
 #include <opencv2/imgproc.hpp>
 
 #include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
-#include <unistd.h>
+#include "desk_support.h"
 
 namespace quantum {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string output_of(const std::string& command) {
-  std::string out;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  if (!p) return out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  pclose(p);
-  return out;
-}
-
-int pixels_of(const cv::Mat& image, cv::Vec3b colour) {
-  int n = 0;
-  for (int y = 0; y < image.rows; ++y)
-    for (int x = 0; x < image.cols; ++x) {
-      const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
-      n += std::abs(p[0] - colour[0]) < 12 && std::abs(p[1] - colour[1]) < 12 && std::abs(p[2] - colour[2]) < 12;
-    }
-  return n;
-}
+using test::output_of;
+using test::pixels_of;
 
 // The time bar's play head and the error screen's red (desk_screens.cpp).
 const cv::Vec3b kHead(40, 215, 255), kError(50, 50, 255);
 
-struct Folder {
-  fs::path path;
-  explicit Folder(const std::string& name) : path(fs::temp_directory_path() / (name + "-" + std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-};
-
 // Runs `quantum ARGS --view --view-log LOG` on a virtual screen of `screen` ("1280x800"); `then`
 // is shell run beside it once its window is up (`$w` the window, `shot NAME` photographs the
 // screen into the folder). Returns what the command and the shell printed, and "exit N".
-std::string at_desk(const Folder& f, const std::string& screen, const std::string& args, const std::string& then) {
+std::string at_desk(const test::TempFolder& f, const std::string& screen, const std::string& args, const std::string& then) {
   std::ofstream(f.path / "desk.sh") << "shot() { import -window root " << f.path.string() << "/$1.png; }\n"
       << QUANTUM_BINARY " " << args << " --view --view-log " << (f.path / "view.jsonl").string() << " &\n"
       << "p=$!\n"
@@ -69,7 +41,7 @@ std::string at_desk(const Folder& f, const std::string& screen, const std::strin
 }
 
 // Each line of the view log: what it shows, and the text.
-std::vector<std::pair<std::string, std::string>> view_log(const Folder& f) {
+std::vector<std::pair<std::string, std::string>> view_log(const test::TempFolder& f) {
   std::vector<std::pair<std::string, std::string>> lines;
   std::ifstream in(f.path / "view.jsonl");
   for (std::string line; std::getline(in, line);) {
@@ -99,7 +71,7 @@ cv::Rect window_of(const cv::Mat& screen) {
 TEST(DeskView, TheWindowFitsTheScreen) {
   for (const std::string screen : {"1280x800", "1920x1080"})
     for (const std::string sport : {"basketball", "airhockey"}) {
-      const Folder f("quantum-fit");
+      const test::TempFolder f("quantum-fit");
       const std::string out = at_desk(f, screen, "play " QUANTUM_SOURCE_DIR "/rules/" + sport + " --seconds 60 --audio none --quiet",
                                       "shot screen; kill $p");
       const cv::Mat image = cv::imread((f.path / "screen.png").string());
@@ -114,7 +86,7 @@ TEST(DeskView, TheWindowFitsTheScreen) {
 // A sport.lua saved with a mistake: the window shows the error (file, line and message) over the
 // match until Enter dismisses it; the match goes on under it.
 TEST(DeskView, AReloadErrorIsShownInTheWindowUntilDismissed) {
-  const Folder f("quantum-error");
+  const test::TempFolder f("quantum-error");
   fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", f.path / "sport", fs::copy_options::recursive);
   const std::string sport_lua = (f.path / "sport" / "sport.lua").string();
   const std::string out = at_desk(f, "1280x800", "play " + (f.path / "sport").string() + " --seconds 60 --audio none --quiet",
@@ -135,7 +107,7 @@ TEST(DeskView, AReloadErrorIsShownInTheWindowUntilDismissed) {
 
 // At the final whistle the window stays, with the score, until a key; the key ends the command.
 TEST(DeskView, TheEndStaysOnScreenUntilAKey) {
-  const Folder f("quantum-end");
+  const test::TempFolder f("quantum-end");
   const std::string out = at_desk(f, "1280x800", "play airhockey --seconds 2 --audio none --quiet",
                                   "sleep 5; shot end; kill -0 $p && echo still open; xdotool key space");
   EXPECT_NE(out.find("still open"), std::string::npos) << out;
@@ -153,7 +125,7 @@ TEST(DeskView, EachSportsMousePlayerHasItsOwnKeys) {
   for (const auto& [sport, player, says, not_says] :
        std::vector<std::array<std::string, 4>>{{"airhockey", "", "mouse: Blue's mallet (the ball bounces off it)", "throw"},
                                                {"handball", "Clara", "mouse: Clara, click or t: throw", "bounces"}}) {
-    const Folder f("quantum-keys");
+    const test::TempFolder f("quantum-keys");
     const std::string out = at_desk(f, "1280x800", "play " + sport + " --input mouse" + (player.empty() ? "" : ":" + player) +
                                                        " --seconds 60 --audio none --quiet", "kill $p");
     const auto log = view_log(f);

@@ -9,8 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-#include <unistd.h>
-
+#include "desk_support.h"
 #include "picture.h"
 #include "playback.h"
 
@@ -18,15 +17,6 @@ namespace quantum {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Folder {
-  fs::path path;
-  explicit Folder(const std::string& name) : path(fs::temp_directory_path() / (name + "-" + std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-};
 
 std::string read(const fs::path& file) {
   std::ostringstream s;
@@ -63,7 +53,7 @@ runtime::SessionOptions replay_of(const fs::path& recording, const fs::path& eve
 }
 
 TEST(Playback, SeekingInAReplayGivesThePictureAndEventsOfPlayingToThatTime) {
-  const Folder f("quantum-seek");
+  const test::TempFolder f("quantum-seek");
   record(f.path / "match");
   std::ostringstream errors;
   tools::Playback straight(replay_of(f.path / "match", f.path / "straight.jsonl"), nullptr, errors);
@@ -91,7 +81,7 @@ TEST(Playback, SeekingInAReplayGivesThePictureAndEventsOfPlayingToThatTime) {
 // is shown at 1.5 s is what a replay of the match shows there, the match waits at 4 s meanwhile,
 // and playing on from the look back comes back to the match where it waited.
 TEST(Playback, ALiveMatchLookedBackAtShowsItsOwnPastAndWaits) {
-  const Folder f("quantum-look-back");
+  const test::TempFolder f("quantum-look-back");
   runtime::SessionOptions o;
   o.sport = QUANTUM_SOURCE_DIR "/rules/airhockey";
   o.seconds = 30, o.seed = 4, o.record = (f.path / "match").string();
