@@ -244,8 +244,8 @@ TEST(Desk, EveryOutputIsConfirmedOnceItIsWhole) {
       {decisions, std::to_string(lines_in(decisions)) + " lines, "},
       {wav, " s of sound, "},
       {record, "120 frames (2.0 s), "},
-      {video, "2.0 s, 60 frames, 1100x880, H.264 in MP4, with sound, "},
-      {png, "1100x880, the match at 1.0 s, "},
+      {video, "2.0 s, 60 frames, 1100x924, H.264 in MP4, with sound, "},
+      {png, "1100x924, the match at 1.0 s, "},
   };
   for (const auto& [file, what] : confirmed) {
     EXPECT_EQ(count_of(said, "quantum: wrote " + file + ": "), 1) << file << "\n" << said;
@@ -258,7 +258,7 @@ TEST(Desk, EveryOutputIsConfirmedOnceItIsWhole) {
   // A replay's video, at the end of a replay.
   const std::string again = (dir / "again.mkv").string();
   const std::string replayed = output_of(QUANTUM_BINARY " replay " + record + " --quiet --video " + again);
-  EXPECT_NE(replayed.find("quantum: wrote " + again + ": 2.0 s, 60 frames, 1100x880, H.264 in Matroska, "),
+  EXPECT_NE(replayed.find("quantum: wrote " + again + ": 2.0 s, 60 frames, 1100x924, H.264 in Matroska, "),
             std::string::npos) << replayed;
   fs::remove_all(dir);
 }
@@ -309,7 +309,7 @@ TEST(Desk, ASnapshotPastTheMatchsEndIsRefusedBeforeItStarts) {
   EXPECT_FALSE(fs::exists(png));
   // Up to the end is a moment of the match.
   const std::string last = output_of(QUANTUM_BINARY " replay " + record + " --quiet --snapshot " + png + " --snapshot-at 2");
-  EXPECT_NE(last.find("quantum: wrote " + png + ": 1100x880, the match at 2.0 s"), std::string::npos) << last;
+  EXPECT_NE(last.find("quantum: wrote " + png + ": 1100x924, the match at 2.0 s"), std::string::npos) << last;
   fs::remove_all(dir);
 }
 

@@ -28,14 +28,19 @@ const cv::Vec3b kHead(40, 215, 255), kError(50, 50, 255);
 
 // Runs `quantum ARGS --view --view-log LOG` on a virtual screen of `screen` ("1280x800"); `then`
 // is shell run beside it once its window is up (`$w` the window, `shot NAME` photographs the
-// screen into the folder). Returns what the command and the shell printed, and "exit N".
+// screen into the folder, `until_shown TEXT` waits for the view log to say TEXT). Returns what
+// the command and the shell printed, and "exit N".
 std::string at_desk(const test::TempFolder& f, const std::string& screen, const std::string& args, const std::string& then) {
   std::ofstream(f.path / "desk.sh") << "shot() { import -window root " << f.path.string() << "/$1.png; }\n"
       << QUANTUM_BINARY " " << args << " --view --view-log " << (f.path / "view.jsonl").string() << " &\n"
       << "p=$!\n"
       // A slow build (the sanitizers') takes seconds to open the window.
       << "for i in $(seq 200); do w=$(xdotool search --name 'Quantum games' 2>/dev/null | head -1); [ -n \"$w\" ] && break; sleep 0.3; done\n"
-      << "sleep 1.5\n" << then << "\n"
+      << "sleep 1.5\n"
+      // `until_shown TEXT`: waits for the view log to have TEXT (a slow build draws late).
+      << "until_shown() { for i in $(seq 200); do grep -q \"$1\" " << (f.path / "view.jsonl").string()
+      << " && return; sleep 0.3; done; }\n"
+      << then << "\n"
       << "wait $p; echo exit $?\n";
   return output_of("timeout 240 xvfb-run -a -s '-screen 0 " + screen + "x24' sh " + (f.path / "desk.sh").string());
 }
@@ -91,7 +96,8 @@ TEST(DeskView, AReloadErrorIsShownInTheWindowUntilDismissed) {
   const std::string sport_lua = (f.path / "sport" / "sport.lua").string();
   const std::string out = at_desk(f, "1280x800", "play " + (f.path / "sport").string() + " --seconds 60 --audio none --quiet",
                                   "shot before; echo 'error(\"oops\")' >> " + sport_lua +
-                                      "; sleep 2; shot error; xdotool key Return; sleep 1; shot dismissed; kill $p");
+                                      "; until_shown 'reload failed'; sleep 1; shot error; xdotool key Return; sleep 1; "
+                                      "shot dismissed; kill $p");
   const cv::Mat before = cv::imread((f.path / "before.png").string()), error = cv::imread((f.path / "error.png").string()),
                 dismissed = cv::imread((f.path / "dismissed.png").string());
   ASSERT_FALSE(before.empty() || error.empty() || dismissed.empty()) << out;
@@ -109,7 +115,8 @@ TEST(DeskView, AReloadErrorIsShownInTheWindowUntilDismissed) {
 TEST(DeskView, TheEndStaysOnScreenUntilAKey) {
   const test::TempFolder f("quantum-end");
   const std::string out = at_desk(f, "1280x800", "play airhockey --seconds 2 --audio none --quiet",
-                                  "sleep 5; shot end; kill -0 $p && echo still open; xdotool key space");
+                                  "until_shown 'final whistle'; sleep 3; shot end; kill -0 $p && echo still open; "
+                                  "xdotool key space");
   EXPECT_NE(out.find("still open"), std::string::npos) << out;
   EXPECT_NE(out.find("exit 0"), std::string::npos) << out;
   const auto log = view_log(f);
