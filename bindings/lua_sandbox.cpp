@@ -89,7 +89,7 @@ bool names_a_running_line(lua_State* L, const char* m) {
   lua_Debug ar;
   for (int level = 1; level <= kLevelsLooked && lua_getstack(L, level, &ar); ++level) {
     if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
-    const std::string line = ":" + std::to_string(ar.currentline) + ":";
+    const std::string line = ':' + std::to_string(ar.currentline) + ":";
     if (message.starts_with(std::string(ar.short_src) + line)) return true;
     if (ar.source && ar.source[0] == '@' && message.starts_with(std::string(ar.source + 1) + line)) return true;
   }
@@ -497,7 +497,7 @@ void Sandbox::disarm() {
 std::string Sandbox::called_place() const {
   const Where& w = where_[std::clamp(where_depth_ - 1, 0, int(std::size(where_)) - 1)];
   if (where_depth_ == 0 || !w.source) return {};
-  return w.source + (w.line > 0 ? ":" + std::to_string(w.line) : std::string()) + ": ";
+  return w.source + (w.line > 0 ? ':' + std::to_string(w.line) : std::string()) + ": ";
 }
 
 std::string Sandbox::script_place(lua_State* L) const {

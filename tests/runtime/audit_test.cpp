@@ -337,7 +337,7 @@ void expect_caught(const std::string& what, const std::function<bool(json&)>& ta
   for (size_t k = 1; k < lines.size() && where.empty(); ++k) {
     json d = json::parse(lines[k]);
     if (!tamper(d)) continue;
-    where = ":" + std::to_string(k + 1) + " (t = " + shortest(d["t"].get<double>()) + "): ";
+    where = ':' + std::to_string(k + 1) + " (t = " + shortest(d["t"].get<double>()) + "): ";
     lines[k] = d.dump();
   }
   ASSERT_FALSE(where.empty()) << what << ": no draw to tamper with";
