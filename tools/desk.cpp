@@ -206,6 +206,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
     if (window) {
       const runtime::Session::Drawing showing(playback.live());
       const int key = window->show(view, paused || over ? 30 : 1);
+      view_log.shows(playback.shown().match().time(), "window", std::to_string(view.cols) + "x" + std::to_string(view.rows));
       quit = window->closed() || key == kQuit || key == kKeyEscape || (over && key != kKeyNone && !seeks(key));
       refused.clear();
       if (key == kPause) paused = !paused, playback.shown().resync();

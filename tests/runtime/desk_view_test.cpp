@@ -27,19 +27,19 @@ using test::pixels_of;
 const cv::Vec3b kHead(40, 215, 255), kError(50, 50, 255);
 
 // Runs `quantum ARGS --view --view-log LOG` on a virtual screen of `screen` ("1280x800"); `then`
-// is shell run beside it once its window is up (`$w` the window, `shot NAME` photographs the
+// is shell run beside it once its window shows a picture (`shot NAME` photographs the
 // screen into the folder, `until_shown TEXT` waits for the view log to say TEXT). Returns what
 // the command and the shell printed, and "exit N".
 std::string at_desk(const test::TempFolder& f, const std::string& screen, const std::string& args, const std::string& then) {
   std::ofstream(f.path / "desk.sh") << "shot() { import -window root " << f.path.string() << "/$1.png; }\n"
       << QUANTUM_BINARY " " << args << " --view --view-log " << (f.path / "view.jsonl").string() << " &\n"
       << "p=$!\n"
-      // A slow build (the sanitizers') takes seconds to open the window.
-      << "for i in $(seq 200); do w=$(xdotool search --name 'Quantum games' 2>/dev/null | head -1); [ -n \"$w\" ] && break; sleep 0.3; done\n"
-      << "sleep 1.5\n"
       // `until_shown TEXT`: waits for the view log to have TEXT (a slow build draws late).
-      << "until_shown() { for i in $(seq 200); do grep -q \"$1\" " << (f.path / "view.jsonl").string()
+      << "until_shown() { for i in $(seq 400); do grep -q \"$1\" " << (f.path / "view.jsonl").string()
       << " && return; sleep 0.3; done; }\n"
+      // The window has shown its first picture (a sanitizer build takes seconds to).
+      << "until_shown '\"shows\":\"window\"'\n"
+      << "sleep 1\n"
       << then << "\n"
       << "wait $p; echo exit $?\n";
   return output_of("timeout 240 xvfb-run -a -s '-screen 0 " + screen + "x24' sh " + (f.path / "desk.sh").string());
