@@ -67,9 +67,7 @@ void Playback::seek(double t) {
     return;
   }
   if (replay()) {
-    live_.reset();  // its files are started again by the new one
-    live_ = open_live();
-    live_->set_speed(speed_);
+    restart();  // its files are started again by the new session
     live_->run_to(to);
     return;
   }

@@ -43,7 +43,7 @@ class Playback {
   // by replaying from the start; a live match's look back ends at the live match. Writes nothing
   // twice: a replay that goes back starts its outputs (--events, ...) again.
   void seek(double t);
-  // The live match again from its start (a new session).
+  // The match again from its start, as a new session (a replay too: going back is this).
   void restart();
   void set_speed(double speed);
 
