@@ -16,6 +16,7 @@
 
 #include "lua_sandbox.h"
 #include "quantum/field.h"
+#include "quantum/limits.h"
 
 namespace quantum::lua {
 
@@ -42,6 +43,10 @@ class Reader {
   explicit Reader(lua_State* L) : L(L) {}
 
   [[noreturn]] void fail(const std::string& place, const std::string& message) const;
+  // Fails naming `place` unless `range` holds `v`: "throws.speed: must be in (0, 1000] m/s, got 2000".
+  void within(const std::string& place, const limits::Range& range, double v) const {
+    if (!range.contains(v)) fail(place, limits::must_be_in(range, v));
+  }
   std::string type_at(int idx) const { return luaL_typename(L, idx); }
 
   // Fails on a string key of the table at idx that is not in `known` ("unknown key 'x'", or

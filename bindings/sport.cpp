@@ -205,7 +205,7 @@ void Sport::read_sport(int t) {
     r.only_keys(h, "handicaps", bodies);
     for (size_t k = 0; k < bodies.size(); ++k) {
       handicaps_[k] = r.number(h, bodies[k].c_str(), "handicaps", 1.0, false);
-      if (!game::handicap_ok(handicaps_[k])) r.fail("handicaps." + bodies[k], "must be in (0, 1000]");
+      r.within("handicaps." + bodies[k], limits::kHandicap, handicaps_[k]);
     }
     lua_pop(L, 1);
   }
@@ -214,10 +214,9 @@ void Sport::read_sport(int t) {
     const int b = lua_gettop(L);
     r.only_keys(b, "balance", {"per_goal", "most"});
     balance_per_goal_ = r.number(b, "per_goal", "balance", balance_per_goal_, false);
-    if (!(balance_per_goal_ >= 0 && balance_per_goal_ <= 10)) r.fail("balance.per_goal", "must be in [0, 10]");
+    r.within("balance.per_goal", limits::kBalancePerGoal, balance_per_goal_);
     balance_most_ = r.number(b, "most", "balance", balance_most_, false);
-    // At most a handicap's own bound, so a handicap and its balance never overflow a fate's factor.
-    if (!(balance_most_ >= 1 && balance_most_ <= game::kMostHandicap)) r.fail("balance.most", "must be in [1, 1000]");
+    r.within("balance.most", limits::kBalanceMost, balance_most_);
     lua_pop(L, 1);
   }
   if (r.field(t, "factors")) {
@@ -236,14 +235,14 @@ void Sport::read_sport(int t) {
     const int w = lua_gettop(L);
     r.only_keys(w, "throws", {"speed", "spread", "speed_spread", "elevation_spread"});
     throw_speed_ = r.number(w, "speed", "throws", throw_speed_, false);
-    if (!(throw_speed_ > 0 && throw_speed_ <= 1000)) r.fail("throws.speed", "must be in (0, 1000] m/s");
+    r.within("throws.speed", limits::kThrowSpeed, throw_speed_);
     const double degrees = r.number(w, "spread", "throws", throw_spread_.direction / kRadiansPerDegree, false);
-    if (!(degrees >= 0 && degrees <= 90)) r.fail("throws.spread", "must be in [0, 90] degrees");
+    r.within("throws.spread", limits::kSpreadDegrees, degrees);
     throw_spread_.direction = float(degrees * kRadiansPerDegree);
     throw_spread_.speed = to_float(r.number(w, "speed_spread", "throws", throw_spread_.speed, false));
-    if (!(throw_spread_.speed >= 0 && throw_spread_.speed <= 1)) r.fail("throws.speed_spread", "must be in [0, 1]");
+    r.within("throws.speed_spread", limits::kSpeedSpread, throw_spread_.speed);
     const double up = r.number(w, "elevation_spread", "throws", throw_spread_.elevation / kRadiansPerDegree, false);
-    if (!(up >= 0 && up <= 90)) r.fail("throws.elevation_spread", "must be in [0, 90] degrees");
+    r.within("throws.elevation_spread", limits::kSpreadDegrees, up);
     throw_spread_.elevation = float(up * kRadiansPerDegree);
     lua_pop(L, 1);
   }
@@ -252,7 +251,7 @@ void Sport::read_sport(int t) {
     const int k = lua_gettop(L);
     r.only_keys(k, "tackles", {"rate"});
     tackle_rate_ = r.number(k, "rate", "tackles", tackle_rate_, true);
-    if (!(tackle_rate_ >= 0 && tackle_rate_ <= game::kMostTackleRate)) r.fail("tackles.rate", "must be in [0, 100] per second");
+    r.within("tackles.rate", limits::kTackleRate, tackle_rate_);
     if (tackle_rate_ > 0 && !field_.catching()) r.fail("tackles", "tackles take a held ball: the field needs players who catch");
     lua_pop(L, 1);
   }
@@ -310,7 +309,7 @@ void Sport::read_match(const Reader& r, int t) {
   const std::vector<std::string> known = {"seconds", "start", "stall"};
   r.no_near_misses(m, "match", known);
   seconds_ = r.number(m, "seconds", "match", seconds_, false);
-  if (!(seconds_ > 0 && seconds_ <= 24 * 3600)) r.fail("match.seconds", "must be in (0, 86400]");
+  r.within("match.seconds", limits::kMatchSeconds, seconds_);
   stall_ = r.number(m, "stall", "match", stall_, false);
   if (!(stall_ >= game::kLeastStall && stall_ <= game::kMostStall))
     r.fail("match.stall", "must be a number of seconds in [1, 3600] (how long a match may go without play), got " +
@@ -766,8 +765,7 @@ void Sport::note_overrun(game::Match& match) {
 
 int Sport::add_timer(game::Match& match, double seconds) {
   lua_State* L = sandbox_->L();
-  if (!(std::isfinite(seconds) && seconds > 0 && seconds <= 3600))
-    throw std::invalid_argument("seconds must be in (0, 3600], got " + std::to_string(seconds));
+  limits::check(limits::kPowerupSeconds, seconds, "seconds");
   if (timers_.size() >= 1000) throw std::invalid_argument("1000 timers are pending already");
   const int function = luaL_ref(L, LUA_REGISTRYINDEX);
   timers_.push_back({match.time() + seconds, next_timer_, function});
@@ -891,9 +889,9 @@ void Sport::grant_protected(game::Match& match, int player, const std::string& n
   double seconds = lua_tonumber(L, -1);
   lua_pop(L, 1);
   if (const auto it = params.find("seconds"); it != params.end()) seconds = it->second, params.erase(it);
-  if (!(seconds > 0 && seconds <= 3600)) {
+  if (!limits::kPowerupSeconds.contains(seconds)) {
     lua_settop(L, top);
-    throw std::invalid_argument("power-up " + name + ": seconds must be in (0, 3600], got " + std::to_string(seconds));
+    throw std::invalid_argument("power-up " + name + ": seconds " + limits::must_be_in(limits::kPowerupSeconds, seconds));
   }
   // start(holder, game, p) may note what the power-up needs later (black ice: the velocity to keep).
   raw_field(L, t, "start");

@@ -10,6 +10,7 @@
 #include "lua_push.h"
 #include "lua_reader.h"
 #include "lua_wrap.h"
+#include "quantum/limits.h"
 #include "quantum/narrow.h"
 #include "sport.h"
 
@@ -337,11 +338,14 @@ Launch launch_options(lua_State* L, const game::Match& m, int arg) {
     elevation = given("elevation");
     up_spread = given("elevation_spread").value_or(up_spread);
   }
-  if (!(speed > 0 && speed <= 1000)) throw ArgError("speed must be in (0, 1000] m/s");
-  if (!(degrees >= 0 && degrees <= 90)) throw ArgError("spread must be in [0, 90] degrees");
-  if (!(share >= 0 && share <= 1)) throw ArgError("speed_spread must be in [0, 1]");
-  if (!(up_spread >= 0 && up_spread <= 90)) throw ArgError("elevation_spread must be in [0, 90] degrees");
-  if (elevation && !(*elevation > 0 && *elevation < 90)) throw ArgError("elevation must be in (0, 90) degrees");
+  const auto check = [](const limits::Range& range, double v, const char* what) {
+    if (!range.contains(v)) throw ArgError(std::string(what) + " " + limits::must_be_in(range, v));
+  };
+  check(limits::kThrowSpeed, speed, "speed");
+  check(limits::kSpreadDegrees, degrees, "spread");
+  check(limits::kSpeedSpread, share, "speed_spread");
+  check(limits::kSpreadDegrees, up_spread, "elevation_spread");
+  if (elevation) check(limits::kElevationDegrees, *elevation, "elevation");
   if (elevation && !m.field().has_height()) throw ArgError("elevation needs a field with height (gravity)");
   return {speed, elevation, {float(degrees * kRadiansPerDegree), float(share), float(up_spread * kRadiansPerDegree)}};
 }

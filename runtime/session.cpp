@@ -15,6 +15,7 @@
 #include "event_log.h"
 #include "interrupts.h"
 #include "match_audio.h"
+#include "quantum/limits.h"
 #include "recording.h"
 #include "reloader.h"
 
@@ -54,7 +55,9 @@ std::vector<Output> outputs_of(const SessionOptions& o) {
 Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream& errors,
                  std::unique_ptr<PlayerSource> players)
     : transcript_(transcript), errors_(errors), players_(std::move(players)), until_(o.until) {
-  if (!(o.seconds >= 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
+  // 0 is no --seconds: the sport's own time limit.
+  if (o.seconds != 0 && !limits::kMatchSeconds.contains(o.seconds))
+    throw std::invalid_argument("--seconds " + limits::must_be_in(limits::kMatchSeconds, o.seconds));
   check_distinct(outputs_of(o));
   // A replay plays what was recorded: its copy of the sport, its seed and settings.
   SessionOptions settings = o;
@@ -72,9 +75,7 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   for (const auto& [kind, value] : settings.factors) sport_->set_factor(kind, value);
   const std::vector<double> handicaps = per_player(settings.handicaps, sport_->handicaps(), *sport_, "--handicap", "handicaps");
   for (size_t k = 0; k < handicaps.size(); ++k)
-    if (!game::handicap_ok(handicaps[k]))
-      throw std::invalid_argument("--handicap: " + sport_->field().bodies[k].name + "'s handicap must be in (0, 1000], got " +
-                                  (std::ostringstream() << handicaps[k]).str());
+    limits::check(limits::kHandicap, handicaps[k], "--handicap: " + sport_->field().bodies[k].name + "'s handicap");
   game::MatchConfig config;
   config.particles = settings.particles ? settings.particles : sport_->particles();
   config.seed = settings.seed;

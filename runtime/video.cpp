@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "output_files.h"
+#include "quantum/limits.h"
 
 namespace quantum::runtime {
 namespace {
@@ -76,7 +77,7 @@ void check_video_file(const std::string& path) {
 
 VideoFile::VideoFile(const std::string& path, int width, int height, double fps)
     : path_(path), width_(width + width % 2), height_(height + height % 2), fps_(fps) {
-  if (!(fps >= 1 && fps <= 240)) throw std::runtime_error("--video: the frame rate must be in [1, 240]");
+  if (!limits::kVideoFps.contains(fps)) throw std::runtime_error("--video: the frame rate " + limits::must_be_in(limits::kVideoFps, fps));
   check_video_file(path);
   const Container& c = *container_of(path);
   silent_ = path + ".video" + c.ending;

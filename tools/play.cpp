@@ -2,6 +2,7 @@
 
 #include "desk.h"
 #include "interrupts.h"
+#include "quantum/limits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,7 +40,8 @@ std::vector<double> parse_list(const std::string& text, const std::string& optio
 std::vector<double> parse_skills(const std::string& text) {
   std::vector<double> skills = parse_list(text, "--skill");
   for (double s : skills)
-    if (!(s >= 0 && s <= 1)) throw std::invalid_argument("--skill: each skill must be in [0, 1], got " + text);
+    if (!limits::kSkill.contains(s))
+      throw std::invalid_argument("--skill: each skill must be in " + limits::interval(limits::kSkill) + ", got " + text);
   return skills;
 }
 

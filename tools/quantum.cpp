@@ -19,7 +19,6 @@
 #include <iostream>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "lua_reader.h"
 #include "output_files.h"
@@ -33,6 +32,7 @@
 #include "listen.h"
 #include "play.h"
 #include "quantum/fate.h"
+#include "quantum/limits.h"
 #include "simulate.h"
 #include "spec.h"
 #include "sports.h"
@@ -44,16 +44,14 @@ namespace {
 // in range 1 to 2"), and its ranges let "nan" through, since no comparison with NaN is true. A
 // check's description names the value it takes, in --help and in "needs a value".
 
-// A number in [lo, hi] (or (lo, hi] with `open`), e.g. "SECONDS in (0, 86400]".
-CLI::Validator number_in(const std::string& name, double lo, double hi, bool open = false) {
-  std::ostringstream range;
-  range << (open ? "(" : "[") << lo << ", " << hi << "]";
-  const std::string interval = range.str();
+// A number in `range` (limits.h), e.g. "SECONDS in (0, 86400]".
+CLI::Validator number_in(const std::string& name, const quantum::limits::Range& range) {
+  const std::string interval = quantum::limits::interval(range);
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         double v = 0;
         const bool number = CLI::detail::lexical_cast(text, v);
-        if (number && std::isfinite(v) && (open ? v > lo : v >= lo) && v <= hi) return {};
+        if (number && range.contains(v)) return {};
         return "expected a number in " + interval + ", got '" + text + "'";
       },
       name + " in " + interval);
@@ -96,9 +94,14 @@ CLI::Option* checked(CLI::Option* option, CLI::Validator check) {
   return option->check(check.description(""));
 }
 
-constexpr double kLongest = 24 * 3600;  // seconds: the longest match
+namespace limits = quantum::limits;
 const CLI::Validator kSeed = whole_in("SEED", 0, UINT64_MAX);
-const CLI::Validator kParticles = whole_in("N", 1, 10'000'000);
+const CLI::Validator kParticles = whole_in("N", uint64_t(limits::kParticles.lo), uint64_t(limits::kParticles.hi));
+// A match time (--snapshot-at): from its start to the longest match's end.
+constexpr limits::Range kMatchTime{"match time", 0, limits::kMatchSeconds.hi, false, false, "s"};
+// The table's ranges as the help words them.
+const std::string kSkillHelp = "simulated players' skills in " + limits::interval(limits::kSkill) + ", one per player: BLUE,RED";
+const std::string kHandicapHelp = "handicaps in " + limits::interval(limits::kHandicap) + ", 1 is even, one per player: BLUE,RED";
 
 // Real command lines, each with what it does: the end of each command's --help (under "" the
 // command's own), and the first one completes "FIELD is missing".
@@ -278,7 +281,7 @@ int main(int argc, char** argv) {
   CLI::App* simulate = app.add_subcommand("simulate", "run a field with two scripted mallets (on a field with a hoop: a shooting practice) and report every event");
   simulate->add_option("FIELD", sim.field, "a field file, or a sport: its name (quantum sports) or its folder")->required();
   checked(simulate->add_option("--seconds", sim.seconds, "simulated time")->capture_default_str(),
-          number_in("SECONDS", 0, kLongest, true));
+          number_in("SECONDS", limits::kMatchSeconds));
   checked(simulate->add_option("--particles", sim.particles, "particles in the cloud")->capture_default_str(), kParticles);
   checked(simulate->add_option("--seed", sim.seed, "seed of every random choice")->capture_default_str(), kSeed);
   checked(simulate->add_option("--backend", sim.backend, "fast, or box2d (the reference: one Box2D body per particle)")
@@ -288,7 +291,7 @@ int main(int argc, char** argv) {
   simulate->add_option("--snapshot", sim.snapshot, "draw the cloud and its predicted fates to a PNG")->type_name("PNG");
   simulate->add_option("--decisions", sim.decisions, "write every draw the core makes as a JSON line to FILE "
                                                      "(- for stdout; docs/decisions.md)")->type_name("FILE");
-  checked(simulate->add_option("--fps", sim.fps, "steps per second")->capture_default_str(), number_in("FPS", 10, 1000));
+  checked(simulate->add_option("--fps", sim.fps, "steps per second")->capture_default_str(), number_in("FPS", limits::kFps));
   simulate->add_option("--shooter", sim.shooter, "on a field with a hoop: the player who shoots (default: the first who catches)")
       ->type_name("NAME");
   checked(simulate->add_option("--purgatory", sim.purgatory, "frames a body keeps the particles it touched")
@@ -304,18 +307,18 @@ int main(int argc, char** argv) {
                                          "(you, in the view, against simulated players), or tracking: fakenect:DIR, "
                                          "kinect, video:FILE, camera:N, tuio:PORT")->capture_default_str()->type_name("SOURCE");
   checked(play->add_option("--seed", game.seed, "seed of every random choice")->capture_default_str(), kSeed);
-  checked(play->add_option("--seconds", game.seconds, "time limit (default: the sport's)"), number_in("SECONDS", 0, kLongest, true));
+  checked(play->add_option("--seconds", game.seconds, "time limit (default: the sport's)"), number_in("SECONDS", limits::kMatchSeconds));
   checked(play->add_option("--particles", game.particles, "particles in the cloud (default: the sport's)"), kParticles);
   checked(play->add_option("--threads", game.threads, "threads of the quantum core, 1 or 2: a large cloud's prediction "
                                                       "shares its work (the match is the same either way)")
               ->capture_default_str(),
           one_of({"1", "2"}));
   play->add_option("--events", game.events, "write one JSON object per event to FILE (- for stdout)")->type_name("FILE");
-  play->add_option("--skill", skills, "simulated players' skills in [0, 1], one per player: BLUE,RED")->type_name("BLUE,RED");
-  play->add_option("--handicap", handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED")->type_name("BLUE,RED");
+  play->add_option("--skill", skills, kSkillHelp)->type_name("BLUE,RED");
+  play->add_option("--handicap", handicaps, kHandicapHelp)->type_name("BLUE,RED");
   checked(play->add_option("--auto-balance", game.auto_balance, "automatic balance: each goal behind multiplies a team's "
                                                                 "handicaps by 1 + this (default: the sport's)"),
-          number_in("X", 0, 10));
+          number_in("X", limits::kBalancePerGoal));
   game.audio = "";  // the command plays sound by default
   play->add_option("--audio", game.audio, "none, or wav:FILE to record the match's sound (default: the sound card)")
       ->type_name("none|wav:FILE");
@@ -331,7 +334,7 @@ int main(int argc, char** argv) {
                                           "(CSV) or udp:PORT (one per datagram): a player's whip throws the ball")
       ->type_name("FILE|udp:PORT");
   checked(play->add_option("--fov", game.fov, "with video or camera: its horizontal field of view, degrees")->capture_default_str(),
-          number_in("DEGREES", 1, 179));
+          number_in("DEGREES", limits::kFieldOfView));
   // A Kinect's table against the sport's field, on play and on track alike.
   auto add_setup = [](CLI::App* command, std::string& field_size, quantum::tracking::SetupOptions& setup) {
     command->add_option("--field-size", field_size, "with a Kinect: L,W, the field between the markers' centres in m, "
@@ -361,11 +364,11 @@ int main(int argc, char** argv) {
                                             ".mkv, .avi or .webm (with its sound when --audio wav:FILE)")
         ->type_name("FILE.mp4");
     checked(command->add_option("--video-fps", d.video_fps, "the video's frames per second")->capture_default_str(),
-            number_in("FPS", 1, 240));
+            number_in("FPS", limits::kVideoFps));
     CLI::Option* snapshot = command->add_option("--snapshot", d.snapshot, "draw the match to a PNG, at --snapshot-at "
                                                                           "or at the end")->type_name("PNG");
     checked(command->add_option("--snapshot-at", d.snapshot_at, "the match time of the snapshot, in seconds"),
-            number_in("SECONDS", 0, kLongest))->needs(snapshot);
+            number_in("SECONDS", kMatchTime))->needs(snapshot);
   };
   add_desk(play, desk);
 
@@ -373,7 +376,7 @@ int main(int argc, char** argv) {
   bool replay_quiet = false;
   CLI::App* replay = app.add_subcommand("replay", "play a recorded match again (quantum play --record DIR)");
   replay->add_option("DIR", again.replay, "the recording's folder, from quantum play --record DIR")->required();
-  checked(replay->add_option("--until", again.until, "stop at this match time, in seconds"), number_in("SECONDS", 0, kLongest, true));
+  checked(replay->add_option("--until", again.until, "stop at this match time, in seconds"), number_in("SECONDS", limits::kMatchSeconds));
   replay->add_option("--events", again.events, "write one JSON object per event to FILE (- for stdout)")->type_name("FILE");
   replay->add_option("--decisions", again.decisions, "write every draw as a JSON line to FILE (- for stdout)")->type_name("FILE");
   replay->add_option("--audio", again.audio, "none (the default), or wav:FILE to render the match's sound")
@@ -395,15 +398,15 @@ int main(int argc, char** argv) {
           whole_in("N", 1, 100'000));
   checked(balance->add_option("--seed", study.seed, "first seed")->capture_default_str(), kSeed);
   checked(balance->add_option("--seconds", study.seconds, "time limit of each match (default: the sport's)"),
-          number_in("SECONDS", 0, kLongest, true));
+          number_in("SECONDS", limits::kMatchSeconds));
   checked(balance->add_option("--particles", study.particles, "particles in the cloud (default: the sport's)"), kParticles);
-  balance->add_option("--skill", study_skills, "simulated players' skills in [0, 1], one per player: BLUE,RED")
+  balance->add_option("--skill", study_skills, kSkillHelp)
       ->type_name("BLUE,RED");
-  balance->add_option("--handicap", study_handicaps, "handicaps in (0, 1000], 1 is even, one per player: BLUE,RED")
+  balance->add_option("--handicap", study_handicaps, kHandicapHelp)
       ->type_name("BLUE,RED");
   checked(balance->add_option("--auto-balance", study.auto_balance, "automatic balance: each goal behind multiplies a "
                                                                     "team's handicaps by 1 + this (default: the sport's)"),
-          number_in("X", 0, 10));
+          number_in("X", limits::kBalancePerGoal));
   checked(balance->add_option("--factors", study_factors, "sport (its own fate factors) or flat (every factor 1)")
               ->capture_default_str(),
           one_of({"sport", "flat"}));
@@ -434,7 +437,7 @@ int main(int argc, char** argv) {
                                                "(CSV) or udp:PORT (one per datagram)")->type_name("FILE|udp:PORT");
   checked(track->add_option("--fov", tracking.fov, "with video or camera: its horizontal field of view, degrees")
               ->capture_default_str(),
-          number_in("DEGREES", 1, 179));
+          number_in("DEGREES", limits::kFieldOfView));
   track->add_option("--field", tracking.field, "a field file or a sport (name or folder): its size and who plays from "
                                               "which end")
       ->capture_default_str()->type_name("FIELD");

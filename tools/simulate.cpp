@@ -14,6 +14,7 @@
 #include "output_files.h"
 #include "params.h"
 #include "field_loader.h"
+#include "quantum/limits.h"
 #include "quantum/world.h"
 #include "scenes.h"
 #include "event_log.h"
@@ -161,8 +162,8 @@ void write_event(std::ostream& out, const Event& e, const Field& f) {
 }
 
 void simulate(const SimulateOptions& o, std::ostream& summary) {
-  if (!(o.seconds > 0 && o.seconds <= 24 * 3600)) throw std::invalid_argument("--seconds must be in (0, 86400]");
-  if (!(o.fps >= 10 && o.fps <= 1000)) throw std::invalid_argument("--fps must be in [10, 1000]");
+  limits::check(limits::kMatchSeconds, o.seconds, "--seconds");
+  limits::check(limits::kFps, o.fps, "--fps");
   if (o.backend != "fast" && o.backend != "box2d")
     throw std::invalid_argument("--backend must be fast or box2d, not '" + o.backend + "'");
   if (!o.snapshot.empty()) runtime::check_snapshot_file(o.snapshot);

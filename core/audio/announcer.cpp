@@ -29,14 +29,13 @@ const char* to_string(PhraseFate::Why why) {
 // Room for a busy stretch of play: phrases waiting and fates to report keep
 // their slots (and their text's room) once made, so a running match allocates nothing here.
 Announcer::Announcer(Mixer& mixer, AnnouncerRules rules) : mixer_(mixer), rules_(rules) {
-  queue_.resize(16);
-  fates_.resize(16);
+  queue_.make(16);
+  fates_.make(16);
 }
 
 PhraseFate& Announcer::settle(uint64_t id, PhraseFate::Kind kind, PhraseFate::Why why, double length,
                               std::string_view by) {
-  if (n_fates_ == fates_.size()) fates_.emplace_back();
-  PhraseFate& f = fates_[n_fates_++];
+  PhraseFate& f = fates_.next();
   f.id = id, f.kind = kind, f.why = why, f.length = length, f.start = f.end = -1;
   f.by.assign(by);
   return f;
@@ -49,11 +48,9 @@ void Announcer::end_current(PhraseFate::Kind kind, PhraseFate::Why why, std::str
   current_text_.clear();
 }
 
-// Slots are rotated, never copied, so every string keeps its room.
 void Announcer::drop(size_t k, PhraseFate::Why why, std::string_view by) {
   settle(queue_[k].id, PhraseFate::Kind::Dropped, why, queue_[k].clip->seconds(), by);
-  std::rotate(queue_.begin() + long(k), queue_.begin() + long(k) + 1, queue_.begin() + long(n_waiting_));
-  --n_waiting_;
+  queue_.erase(k);
 }
 
 void Announcer::say(const Clip& clip, int priority, double now, std::string_view text, uint64_t id, bool supersedable) {
@@ -61,20 +58,17 @@ void Announcer::say(const Clip& clip, int priority, double now, std::string_view
   last_id_ = id, last_at_ = now;
   // The same words again, just said or still to come, tell a listener nothing new.
   const auto waiting = [&] {
-    for (size_t k = 0; k < n_waiting_; ++k)
-      if (queue_[k].text == text) return true;
-    return false;
+    return std::any_of(queue_.begin(), queue_.end(), [&](const Waiting& w) { return w.text == text; });
   };
   if (rules_.repeat_gap > 0 && ((now - last_started_at_ < rules_.repeat_gap && last_started_ == text) || waiting())) {
     settle(id, PhraseFate::Kind::Dropped, PhraseFate::Why::Repeat, clip.seconds(), text);
     return;
   }
-  for (size_t k = 0; k < n_waiting_;)
+  for (size_t k = 0; k < queue_.size();)
     if (queue_[k].supersedable && queue_[k].priority <= priority) drop(k, PhraseFate::Why::Superseded, text);
     else ++k;
   mixer_.prepare(clip);
-  if (n_waiting_ == queue_.size()) queue_.emplace_back();
-  Waiting& w = queue_[n_waiting_++];
+  Waiting& w = queue_.next();
   w.clip = &clip, w.priority = priority, w.at = now, w.id = id, w.follows = follows, w.supersedable = supersedable;
   w.text.assign(text);
 }
@@ -83,13 +77,12 @@ void Announcer::update(double now) {
   if (current_ && !mixer_.playing(current_))
     end_current(PhraseFate::Kind::Spoken, PhraseFate::Why::None, {}, current_start_ + current_length_);
   // Stale phrases go first: news that is old by the time it could be spoken is no news.
-  for (size_t k = 0; k < n_waiting_;)
+  for (size_t k = 0; k < queue_.size();)
     if (now - queue_[k].at > rules_.stale_after && queue_[k].priority < rules_.keep_from) drop(k, PhraseFate::Why::Stale, {});
     else ++k;
-  if (n_waiting_ == 0) return;
+  if (queue_.empty()) return;
   // The most urgent, and among equals the oldest.
-  const auto end = queue_.begin() + long(n_waiting_);
-  const auto next = std::min_element(queue_.begin(), end, [](const Waiting& a, const Waiting& b) {
+  Waiting* next = std::min_element(queue_.begin(), queue_.end(), [](const Waiting& a, const Waiting& b) {
     return a.priority != b.priority ? a.priority > b.priority : a.at < b.at;
   });
   if (current_) {
@@ -104,17 +97,16 @@ void Announcer::update(double now) {
   current_start_ = now;
   current_length_ = next->clip->seconds();
   current_text_.assign(next->text);
-  for (size_t k = 0; k < n_waiting_; ++k)
-    if (queue_[k].follows == current_id_) queue_[k].at = now;
+  for (Waiting& w : queue_)
+    if (w.follows == current_id_) w.at = now;
   last_started_.assign(next->text);
   last_started_at_ = now;
-  std::rotate(next, next + 1, end);
-  --n_waiting_;
+  queue_.erase(next);
 }
 
 void Announcer::finish(double now) {
   update(now);
-  while (n_waiting_ > 0) drop(0, PhraseFate::Why::Ended, {});
+  while (!queue_.empty()) drop(0, PhraseFate::Why::Ended, {});
   if (!current_) return;
   mixer_.stop(current_);
   end_current(PhraseFate::Kind::Cut, PhraseFate::Why::Ended, {}, now);

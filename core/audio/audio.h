@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "quantum/field.h"
+#include "system/slots.h"
 
 namespace quantum::audio {
 
@@ -210,8 +211,8 @@ class Announcer {
 
   const std::string& speaking() const { return current_text_; }
   // The fates settled since the last clear_fates(), in the order they were settled.
-  std::span<const PhraseFate> fates() const { return {fates_.data(), n_fates_}; }
-  void clear_fates() { n_fates_ = 0; }
+  std::span<const PhraseFate> fates() const { return fates_.used(); }
+  void clear_fates() { fates_.clear(); }
 
  private:
   struct Waiting {
@@ -230,11 +231,8 @@ class Announcer {
 
   Mixer& mixer_;
   AnnouncerRules rules_;
-  // The first n_waiting_ are queued; the others keep their text's room for the next phrases.
-  std::vector<Waiting> queue_;
-  size_t n_waiting_ = 0;
-  std::vector<PhraseFate> fates_;
-  size_t n_fates_ = 0;
+  system::Slots<Waiting> queue_;  // the phrases waiting; the slots behind keep their text's room
+  system::Slots<PhraseFate> fates_;
   std::string last_started_;  // for repeat_gap: the last phrase started, and when
   double last_started_at_ = -1e300;
   uint64_t last_id_ = 0;  // the last phrase said, and when

@@ -2,15 +2,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
-#include <sstream>
 #include <utility>
 #include <stdexcept>
 
 #include "game/plane.h"
+#include "quantum/limits.h"
 
 namespace quantum::game {
 
@@ -45,35 +45,26 @@ bool counts_as_play(EventKind kind) {
   }
 }
 
-constexpr double kRetouch = 0.25;  // s
-
 Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> handicaps)
     : world_(std::move(field),
              WorldConfig{.particles = config.particles, .purgatory_frames = 3, .seed = config.seed, .threads = config.threads}),
       config_(config),
       rules_(&rules) {
-  if (!(config.fps >= 10 && config.fps <= 1000)) throw std::invalid_argument("fps must be in [10, 1000]");
-  if (!(config.tackle_rate >= 0 && config.tackle_rate <= kMostTackleRate))
-    throw std::invalid_argument("tackle rate must be in [0, 100] per second");
-  if (!(config.seconds > 0)) throw std::invalid_argument("a match needs a positive time limit");
-  if (!(config.balance_per_goal >= 0 && config.balance_per_goal <= 10 && config.balance_most >= 1))
-    throw std::invalid_argument("automatic balance: per goal must be in [0, 10] and the most >= 1");
-  if (!(config.throw_speed > 0 && config.throw_speed <= 1000))
-    throw std::invalid_argument("a throw's speed must be in (0, 1000] m/s");
-  if (!(config.stall >= kLeastStall && config.stall <= kMostStall))
-    throw std::invalid_argument("a match's stall bound must be in [1, 3600] s, got " +
-                                (std::ostringstream() << config.stall).str());
-  if (!(config.throw_spread.direction >= 0 && config.throw_spread.direction <= 1.6f && config.throw_spread.speed >= 0 &&
-        config.throw_spread.speed <= 1))
-    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and [0, 1] of speed");
+  // The sport's file and the command line checked these where they entered (limits.h); the
+  // stall bound and the balance are the match's own to refuse (a rule spec may set them).
+  assert(limits::kFps.contains(config.fps) && limits::kTackleRate.contains(config.tackle_rate) &&
+         limits::kThrowSpeed.contains(config.throw_speed) && config.seconds > 0);
+  limits::check(limits::kStall, config.stall, "a match's stall bound");
+  limits::check(limits::kBalancePerGoal, config.balance_per_goal, "automatic balance: per goal");
+  limits::check(limits::kBalanceMost, config.balance_most, "automatic balance: the most");
+  check_spread(config.throw_spread);
   const Field& f = world_.field();
   if (!handicaps.empty() && handicaps.size() != f.bodies.size())
     throw std::invalid_argument("got " + std::to_string(handicaps.size()) + " handicaps for " +
                                 std::to_string(f.bodies.size()) + " players");
   for (size_t k = 0; k < f.bodies.size(); ++k) {
     const double h = handicaps.empty() ? 1.0 : handicaps[k];
-    if (!handicap_ok(h))
-      throw std::invalid_argument("handicap of " + f.bodies[k].name + " must be in (0, 1000]");
+    assert(handicap_ok(h));
     players_.push_back({f.bodies[k].name, f.bodies[k].team, h, f.bodies[k].start, {0, 0}, true, {}, {}, {}});
   }
   teams_ = f.teams();
@@ -81,7 +72,7 @@ Match::Match(Field field, MatchConfig config, Rules& rules, std::vector<double> 
   // A frame rarely tells more than a few events and phrases; room for more than that keeps the
   // first busy frames from allocating.
   events_.reserve(64);
-  said_.reserve(64);
+  said_.make(64);
   // Room for a busy moment's fate groups keeps a busier moment than any before from allocating
   // in its frame (the prediction, its views, factors and their terms).
   constexpr size_t kFateGroups = kBusyFateGroups;
@@ -112,29 +103,9 @@ void FactorTerms::swap(FactorTerms& other) noexcept {
   terms_.swap(other.terms_), first_.swap(other.first_), std::swap(skipped_, other.skipped_);
 }
 
-void Match::check_player(int k) const {
-  if (k < 0 || k >= int(players_.size())) throw std::invalid_argument("no player " + std::to_string(k));
-}
-
-void Match::check_catcher(int k) const {
-  check_player(k);
-  if (!field().bodies[size_t(k)].catches)
-    throw std::invalid_argument(players_[size_t(k)].name + " cannot hold the ball: its field body does not catch");
-}
-
-void Match::say(std::string_view text, std::string_view recording) {
-  if (n_said_ == said_.size()) said_.emplace_back();
-  Said& s = said_[n_said_++];
-  s.t = time();
-  s.text.assign(text);
-  s.recording.assign(recording);
-  s.event = handling_;
-  s.cause = cause_;
-}
-
 void Match::clear_news() {
   events_.clear();
-  n_said_ = 0;
+  said_.clear();
   errors_.clear();
 }
 
@@ -149,25 +120,6 @@ void Match::note(EventKind type) {
   cause_ = to_string(type);
 }
 
-void Match::award(const std::string& team, double points) {
-  if (!score_.count(team)) throw std::invalid_argument("award: no team '" + team + "' in this field");
-  if (!(std::abs(points) <= kMostAward && points == std::trunc(points)))
-    throw std::invalid_argument("award: points must be a whole number from -1000 to 1000");
-  // Saturates, never wraps, at ±kMostScore: a team awarded past it stays there.
-  int& score = score_[team];
-  score = int(std::clamp<int64_t>(int64_t(score) + int64_t(points), -kMostScore, kMostScore));
-}
-
-void Match::respawn(int spot, double delay) {
-  if (spot < 0 || spot >= int(field().spots.size()))
-    throw std::invalid_argument("respawn: no spot " + std::to_string(spot));
-  if (!(delay >= 0 && delay <= 60)) throw std::invalid_argument("respawn: delay must be in [0, 60] s");
-  dead_ball();
-  respawn_spot_ = spot;
-  respawn_holder_ = -1;
-  respawn_at_ = time() + delay;
-}
-
 GameEvent& Match::new_event(EventKind type) {
   GameEvent& e = events_.emplace_back();
   e.t = time();
@@ -175,82 +127,6 @@ GameEvent& Match::new_event(EventKind type) {
   if (counts_as_play(type)) last_play_t_ = time(), ++plays_;
   if (world_.holder() >= 0) e.holder = players_[size_t(world_.holder())].name;
   return e;
-}
-
-void Match::give(int k, double delay, std::optional<Vec2> at) {
-  check_catcher(k);
-  if (!(delay >= 0 && delay <= 60)) throw std::invalid_argument("give: delay must be in [0, 60] s");
-  if (at) place(k, at);
-  dead_ball();
-  respawn_at_ = -1;
-  if (delay > 0 || (at && !at_place(k))) {
-    respawn_holder_ = k;
-    respawn_at_ = time() + delay;
-    return;
-  }
-  hand_over(k);
-}
-
-void Match::place(int k, std::optional<Vec2> at) {
-  check_player(k);
-  const Field& f = field();
-  if (at && !(std::isfinite(at->x) && std::isfinite(at->y) && at->x >= f.bounds_min.x && at->x <= f.bounds_max.x &&
-              at->y >= f.bounds_min.y && at->y <= f.bounds_max.y))
-    throw std::invalid_argument("a place must be a finite point within the bounds");
-  players_[size_t(k)].place = at;
-}
-
-bool Match::at_place(int k) const {
-  const Player& p = players_[size_t(k)];
-  return !p.place || std::hypot(p.position.x - p.place->x, p.position.y - p.place->y) <= kTakePlace;
-}
-
-void Match::hand_over(int k) {
-  world_.give(k);
-  report_.groups.clear();
-  previous_toucher_ = -1;
-  last_toucher_ = k;
-  last_touch_t_ = time();
-  gained(k);
-  GameEvent& e = new_event(EventKind::Give);
-  e.actor = players_[size_t(k)].name, e.team = players_[size_t(k)].team, e.actor_index = k;
-  e.at = players_[size_t(k)].position;
-  name_touchers(e);
-  tell_rules(events_.size() - 1);
-}
-
-void Match::throw_ball(int k, Vec3 velocity, std::optional<ThrowSpread> spread, World::Release how) {
-  check_player(k);
-  thrown_.clear();
-  world_.release(k, velocity, spread.value_or(config_.throw_spread), thrown_, how);
-  const Event e = thrown_.back();  // a copy: the rules told of it may throw again
-  handle(e);
-  // The new flight's fates, so the next draw is already tweaked.
-  if (world_.live()) retweak();
-}
-
-void Match::let_go(const Throw& t) {
-  if (t.player >= 0 && t.player < int(players_.size()) && field().bodies[size_t(t.player)].hits) {
-    const Vec3 v{t.velocity.x, t.velocity.y, t.up};
-    if (throw_fault(v, field().has_height()).empty()) swing(t.player, v);  // else a swing at nothing
-    return;
-  }
-  if (t.player < 0 || t.player != holder()) return;
-  throw_ball(t.player, {t.velocity.x, t.velocity.y, t.up}, std::nullopt,
-             field().bodies[size_t(t.player)].kicks ? World::Release::Kick : World::Release::Throw);
-}
-
-void Match::plan_hit(int k, const HitPlan& plan) {
-  check_player(k);
-  world_.plan_hit(k, plan);
-}
-
-void Match::swing(int k, Vec3 velocity) {
-  HitPlan plan;
-  plan.kind = HitPlan::Kind::Velocity;
-  plan.velocity = velocity;
-  plan.spread = config_.throw_spread;
-  plan_hit(k, plan);
 }
 
 void Match::took(int k, double t) {
@@ -267,80 +143,6 @@ void Match::gained(int k) {
   possession_ = team;
 }
 
-void Match::dead_ball() {
-  if (!world_.in_play()) return;
-  world_.remove_ball();
-  end_rally(false);
-  name_touchers(new_event(EventKind::Dead));
-  tell_rules(events_.size() - 1);
-}
-
-void Match::finish(const std::string& winner) {
-  if (finished_) return;
-  finished_ = true;
-  winner_ = winner;
-  GameEvent& e = new_event(EventKind::MatchEnd);
-  e.actor = e.team = winner_;
-  tell_rules(events_.size() - 1);
-}
-
-void Match::grant(int player, const std::string& name, double seconds, std::map<std::string, double> params) {
-  if (player < 0 || player >= int(players_.size())) throw std::invalid_argument("grant: no player " + std::to_string(player));
-  if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("grant: seconds must be in (0, 3600]");
-  std::erase_if(powerups_, [&](const ActivePowerup& p) { return p.player == player && p.name == name; });
-  auto known = std::find(powerup_names_.begin(), powerup_names_.end(), name);
-  if (known == powerup_names_.end()) known = powerup_names_.insert(known, name);
-  powerups_.push_back({name, player, time() + seconds, std::move(params), int(known - powerup_names_.begin())});
-  powerup_event(EventKind::Powerup, player, name);
-}
-
-void Match::powerup_event(EventKind type, int player, const std::string& name) {
-  GameEvent& e = new_event(type);
-  const Player& p = players_[size_t(player)];
-  e.actor = p.name, e.team = p.team, e.actor_index = player;
-  e.powerup = name;
-  e.at = p.position;
-  tell_rules(events_.size() - 1);
-}
-
-void Match::set_handicap(int k, double handicap) {
-  check_player(k);
-  if (!handicap_ok(handicap)) throw std::invalid_argument("a handicap must be in (0, 1000]");
-  players_[size_t(k)].handicap = handicap;
-}
-
-void Match::set_turn(int k, bool turn) {
-  check_player(k);
-  players_[size_t(k)].turn = turn;
-}
-
-void Match::set_aim(int k, Aim aim) {
-  check_player(k);
-  const int most = aim.kind == Aim::Kind::Goal ? int(field().goals.size())
-                   : aim.kind == Aim::Kind::Wall ? int(field().wall_names.size())
-                                                 : 0;
-  if ((aim.kind == Aim::Kind::Goal || aim.kind == Aim::Kind::Wall) && (aim.index < 0 || aim.index >= most))
-    throw std::invalid_argument("no such goal or wall to aim at");
-  if (aim.kind == Aim::Kind::Point && !(std::isfinite(aim.point.x) && std::isfinite(aim.point.y)))
-    throw std::invalid_argument("a point to aim at must be finite");
-  players_[size_t(k)].aim = aim;
-}
-
-void Match::set_skill(int k, std::optional<double> skill) {
-  check_player(k);
-  if (skill && !(*skill >= 0 && *skill <= 1)) {
-    char got[32];
-    std::snprintf(got, sizeof got, "%g", *skill);
-    throw std::invalid_argument(players_[size_t(k)].name + "'s skill must be in [0, 1], got " + got);
-  }
-  players_[size_t(k)].skill = skill;
-}
-
-void Match::set_wormholes(std::vector<Wormhole> wormholes) {
-  world_.set_wormholes(std::move(wormholes));
-  if (world_.live()) retweak();  // the fates go through them from now on
-}
-
 void Match::expire_powerups() {
   for (size_t k = 0; k < powerups_.size();) {
     if (time() < powerups_[k].until - 1e-9) {
@@ -353,37 +155,7 @@ void Match::expire_powerups() {
   }
 }
 
-void Match::place_players(std::span<const BodyInput> input) {
-  world_.place_bodies(input);
-  for (size_t k = 0; k < players_.size(); ++k) players_[k].position = input[k].position, players_[k].velocity = input[k].velocity;
-}
-
-void Match::set_scene(std::span<const BodyInput> input, Cloud cloud, int last_touch) {
-  place_players(input);
-  world_.set_cloud(std::move(cloud));
-  world_.set_last_touch(last_touch);
-  respawn_at_ = -1;
-  respawn_holder_ = -1;
-  last_toucher_ = last_touch;
-  previous_toucher_ = -1;
-  last_touch_t_ = -kRetouch;  // a scene's last touch is no swing in progress
-  last_play_t_ = time();      // a scene starts play afresh
-  rolling_ = false;
-  rally_contacts_ = 0;
-  retweak();
-}
-
 void Match::report_error(std::string message) { errors_.push_back(std::move(message)); }
-
-void Match::jump(int k, double height, double seconds) {
-  if (!field().has_height()) throw std::logic_error("jumping needs a field with height (gravity)");
-  check_player(k);
-  if (!(height > 0 && height <= 3)) throw std::invalid_argument("a jump's height must be in (0, 3] m");
-  if (!(seconds > 0 && seconds <= 2)) throw std::invalid_argument("a jump must last (0, 2] s");
-  landing_.resize(players_.size(), -1);
-  world_.set_reach(k, field().reach_of(k) + float(height));
-  landing_[size_t(k)] = time() + seconds;
-}
 
 void Match::step(std::span<const BodyInput> input) {
   if (finished_) return;

@@ -17,7 +17,9 @@
 #include <string_view>
 #include <vector>
 
+#include "quantum/limits.h"
 #include "quantum/world.h"
+#include "system/slots.h"
 
 namespace quantum::game {
 
@@ -144,15 +146,12 @@ class Rules {
   virtual void begin_frame(Match&) {}
 };
 
-// Handicaps are in (0, kMostHandicap]: a thousand times likelier is as good as certain already,
-// and more overflows the fate factors' product.
-inline constexpr double kMostHandicap = 1000;
-inline bool handicap_ok(double h) { return h > 0 && h <= kMostHandicap; }  // false for NaN too
+// Handicaps are in limits::kHandicap, (0, kMostHandicap].
+inline constexpr double kMostHandicap = limits::kHandicap.hi;
+inline bool handicap_ok(double h) { return limits::kHandicap.contains(h); }  // false for NaN too
 
-// A fate factor, and each term of it (a factor by kind, a modifier's or a power-up's result), is
-// in [0, kMostFactor]: a million times likelier is certain already, and the product of a few
-// terms stays far from overflowing the particles' weights.
-inline constexpr double kMostFactor = 1e6;
+// A fate factor, and each term of it, is in limits::kFactor, [0, kMostFactor].
+inline constexpr double kMostFactor = limits::kFactor.hi;
 
 // A term of a factor as a script gives it: in bounds it is kept; above them (math.huge too) it
 // is taken as kMostFactor; NaN or below 0 is refused and taken as 1, as if it were not given.
@@ -174,10 +173,10 @@ inline constexpr double kMostAward = 1000;
 // which has no positive twin.
 inline constexpr int kMostScore = std::numeric_limits<int>::max();
 
-// The stall bound (MatchConfig::stall, a sport's match.stall): at least a second, at most an hour.
-inline constexpr double kLeastStall = 1, kMostStall = 3600;
+// The stall bound (MatchConfig::stall, a sport's match.stall) is in limits::kStall.
+inline constexpr double kLeastStall = limits::kStall.lo, kMostStall = limits::kStall.hi;
 // The most tackles per second a sport may ask for (MatchConfig::tackle_rate, tackles.rate).
-inline constexpr double kMostTackleRate = 100;
+inline constexpr double kMostTackleRate = limits::kTackleRate.hi;
 
 struct MatchConfig {
   uint32_t particles = 1000;
@@ -375,7 +374,7 @@ class Match {
   // event), rule errors ("rules/x/sport.lua:12: ... (on goal skipped)"). The spans stay valid
   // until the next action on the match.
   std::span<const GameEvent> events() const { return events_; }
-  std::span<const Said> said() const { return {said_.data(), n_said_}; }
+  std::span<const Said> said() const { return said_.used(); }
   std::span<const std::string> errors() const { return errors_; }
   // Forgets the news once every consumer has read it; the buffers keep their room.
   void clear_news();
@@ -413,8 +412,11 @@ class Match {
   void gained(int k);                      // player k has the ball: a new possession if the other team had it
   void hand_over(int k);                   // the ball into k's hands now, told as `give`
   bool at_place(int k) const;              // k has no place, or stands within kTakePlace of it
+  bool is_player(int k) const;             // k is a body of the field
   void check_player(int k) const;          // throws unless k is a player
   void check_catcher(int k) const;         // throws unless k is a player who catches
+  // A touch within this many seconds of the same player's last is the same swing (Retouch).
+  static constexpr double kRetouch = 0.25;
   void stalled();                          // tells the rules, and restarts play when they do not
   void watch_ball();                       // tells `loose` when the ball in play slows to a stop
   void tell_rules(size_t event);
@@ -440,8 +442,7 @@ class Match {
   std::vector<ActivePowerup> powerups_;
   std::map<std::string, int> score_;
   std::vector<GameEvent> events_;
-  std::vector<Said> said_;  // the first n_said_ are news; the rest keep their strings' room
-  size_t n_said_ = 0;
+  system::Slots<Said> said_;  // the news, and behind them slots that keep their strings' room
   std::vector<std::string> errors_;
   std::vector<Event> core_events_;
   FateReport report_;              // this frame's prediction, refilled in place

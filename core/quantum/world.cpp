@@ -6,6 +6,7 @@
 #include <string>
 #include <type_traits>
 
+#include "quantum/limits.h"
 #include "world_internals.h"
 
 namespace quantum {
@@ -361,15 +362,16 @@ BodyFault body_fault(const Field& field, const BodyInput& in) {
 }
 
 void check_spread(ThrowSpread spread) {
-  if (!(spread.direction >= 0 && spread.direction <= 1.6f && spread.speed >= 0 && spread.speed <= 1 &&
-        spread.elevation >= 0 && spread.elevation <= 1.6f))
-    throw std::invalid_argument("a throw's spread must be in [0, 1.6] rad of direction and elevation and [0, 1] of speed");
+  using limits::kSpreadRadians, limits::kSpeedSpread;
+  if (!(kSpreadRadians.contains(spread.direction) && kSpeedSpread.contains(spread.speed) &&
+        kSpreadRadians.contains(spread.elevation)))
+    throw std::invalid_argument("a throw's spread must be in " + limits::stated(kSpreadRadians) +
+                                " of direction and elevation and " + limits::stated(kSpeedSpread) + " of speed");
 }
 
 std::string throw_fault(Vec3 velocity, bool tall) {
   const float flat = std::hypot(velocity.x, velocity.y), speed = std::hypot(flat, velocity.z);
-  if (!(std::isfinite(speed) && speed > 0 && speed <= 1000))
-    return "a throw's speed must be in (0, 1000] m/s, got " + std::to_string(speed);
+  if (!limits::kThrowSpeed.contains(speed)) return "a throw's speed " + limits::must_be_in(limits::kThrowSpeed, speed);
   if (!tall && velocity.z != 0) return "a throw upward needs a field with height (gravity); this field is flat";
   return "";
 }
@@ -484,7 +486,7 @@ void World::plan_hit(int body, const HitPlan& plan) {
     case HitPlan::Kind::Point:
       for (float c : {plan.point.x, plan.point.y, plan.point.z})
         if (!std::isfinite(c)) throw std::invalid_argument(who + "'s hit: the point it aims at must be finite");
-      if (!(plan.speed > 0 && plan.speed <= 1000)) throw std::invalid_argument(who + "'s hit: speed must be in (0, 1000] m/s");
+      limits::check(limits::kThrowSpeed, plan.speed, who + "'s hit: speed");
       if (!(plan.elevation >= 0 && plan.elevation < 1.5708f))
         throw std::invalid_argument(who + "'s hit: elevation must be in [0, 90) degrees");
       if (plan.elevation > 0 && !tall) throw std::invalid_argument(who + "'s hit: an elevation needs a field with height");

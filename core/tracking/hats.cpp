@@ -6,14 +6,14 @@
 #include <cmath>
 #include <cstdio>
 
+#include "quantum/limits.h"
 #include "tracking/tracking.h"
 
 namespace quantum::tracking {
 
 HatTracker::HatTracker(TrackedField field, HatConfig config) : field_(std::move(field)), config_(std::move(config)) {
   if (config_.colours.empty()) throw std::invalid_argument("hat tracking needs at least one team colour");
-  if (!(config_.horizontal_fov > 1 && config_.horizontal_fov < 179))
-    throw std::invalid_argument("the camera's field of view must be between 1 and 179 degrees");
+  limits::check(limits::kFieldOfView, config_.horizontal_fov, "the camera's field of view");
 }
 
 cv::Point2f HatTracker::to_image(double x, double y) const {

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "../runtime/desk_support.h"
+#include "quantum/limits.h"
 #include "session.h"
 
 namespace quantum {
@@ -184,6 +185,39 @@ TEST(Docs, EveryQuotedMessageIsWhatQuantumSays) {
     }
   }
   EXPECT_GE(checked, 3);
+}
+
+// Where the docs state a range a value must lie in, it is the table's (quantum/limits.h): a
+// range changed there and not in the docs fails here.
+TEST(LimitsDocs, TheDocsStateTheTablesRanges) {
+  struct Stated {
+    const char* doc;
+    std::string before;  // the words that lead to the range in the doc
+    const limits::Range& range;
+  };
+  const Stated stated[] = {
+      {"docs/lua-api.md", "fate factor per fate kind, each in ", limits::kFactor},
+      {"docs/lua-api.md", "`speed`, m/s of a throw that gives none, in ", limits::kThrowSpeed},
+      {"docs/lua-api.md", "`spread`, degrees of direction, in ", limits::kSpreadDegrees},
+      {"docs/lua-api.md", "`speed_spread`, a share of the speed, in ", limits::kSpeedSpread},
+      {"docs/lua-api.md", "`rate`, per second in ", limits::kTackleRate},
+      {"docs/lua-api.md", "per player (body name): in ", limits::kHandicap},
+      {"docs/lua-api.md", "sets a player's own handicap (in ", limits::kHandicap},
+      {"docs/lua-api.md", "`opts` has `speed` (m/s, in ", limits::kThrowSpeed},
+      {"docs/lua-api.md", "`spread` (degrees, in ", limits::kSpreadDegrees},
+      {"docs/lua-api.md", "(degrees above the horizontal, in ", limits::kElevationDegrees},
+      {"docs/lua-api.md", "`most` times their own (in ", limits::kBalanceMost},
+      {"docs/desk.md", "a speed that is not in ", limits::kThrowSpeed},
+      {"README.md", "`--handicap` outside ", limits::kHandicap},
+      {"README.md", "`--skill` outside ", limits::kSkill},
+  };
+  for (const Stated& s : stated) {
+    const std::string text = read(fs::path(QUANTUM_SOURCE_DIR) / s.doc);
+    const size_t at = text.find(s.before);
+    ASSERT_NE(at, std::string::npos) << s.doc << ": no \"" << s.before << "\"";
+    EXPECT_EQ(text.substr(at + s.before.size(), limits::interval(s.range).size()), limits::interval(s.range))
+        << s.doc << ": " << s.before << "... is not " << s.range.name << "'s range " << limits::interval(s.range);
+  }
 }
 
 // The same for `build/quantum-synth`, which writes the recordings the tracking docs talk about.

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "field_loader.h"
+#include "quantum/limits.h"
 #include "recording.h"
 #include "scenes.h"
 #include "synthetic.h"
@@ -248,6 +249,25 @@ TEST(Cli, ValuesItCannotHonourAreRefusedByName) {
   }
   const Outcome highest = quantum("play rules/airhockey --audio none --quiet --seconds 1 --seed 18446744073709551615");
   EXPECT_EQ(highest.status, 0) << highest.err;
+}
+
+// The command line takes a range's end (quantum/limits.h) and refuses just beyond it, naming the
+// range: in CLI11's checks (--fps) and in the session's (--handicap).
+TEST(LimitsCommandLine, AnOptionTakesItsRangesEndAndRefusesBeyondNamingTheRange) {
+  const std::string simulate = "simulate " + kTable + " --seconds 0.1 --fps ";
+  EXPECT_EQ(quantum(simulate + "1000").status, 0);
+  const Outcome fast = quantum(simulate + "1000.5");
+  EXPECT_NE(fast.status, 0);
+  EXPECT_NE(fast.err.find("--fps: expected a number in " + quantum::limits::interval(quantum::limits::kFps) + ", got '1000.5'"),
+            std::string::npos)
+      << fast.err;
+  const std::string play = "play rules/airhockey --audio none --quiet --seconds 0.1 --handicap ";
+  const Outcome most = quantum(play + "1000,1");
+  EXPECT_EQ(most.status, 0) << most.err;
+  const Outcome more = quantum(play + "1000.5,1");
+  EXPECT_EQ(more.status, 1);
+  EXPECT_NE(more.err.find("handicap " + quantum::limits::must_be_in(quantum::limits::kHandicap, 1000.5)), std::string::npos)
+      << more.err;
 }
 
 // A log that cannot be written (a full disk, made here with the shell's file size limit) is told
