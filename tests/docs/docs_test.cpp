@@ -14,6 +14,7 @@
 
 #include "../runtime/desk_support.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -108,7 +109,7 @@ std::string play_as_sport(const Example& e) {
   o.particles = 300;
   std::ostringstream errors;
   try {
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     session.run();
   } catch (const std::exception& x) {
     return x.what();
