@@ -91,6 +91,10 @@ def main():
     for a, b in NEVER:
         if b in reachable(ours, a):
             problems.append(f"{a} reaches {b}, which it must not")
+    # A new library must be given its layer here before it may link anything.
+    unplaced = sorted({n for e in edges for n in e if n.startswith("quantum_") and n not in LAYERS})
+    if unplaced:
+        problems.append("libraries with no layer (add them to LAYERS): " + ", ".join(unplaced))
     missing = sorted(set(LAYERS) - {n for e in edges for n in e})
     if missing:
         problems.append("not in the graph (renamed? update tools/check_layers.py): " + ", ".join(missing))
