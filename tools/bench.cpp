@@ -303,7 +303,7 @@ struct DeskScene {
   runtime::Session session;
   runtime::Ticker ticker;
   bool busy = false;
-  explicit DeskScene(const std::string& sport) : session(desk_match(sport), nullptr, errors) {
+  explicit DeskScene(const std::string& sport) : session(desk_match(sport), tools::lua_sport, nullptr, errors) {
     session.watch([&](const runtime::News& news) { ticker.hear(news); });
     for (int frame = 0; frame < 60 * 60 && !busy; ++frame) {
       session.frame();

@@ -110,7 +110,7 @@ void play_match(const SoakOptions& so, const fs::path& logs, Figures& f) {
   o.decisions = (logs / "decisions.jsonl").string();
   std::ostringstream errors;
   runtime::Session session(o, tools::lua_sport, nullptr, errors);
-  const std::vector<fs::path> powerups = powerup_scripts(session.sport());
+  const std::vector<fs::path> powerups = powerup_scripts(tools::scripted_rules(session));
   std::mt19937_64 random(o.seed);
   const std::regex not_a_number(R"(\b-?(nan|inf)\b)", std::regex::icase);
   double last_ball = 0;
