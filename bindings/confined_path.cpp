@@ -24,17 +24,6 @@ fs::path real_place(const fs::path& file) {
 
 }  // namespace
 
-std::string not_a_regular_file(const fs::path& file) {
-  std::error_code error;
-  const fs::file_status status = fs::status(file, error);
-  switch (status.type()) {
-    case fs::file_type::regular:
-    case fs::file_type::not_found: return "";
-    case fs::file_type::none: return file.string() + ": " + error.message();
-    default: return file.string() + " is " + system::kind_of(status.type()) + ", not a regular file";
-  }
-}
-
 fs::path confined_path(const std::vector<fs::path>& folders, const std::string& name, const std::string& key,
                        std::string& looked) {
   const fs::path relative(name);
@@ -47,7 +36,7 @@ fs::path confined_path(const std::vector<fs::path>& folders, const std::string& 
   for (const fs::path& folder : folders) {
     const fs::path file = folder / relative;
     looked += (looked.empty() ? "" : ", ") + file.string();
-    if (const std::string why = not_a_regular_file(file); !why.empty()) throw ReadError(key, why);
+    if (const std::string why = system::not_a_regular_file(file); !why.empty()) throw ReadError(key, why);
     std::error_code error;
     if (!fs::exists(file, error)) continue;
     const fs::path real = real_place(file);

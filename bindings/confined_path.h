@@ -10,11 +10,6 @@
 
 namespace quantum::lua {
 
-// Why `file` may not be opened for reading: "" when it is a regular file or there is none, else
-// e.g. "rules/x/pipe.lua is a FIFO, not a regular file". Looks at its type (symlinks followed)
-// without opening it: opening a FIFO that nobody writes, or /dev/stdin, blocks.
-std::string not_a_regular_file(const std::filesystem::path& file);
-
 // The first of `folders` holding `name` (a relative path, e.g. "field.lua" or "sounds/horn.wav"),
 // or an empty path when none does; `looked` gets every place tried, for the caller's message.
 // Throws ReadError naming `key` (the sport's key, e.g. "audio.sounds.shot") when `name` is

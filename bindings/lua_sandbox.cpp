@@ -25,6 +25,7 @@
 #include "lua_bounded.h"
 #include "lua_random.h"
 #include "lua_wrap.h"
+#include "system/regular_file.h"
 
 namespace quantum::lua {
 namespace {
@@ -738,7 +739,7 @@ void Sandbox::protect_here(lua_CFunction trampoline, void* run) {
 void Sandbox::run_file(const std::string& file, int cache) {
   // sport.lua and a field given on the command line are named by no script, but a FIFO there
   // would block the load (or a reload in the middle of a match) all the same.
-  if (const std::string why = not_a_regular_file(file); !why.empty()) throw ScriptError(why);
+  if (const std::string why = system::not_a_regular_file(file); !why.empty()) throw ScriptError(why);
   if (!std::filesystem::exists(file)) throw ScriptError(file + ": no such file");
   files_.push_back(file);
   // The parser files a chunk's constants in a table too: keys chosen to collide stall it as well.

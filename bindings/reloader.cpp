@@ -13,12 +13,12 @@
 namespace quantum::lua {
 namespace fs = std::filesystem;
 
-Reloader::Reloader(const Sport& sport, std::map<std::string, double> factors, bool watch_files)
-    : folder_(fs::path(sport.folder()).lexically_normal()), factors_(std::move(factors)) {
+Reloader::Reloader(const ScriptedRules& sport, std::map<std::string, double> factors, bool watch_files)
+    : folder_(fs::path(sport.folders().folder).lexically_normal()), factors_(std::move(factors)) {
   fd_ = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error(std::string("cannot watch the rules: ") + std::strerror(errno));
-  for (const fs::path& f : sport.powerup_folders()) powerup_folders_.insert(f.lexically_normal());
-  for (const fs::path& f : sport.module_folders()) module_folders_.insert(f.lexically_normal());
+  for (const fs::path& f : sport.folders().powerups) powerup_folders_.insert(f.lexically_normal());
+  for (const fs::path& f : sport.folders().modules) module_folders_.insert(f.lexically_normal());
   std::set<fs::path> folders = powerup_folders_;
   folders.insert(module_folders_.begin(), module_folders_.end());
   // Editors save in place (close after write) or write a new file and rename it over the old.
@@ -36,7 +36,7 @@ Reloader::~Reloader() {
 
 void Reloader::changed(const fs::path& file) { changed_.insert(file.lexically_normal()); }
 
-int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors,
+int Reloader::poll(std::unique_ptr<ScriptedRules>& sport, game::Match& match, std::ostream& errors,
                    std::vector<fs::path>* acted_on) {
   alignas(inotify_event) char buf[8192];
   for (ssize_t n; (n = read(fd_, buf, sizeof buf)) > 0;) {
@@ -56,7 +56,7 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
     // Whatever changed may be read later (a power-up granted for the first time, a field in the
     // next match): a recording keeps it all.
     if (acted_on) acted_on->push_back(file);
-    if (file == sport->field_file()) {
+    if (file == sport->spec().field_file) {
       field_waits(file, errors);
       continue;
     }
@@ -68,12 +68,12 @@ int Reloader::poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostre
   if (sport_changed) {
     // A new sport loads the power-ups in use afresh when it first needs them.
     try {
-      auto fresh = Sport::reload(*sport);
+      auto fresh = ScriptedRules::reload(*sport);
       for (const auto& [kind, value] : factors_) fresh->set_factor(kind, value);
       // The new rules hear whatever on_reload sets off; the old ones are still there to read.
       match.set_rules(*fresh);
       fresh->take_over(*sport, match);
-      if (fresh->field_file() != sport->field_file()) field_waits(fresh->field_file(), errors);
+      if (fresh->spec().field_file != sport->spec().field_file) field_waits(fresh->spec().field_file, errors);
       sport = std::move(fresh);
       errors << "quantum: reloaded " << (folder_ / "sport.lua").string() << '\n';
       // The new sport loads the power-ups afresh: an old failure of theirs is its to repeat.

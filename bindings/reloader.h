@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "game/game.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum::lua {
 
@@ -25,7 +25,7 @@ class Reloader {
   // every reloaded version too. Without `watch_files` only changed() counts (a replay applies
   // the changes it recorded, nothing else). Throws std::runtime_error when the folders cannot be
   // watched.
-  Reloader(const Sport& sport, std::map<std::string, double> factors = {}, bool watch_files = true);
+  Reloader(const ScriptedRules& sport, std::map<std::string, double> factors = {}, bool watch_files = true);
   ~Reloader();
   Reloader(const Reloader&) = delete;
   Reloader& operator=(const Reloader&) = delete;
@@ -33,16 +33,17 @@ class Reloader {
   // Takes `file` as changed, as if it had been saved (the next poll reloads it).
   void changed(const std::filesystem::path& file);
 
-  // Reloads whatever changed since the last call, all within one frame's budget (Sport::reload,
-  // Sport::reload_powerups). A new sport takes over from `sport` (state carried, see
-  // Sport::take_over) and becomes the match's rules; `sport` then owns it. Each reload is one
+  // Reloads whatever changed since the last call, all within one frame's budget
+  // (ScriptedRules::reload, ScriptedRules::reload_powerups). A new sport takes over from `sport`
+  // (state carried, see ScriptedRules::take_over) and becomes the match's rules; `sport` then
+  // owns it. Each reload is one
   // line on `errors`: "quantum: reloaded FILE" (or "power-up NAME"), or "quantum: reload failed:
   // FILE:LINE: ...". A changed field file (or sport.lua naming another) is not loaded: the
   // first is one line, "quantum: FILE changed: the new field takes effect at the next match", and
   // the rest say nothing. Returns the number of files reloaded.
   // `acted_on`, when given, gets every changed file the poll saw, loaded or not: what a recording
   // keeps.
-  int poll(std::unique_ptr<Sport>& sport, game::Match& match, std::ostream& errors,
+  int poll(std::unique_ptr<ScriptedRules>& sport, game::Match& match, std::ostream& errors,
            std::vector<std::filesystem::path>* acted_on = nullptr);
   // The reloads that failed and have not loaded since: script ("sport.lua", a power-up's name)
   // -> what failed ("FILE:LINE: ..."), for a view's error screen.

@@ -12,12 +12,12 @@
 #include "lua_wrap.h"
 #include "quantum/limits.h"
 #include "quantum/narrow.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum::lua {
 namespace {
 
-Sport& sport_of(lua_State* L) { return upvalue_self<Sport>(L); }
+ScriptedRules& sport_of(lua_State* L) { return upvalue_self<ScriptedRules>(L); }
 
 // Actions change the match: only handlers, timers, on_reload and a power-up's start and stop may
 // take them; factors only compute, so a fate's odds never depend on when they were computed.
@@ -475,7 +475,7 @@ int teams(lua_State* L) {
 
 // game.team_name(team): the team's name as the announcer says it (sport.lua's `teams`).
 int team_name(lua_State* L) {
-  const std::string name = sport_of(L).team_name(check_string(L, 1));
+  const std::string name = sport_of(L).spec().team_name(check_string(L, 1));
   lua_pushlstring(L, name.data(), name.size());
   return 1;
 }
@@ -517,7 +517,7 @@ int player_index(const game::Match& m, const std::string& name) {
   throw ArgError(unknown_key(name, names, "player"));
 }
 
-void push_game_api(lua_State* L, Sport* sport) {
+void push_game_api(lua_State* L, ScriptedRules* sport) {
   push_module(L, "game",
               {{"say", guard<say>},           {"award", guard<award>},       {"respawn", guard<respawn>},
                {"dead_ball", guard<dead_ball>}, {"finish", guard<finish>},   {"grant", guard<grant>},

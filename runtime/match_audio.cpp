@@ -7,8 +7,8 @@
 #include <thread>
 #include <ostream>
 
-#include "confined_path.h"
 #include "output_files.h"
+#include "system/regular_file.h"
 
 namespace quantum::runtime {
 namespace {
@@ -29,7 +29,7 @@ audio::Speech* speech(std::ostream& warnings, bool& failed) {
 
 bool speech_failed = false;
 
-audio::AnnouncerRules rules(const lua::SportAudio& sport) {
+audio::AnnouncerRules rules(const game::SportAudio& sport) {
   audio::AnnouncerRules r;
   r.repeat_gap = sport.repeat_gap;
   r.wait_for = sport.wait_for;
@@ -39,7 +39,7 @@ audio::AnnouncerRules rules(const lua::SportAudio& sport) {
 
 }  // namespace
 
-MatchAudio::MatchAudio(const std::string& spec, const lua::SportAudio& sport, std::ostream& warnings)
+MatchAudio::MatchAudio(const std::string& spec, const game::SportAudio& sport, std::ostream& warnings)
     : sport_(sport), warnings_(warnings) {
   if (spec == "none") return;
   if (spec.rfind("wav:", 0) == 0) {
@@ -62,7 +62,7 @@ MatchAudio::MatchAudio(const std::string& spec, const lua::SportAudio& sport, st
   announcer_ = std::make_unique<audio::Announcer>(*mixer_, rules(sport_));
 }
 
-void MatchAudio::set_sport(const lua::SportAudio& sport) {
+void MatchAudio::set_sport(const game::SportAudio& sport) {
   sport_ = sport;
   if (announcer_) announcer_->set_rules(rules(sport_));
 }
@@ -79,7 +79,7 @@ const audio::Clip* MatchAudio::clip(const std::string& path) {
   try {
     // The sport's load checked it, but a sound loads when it first plays: a file that has become
     // a FIFO since would block the match on opening it.
-    if (const std::string why = lua::not_a_regular_file(path); !why.empty()) throw audio::AudioError(why);
+    if (const std::string why = system::not_a_regular_file(path); !why.empty()) throw audio::AudioError(why);
     c = audio::load_clip(path);
   } catch (const audio::AudioError& e) {
     warn(std::string(e.what()) + "; that sound stays silent");

@@ -14,8 +14,8 @@
 
 #include "audio/audio.h"
 #include "game/game.h"
+#include "game/sport_spec.h"
 #include "output_files.h"
-#include "sport.h"
 
 namespace quantum::runtime {
 
@@ -25,11 +25,11 @@ class MatchAudio {
   // "wav:FILE" (created at once: a bad path fails here, before anything plays). Throws
   // std::invalid_argument for any other spec, audio::AudioError for a WAV file that cannot be
   // written.
-  MatchAudio(const std::string& spec, const lua::SportAudio& sport, std::ostream& warnings);
+  MatchAudio(const std::string& spec, const game::SportAudio& sport, std::ostream& warnings);
   ~MatchAudio();
 
   // The sport's sound settings changed (a reloaded sport.lua).
-  void set_sport(const lua::SportAudio& sport);
+  void set_sport(const game::SportAudio& sport);
 
   void event(const game::GameEvent& e);
   // `id` comes back with the phrase's fate.
@@ -58,7 +58,7 @@ class MatchAudio {
   void collect();  // the announcer's fates, into fates()
   void silent(uint64_t id);
 
-  lua::SportAudio sport_;
+  game::SportAudio sport_;
   std::ostream& warnings_;
   std::unique_ptr<audio::Mixer> mixer_;
   std::unique_ptr<audio::Announcer> announcer_;

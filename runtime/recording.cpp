@@ -15,7 +15,6 @@
 
 #include "output_files.h"
 #include "session.h"
-#include "sport.h"
 #include "system/regular_file.h"
 
 namespace quantum::runtime {
@@ -179,9 +178,9 @@ void write_json(const fs::path& file, const nlohmann::json& j) {
 
 }  // namespace
 
-std::map<fs::path, fs::path> sport_trees(const lua::Sport& sport) {
-  const fs::path folder = fs::absolute(sport.folder()).lexically_normal();
-  const fs::path engine = fs::absolute(sport.engine()).lexically_normal();
+std::map<fs::path, fs::path> sport_trees(const game::SportSpec& sport) {
+  const fs::path folder = fs::absolute(sport.folder).lexically_normal();
+  const fs::path engine = fs::absolute(sport.engine).lexically_normal();
   std::map<fs::path, fs::path> trees{{folder, fs::path("sport") / folder.filename()},
                                      {engine / "powerups", "engine/powerups"},
                                      {engine / "lib", "engine/lib"}};
@@ -189,7 +188,7 @@ std::map<fs::path, fs::path> sport_trees(const lua::Sport& sport) {
   return trees;
 }
 
-void write_decision_header(std::ostream& out, const SessionOptions& o, const lua::Sport& sport, const game::Match& match) {
+void write_decision_header(std::ostream& out, const SessionOptions& o, const game::SportSpec& sport, const game::Match& match) {
   nlohmann::json files = nlohmann::json::array();
   std::map<std::string, nlohmann::json> hashes;  // by path, in an order a recording's replay keeps
   for (const auto& [original, place] : sport_trees(sport))
@@ -203,12 +202,12 @@ void write_decision_header(std::ostream& out, const SessionOptions& o, const lua
     players.push_back({{"name", p.name}, {"team", p.team}, {"skill", p.skill ? nlohmann::json(*p.skill) : nlohmann::json()},
                        {"handicap", p.handicap}});
   nlohmann::json factors = nlohmann::json::object();
-  for (FateKind k : kFateKinds) factors[to_string(k)] = sport.factor(to_string(k));
+  for (FateKind k : kFateKinds) factors[to_string(k)] = sport.factors[int(k)];
   const game::MatchConfig& c = match.config();
   const nlohmann::json header = {{"format", "quantum decisions"},
                                  {"version", kDecisionLogVersion},
                                  {"engine", engine_version()},
-                                 {"sport", fs::absolute(sport.folder()).lexically_normal().filename().string()},
+                                 {"sport", fs::absolute(sport.folder).lexically_normal().filename().string()},
                                  {"files", files},
                                  {"seed", c.seed},
                                  {"seconds", c.seconds},
@@ -216,20 +215,20 @@ void write_decision_header(std::ostream& out, const SessionOptions& o, const lua
                                  {"particles", c.particles},
                                  {"tackle_rate", c.tackle_rate},
                                  {"balance", {{"per_goal", c.balance_per_goal}, {"most", c.balance_most}}},
-                                 {"params", sport.params().pairs()},
+                                 {"params", sport.params},
                                  {"factor_overrides", o.factors},
                                  {"factors", factors},
                                  {"players", players}};
   out << header.dump() << '\n';
 }
 
-Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Sport& sport,
+Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const game::SportSpec& sport,
                    std::span<const game::Player> players)
     : dir_(dir) {
   if (fs::exists(dir) && !(fs::is_directory(dir) && fs::is_empty(dir)))
     throw std::runtime_error("--record " + dir.string() + ": exists already (a recording goes into a new folder)");
   make_output_folder("--record", dir);
-  const fs::path folder = fs::absolute(sport.folder()).lexically_normal();
+  const fs::path folder = fs::absolute(sport.folder).lexically_normal();
   for (const auto& [original, place] : sport_trees(sport)) places_[original] = dir / place;
   nlohmann::json files = nlohmann::json::array();
   uint64_t budget = kMostRecordedBytes;
@@ -241,7 +240,7 @@ Recorder::Recorder(const fs::path& dir, const SessionOptions& o, const lua::Spor
     fs::remove_all(dir);  // no recording that a replay would refuse
     throw std::runtime_error("--record " + dir.string() + ": " + e.what());
   }
-  nlohmann::json handicaps = o.handicaps, factors = o.factors, params = sport.params().pairs();
+  nlohmann::json handicaps = o.handicaps, factors = o.factors, params = sport.params;
   nlohmann::json skills = nlohmann::json::array();
   for (const game::Player& p : players) skills.push_back(p.skill ? nlohmann::json(*p.skill) : nlohmann::json());
   write_json(dir / "recording.json",

@@ -30,12 +30,9 @@
 #include <utility>
 #include <vector>
 
+#include "game/sport_spec.h"
 #include "output_files.h"
 #include "players.h"
-
-namespace quantum::lua {
-class Sport;
-}
 
 namespace quantum::runtime {
 
@@ -61,13 +58,13 @@ std::optional<std::string> fingerprint(const std::filesystem::path& file, uint64
 
 // The folders a match's scripts come from, each with its place in a recording: the sport's own,
 // the power-ups beside it, and the engine's power-ups and rules/lib.
-std::map<std::filesystem::path, std::filesystem::path> sport_trees(const lua::Sport& sport);
+std::map<std::filesystem::path, std::filesystem::path> sport_trees(const game::SportSpec& sport);
 
 // The decision log's format (docs/decisions.md): 2 has a header line; 1 (before it) had none.
 inline constexpr int kDecisionLogVersion = 2;
 // The decision log's first line: the engine, the sport's files and their hashes, and everything
 // that shapes the match (seed, settings, factors, the players with their skills and handicaps).
-void write_decision_header(std::ostream& out, const SessionOptions& options, const lua::Sport& sport,
+void write_decision_header(std::ostream& out, const SessionOptions& options, const game::SportSpec& sport,
                            const game::Match& match);
 
 class Recorder {
@@ -75,7 +72,7 @@ class Recorder {
   // Creates `dir` (it must not exist, or be empty), copies the sport's files and writes
   // recording.json with the players' skills (what the rules read). Throws std::runtime_error
   // naming the folder when it cannot, or when the sport's files are more than kMostRecordedBytes.
-  Recorder(const std::filesystem::path& dir, const SessionOptions& options, const lua::Sport& sport,
+  Recorder(const std::filesystem::path& dir, const SessionOptions& options, const game::SportSpec& sport,
            std::span<const game::Player> players);
   ~Recorder();
   // The players a frame was played with (nothing stepped when the source was lost).

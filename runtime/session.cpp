@@ -17,7 +17,6 @@
 #include "match_audio.h"
 #include "quantum/limits.h"
 #include "recording.h"
-#include "reloader.h"
 
 namespace quantum::runtime {
 namespace {
@@ -30,11 +29,11 @@ std::string seconds(double s) { return s < 1 ? one_decimal(1000 * s) + " ms" : o
 
 // n values, one per player of `sport`: the given ones, or `fallback` for each.
 std::vector<double> per_player(const std::vector<double>& given, const std::vector<double>& fallback,
-                               const lua::Sport& sport, const char* option, const char* what) {
-  const size_t n = sport.field().bodies.size();
+                               const game::SportSpec& sport, const char* option, const char* what) {
+  const size_t n = sport.field.bodies.size();
   const std::vector<double>& v = given.empty() ? fallback : given;
   if (v.size() != n)
-    throw std::invalid_argument(std::string(option) + ": " + sport.name() + " has " + std::to_string(n) +
+    throw std::invalid_argument(std::string(option) + ": " + sport.name + " has " + std::to_string(n) +
                                 " players, got " + std::to_string(v.size()) + " " + what);
   return v;
 }
@@ -52,7 +51,7 @@ std::vector<Output> outputs_of(const SessionOptions& o) {
           {"--record", o.record, true}};
 }
 
-Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream& errors,
+Session::Session(const SessionOptions& o, const SportLoader& sports, std::ostream* transcript, std::ostream& errors,
                  std::unique_ptr<PlayerSource> players)
     : transcript_(transcript), errors_(errors), players_(std::move(players)), until_(o.until) {
   // 0 is no --seconds: the sport's own time limit.
@@ -70,26 +69,23 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
     settings.handicaps = replay->handicaps, settings.auto_balance = replay->auto_balance, settings.factors = replay->factors;
     settings.params = replay->params;
   }
-  sport_ = std::make_unique<lua::Sport>(settings.sport, replay ? replay->engine : lua::engine_rules_folder(),
-                                        lua::Params(settings.params));
-  for (const auto& [kind, value] : settings.factors) sport_->set_factor(kind, value);
-  const std::vector<double> handicaps = per_player(settings.handicaps, sport_->handicaps(), *sport_, "--handicap", "handicaps");
+  // A replay reloads what its recording reloaded, when it did, and nothing else.
+  using Reloads = SportRequest::Reloads;
+  reloads_ = o.watch || replay;
+  sport_ = sports({settings.sport, replay ? replay->engine : std::filesystem::path(), settings.params, settings.factors,
+                   replay ? Reloads::Told : o.watch ? Reloads::Watched : Reloads::None});
+  const game::SportSpec& sport = sport_->spec();
+  const std::vector<double> handicaps = per_player(settings.handicaps, sport.handicaps, sport, "--handicap", "handicaps");
   for (size_t k = 0; k < handicaps.size(); ++k)
-    limits::check(limits::kHandicap, handicaps[k], "--handicap: " + sport_->field().bodies[k].name + "'s handicap");
-  game::MatchConfig config;
-  config.particles = settings.particles ? settings.particles : sport_->particles();
+    limits::check(limits::kHandicap, handicaps[k], "--handicap: " + sport.field.bodies[k].name + "'s handicap");
+  // The sport's settings, and the session's over them.
+  game::MatchConfig config = sport.match;
   config.seed = settings.seed;
   config.threads = settings.threads;
-  config.seconds = settings.seconds > 0 ? settings.seconds : sport_->seconds();
-  config.stall = sport_->stall();
-  config.first_spot = sport_->first_spot();
-  config.first_holder = sport_->first_holder();
-  config.balance_per_goal = settings.auto_balance >= 0 ? settings.auto_balance : sport_->balance_per_goal();
-  config.balance_most = sport_->balance_most();
-  config.throw_speed = sport_->throw_speed();
-  config.throw_spread = sport_->throw_spread();
-  config.tackle_rate = sport_->tackle_rate();
-  match_ = std::make_unique<game::Match>(sport_->field(), config, *sport_, handicaps);
+  if (settings.particles) config.particles = settings.particles;
+  if (settings.seconds > 0) config.seconds = settings.seconds;
+  if (settings.auto_balance >= 0) config.balance_per_goal = settings.auto_balance;
+  match_ = std::make_unique<game::Match>(sport.field, config, sport_->rules(), handicaps);
   if (!players_ && replay)
     players_ = std::make_unique<RecordedPlayers>(o.replay, std::move(replay->work), match_->field(), &errors_, replay->frames);
   planned_end_ = {config.seconds, replay ? "the recording's time limit" : o.seconds > 0 ? "--seconds" : "the sport's time limit"};
@@ -101,8 +97,8 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
                                 seconds(planned_end_.seconds) + " (" + planned_end_.by + "), before that moment");
   if (!players_) {
     if (o.input == "bots") {
-      const std::vector<double> skills(sport_->field().bodies.size(), 0.6);
-      players_ = std::make_unique<BotPlayers>(match_->field(), per_player(o.skills, skills, *sport_, "--skill", "skills"),
+      const std::vector<double> skills(sport.field.bodies.size(), 0.6);
+      players_ = std::make_unique<BotPlayers>(match_->field(), per_player(o.skills, skills, sport, "--skill", "skills"),
                                               o.seed, config.throw_speed);
     } else {
       players_ = std::make_unique<TrackedPlayers>(o.input, match_->field(), tracking::SourceOptions{o.accel, o.fov},
@@ -113,28 +109,26 @@ Session::Session(const SessionOptions& o, std::ostream* transcript, std::ostream
   // could read them, which is what those rules got).
   for (size_t k = 0; k < match_->players().size(); ++k)
     match_->set_skill(int(k), !replay ? players_->skill(k) : k < replay->skills.size() ? replay->skills[k] : std::nullopt);
-  // A replay reloads what its recording reloaded, when it did, and nothing else.
-  if (o.watch || replay) reloader_ = std::make_unique<lua::Reloader>(*sport_, settings.factors, !replay);
   log_ = std::make_unique<LineFile>("--events", o.events);
   decisions_ = std::make_unique<LineFile>("--decisions", o.decisions);
-  if (decisions_->stream()) write_decision_header(*decisions_->stream(), settings, *sport_, *match_);
+  if (decisions_->stream()) write_decision_header(*decisions_->stream(), settings, sport, *match_);
   decisions_->commit();
-  audio_ = std::make_unique<MatchAudio>(o.audio, sport_->audio(), errors_);
+  audio_ = std::make_unique<MatchAudio>(o.audio, sport.audio, errors_);
   // People are listening, playing or watching: then the match runs in real time.
   real_time_ = o.pacing == SessionOptions::Pacing::RealTime ||
                (o.pacing == SessionOptions::Pacing::Automatic && (audio_->on_device() || players_->live() || o.watched));
   // Last: a recording is made only once everything else has opened.
-  if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, *sport_, match_->players());
+  if (!o.record.empty()) recorder_ = std::make_unique<Recorder>(o.record, settings, sport, match_->players());
   kept_from_ = wall_start_ = clock_seconds();
-  if (transcript_) *transcript_ << sport_->name() << ": " << match_->field().name << ", seed " << config.seed << '\n';
+  if (transcript_) *transcript_ << sport.name << ": " << match_->field().name << ", seed " << config.seed << '\n';
   commit_outputs();
 }
 
 Session::~Session() = default;
 
 void Session::reload(const std::string& file) {
-  if (!reloader_) throw std::logic_error("this session does not reload its scripts (SessionOptions::watch)");
-  reloader_->changed(file);
+  if (!reloads_) throw std::logic_error("this session does not reload its scripts (SessionOptions::watch)");
+  sport_->changed(file);
 }
 
 void Session::tell() {
@@ -162,8 +156,8 @@ void Session::tell() {
 void Session::pause_or_resume(bool lost) {
   paused_ = lost;
   match_->note(lost ? game::EventKind::Paused : game::EventKind::Resumed);
-  sport_->say_host(*match_, lost ? "paused" : "resumed",
-                   lost ? "The players cannot be seen. The match is paused" : "Play on");
+  game::say_host(sport_->spec(), *match_, lost ? "paused" : "resumed",
+                 lost ? "The players cannot be seen. The match is paused" : "Play on");
   match_->set_cause("");
   if (!lost) {
     players_->resync();
@@ -178,11 +172,11 @@ bool Session::frame() {
   game::Match& m = *match_;
   audio_->clear_fates();
   tell();  // what happened between frames (a spec's grant, a scene set up)
-  if (reloader_) {
-    for (const std::filesystem::path& file : players_->files_to_reload()) reloader_->changed(file);
+  if (reloads_) {
+    for (const std::filesystem::path& file : players_->files_to_reload()) sport_->changed(file);
     std::vector<std::filesystem::path> reloaded;
-    if (reloader_->poll(sport_, m, errors_, recorder_ ? &reloaded : nullptr) > 0) {
-      audio_->set_sport(sport_->audio());
+    if (sport_->reload(m, errors_, recorder_ ? &reloaded : nullptr) > 0) {
+      audio_->set_sport(sport_->spec().audio);
       // The new version starts with a clean slate: an error it still makes is shown again.
       report_repeated_errors();
       errors_seen_.clear();
@@ -237,8 +231,8 @@ bool Session::run_to(double t) {
 std::vector<Session::Problem> Session::problems() const {
   std::vector<Problem> standing;
   for (const std::string& e : rule_problems_) standing.push_back({"rules error", e});
-  if (reloader_)
-    for (const auto& [script, failure] : reloader_->failures())
+  if (reloads_)
+    for (const auto& [script, failure] : sport_->failures())
       if (!dismissed_.count(failure)) standing.push_back({"reload failed", failure});
   if (paused_ && !dismissed_.count(kPlayersLost)) standing.push_back({"players lost", kPlayersLost});
   return standing;
@@ -253,8 +247,8 @@ void Session::dismiss_problems() {
 void Session::forget_fixed_problems() {
   std::erase_if(dismissed_, [this](const std::string& text) {
     if (text == kPlayersLost) return !paused_;
-    if (reloader_)
-      for (const auto& [script, failure] : reloader_->failures())
+    if (reloads_)
+      for (const auto& [script, failure] : sport_->failures())
         if (failure == text) return false;
     return true;
   });

@@ -20,11 +20,7 @@
 #include "phrase_ledger.h"
 #include "players.h"
 #include "progress.h"
-#include "sport.h"
-
-namespace quantum::lua {
-class Reloader;
-}
+#include "sport_source.h"
 
 namespace quantum::runtime {
 
@@ -80,13 +76,14 @@ struct News {
 
 class Session {
  public:
-  // Loads the sport and opens the outputs: the transcript to `transcript` (null for none), rule
+  // Loads the sport (through `sports`, which also reloads it; tools/lua_sport.h for the sports
+  // written in Lua) and opens the outputs: the transcript to `transcript` (null for none), rule
   // errors and warnings to `errors`. Players come from `players`, or when null from
   // options.replay (a recording's: then the sport, the seed and the match's settings are the
   // recording's too) or options.input. Throws on bad options, a sport that does not load, a bad
   // field, an event log, WAV file or recording that cannot be written, or a tracking source or
   // recording that cannot be opened, or two outputs that are one file (check_distinct).
-  Session(const SessionOptions& options, std::ostream* transcript, std::ostream& errors,
+  Session(const SessionOptions& options, const SportLoader& sports, std::ostream* transcript, std::ostream& errors,
           std::unique_ptr<PlayerSource> players = nullptr);
   ~Session();
   Session(const Session&) = delete;
@@ -135,8 +132,10 @@ class Session {
 
   game::Match& match() { return *match_; }
   const game::Match& match() const { return *match_; }
-  // The sport as it is now: a reload replaces it, so hold no reference across frames.
-  lua::Sport& sport() { return *sport_; }
+  // The sport as it is now, and where it comes from: a reload replaces it, so hold no reference
+  // across frames.
+  const game::SportSpec& sport() const { return sport_->spec(); }
+  SportSource& source() { return *sport_; }
   PlayerSource& players() { return *players_; }
   // What became of phrases, settled during the last frame (ids as in News::first_phrase).
   std::span<const audio::PhraseFate> fates() const;
@@ -198,10 +197,9 @@ class Session {
 
   std::ostream* transcript_;
   std::ostream& errors_;
-  std::unique_ptr<lua::Sport> sport_;
+  std::unique_ptr<SportSource> sport_;
   std::unique_ptr<game::Match> match_;
   std::unique_ptr<PlayerSource> players_;
-  std::unique_ptr<lua::Reloader> reloader_;
   std::unique_ptr<Recorder> recorder_;
   std::unique_ptr<MatchAudio> audio_;
   std::unique_ptr<LineFile> log_, decisions_;
@@ -218,6 +216,7 @@ class Session {
   double until_;
   bool real_time_ = false, paused_ = false, over_ = false, finished_ = false, recording_over_ = false, late_said_ = false;
   bool transcript_lost_ = false;
+  bool reloads_ = false;  // the sport's scripts reload when they change (SessionOptions::watch, a replay)
   int rule_errors_ = 0, interrupted_ = 0;
 };
 

@@ -18,7 +18,7 @@
 
 #include "output_files.h"
 #include "quantum/fate.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum::tools {
 namespace {
@@ -136,10 +136,10 @@ runtime::Written plot_study(const runtime::SessionOptions& options, const Balanc
   write_csv(matches, study);
   matches.close();
 
-  const lua::Sport sport(options.sport, lua::engine_rules_folder(), lua::Params(options.params));
-  const std::vector<BodySpec>& bodies = sport.field().bodies;
+  const lua::ScriptedRules sport(options.sport, lua::engine_rules_folder(), lua::Params(options.params));
+  const std::vector<BodySpec>& bodies = sport.spec().field.bodies;
   const std::string first_team = bodies.empty() ? "" : bodies.front().team;
-  const std::string first_name = sport.team_name(first_team);
+  const std::string first_name = sport.spec().team_name(first_team);
   int played = study.matches;  // so far, the sweeps' points before this one's
   auto run = [&](runtime::SessionOptions o, const char* what) {
     if (progress) progress->clear();  // a terminal's progress line, off the line below
@@ -152,7 +152,7 @@ runtime::Written plot_study(const runtime::SessionOptions& options, const Balanc
   };
 
   // Win rate of the first team against its players' handicap, the others' as they are.
-  const std::vector<double> given = options.handicaps.empty() ? sport.handicaps() : options.handicaps;
+  const std::vector<double> given = options.handicaps.empty() ? sport.spec().handicaps : options.handicaps;
   std::ofstream handicap_data = open("handicap_sweep.csv");
   handicap_data << "handicap,win_rate,low,high,matches\n";
   std::ofstream handicap_rows = open("handicap_matches.csv");
@@ -207,7 +207,7 @@ runtime::Written plot_study(const runtime::SessionOptions& options, const Balanc
   std::ofstream script = open("plots.gp");
   script << "set datafile separator ','\nset terminal pngcairo size 800,500 font ',11'\nset key top left\nset grid\n"
          << "set output '" << d << "/win_rate_vs_handicap.png'\n"
-         << "set title \"" << sport.name() << ": " << first_name << " against its handicap (" << sweep_matches
+         << "set title \"" << sport.spec().name << ": " << first_name << " against its handicap (" << sweep_matches
          << " matches a point, 95 % Wilson interval)\"\n"
          << "set xlabel \"" << first_name << "'s handicap (x the sport's)\"\nset ylabel 'win rate'\n"
          << "set logscale x 2\nset xtics (0.5, 0.71, 1, 1.41, 2)\nset yrange [0:1]\n"
@@ -216,11 +216,11 @@ runtime::Written plot_study(const runtime::SessionOptions& options, const Balanc
          << "unset logscale x\nset xtics autofreq\nset autoscale y\nset yrange [0:*]\n"
          << "set xlabel \"fate factor strength s (each factor f becomes f^s: 0 flat, 1 the sport's)\"\n"
          << "set output '" << d << "/contacts_vs_factors.png'\n"
-         << "set title \"" << sport.name() << ": contacts per rally (" << sweep_matches
+         << "set title \"" << sport.spec().name << ": contacts per rally (" << sweep_matches
          << " matches a point, mean and standard error)\"\nset ylabel 'contacts per rally'\n"
          << "plot '" << d << "/factor_sweep.csv' every ::1 using 1:2:3 with yerrorlines lw 2 title 'contacts per rally'\n"
          << "set output '" << d << "/goals_vs_factors.png'\n"
-         << "set title \"" << sport.name() << ": scoring (" << sweep_matches
+         << "set title \"" << sport.spec().name << ": scoring (" << sweep_matches
          << " matches a point, mean and standard error)\"\nset ylabel 'per minute'\n"
          << "plot '" << d << "/factor_sweep.csv' every ::1 using 1:4:5 with yerrorlines lw 2 title 'goals per minute', "
          << "'' every ::1 using 1:6:7 with yerrorlines lw 2 title 'points per minute (the sport''s score)'\n";
@@ -231,13 +231,13 @@ runtime::Written plot_study(const runtime::SessionOptions& options, const Balanc
 
   std::ofstream summary = open("summary.md");
   char line[256];
-  summary << "# " << sport.name() << ": balance study\n\n"
+  summary << "# " << sport.spec().name << ": balance study\n\n"
           << study.matches << " matches (seeds " << options.seed << " to " << options.seed + uint64_t(study.matches) - 1
           << ") between simulated players; every match in [matches.csv](matches.csv).\n\n"
           << "| team | wins | share | 95 % interval |\n| --- | --- | --- | --- |\n";
   for (const auto& [team, n] : study.wins) {
     const auto [low, high] = wilson(n, study.matches);
-    std::snprintf(line, sizeof line, "| %s | %d | %.0f %% | %.0f-%.0f %% |\n", sport.team_name(team).c_str(), n,
+    std::snprintf(line, sizeof line, "| %s | %d | %.0f %% | %.0f-%.0f %% |\n", sport.spec().team_name(team).c_str(), n,
                   100.0 * n / study.matches, 100 * low, 100 * high);
     summary << line;
   }

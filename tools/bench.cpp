@@ -16,7 +16,7 @@
 #include "box2d_backend.h"
 #include "field_loader.h"
 #include "session.h"
-#include "sport.h"
+#include "scripted_rules.h"
 #include "lua_sandbox.h"
 #include "picture.h"
 #include "quantum/noise.h"
@@ -24,6 +24,7 @@
 #include "scenes.h"
 #include "synthetic.h"
 #include "tracking/tracking.h"
+#include "lua_sport.h"
 
 namespace {
 
@@ -238,7 +239,7 @@ void BM_MatchSecond(benchmark::State& state) {
   runtime::SessionOptions o = endless_match();
   o.particles = uint32_t(state.range(0));
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   for (auto _ : state)
     for (int frame = 0; frame < 60; ++frame) session.frame();
   if (!errors.str().empty()) state.SkipWithError(errors.str().c_str());
@@ -258,7 +259,7 @@ void BM_MatchSecondLogged(benchmark::State& state) {
   o.decisions = (dir / ("decisions" + suffix)).string();
   std::ostringstream errors;
   {
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     for (auto _ : state)
       for (int frame = 0; frame < 60; ++frame) session.frame();
     session.finish();
@@ -279,7 +280,7 @@ void BM_MatchFrame(benchmark::State& state) {
   o.particles = uint32_t(state.range(0));
   o.threads = uint32_t(state.range(1));
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   for (int frame = 0; frame < 120; ++frame) session.frame();
   double longest = 0, particles = 0;
   for (auto _ : state) {
@@ -302,7 +303,7 @@ struct DeskScene {
   runtime::Session session;
   runtime::Ticker ticker;
   bool busy = false;
-  explicit DeskScene(const std::string& sport) : session(desk_match(sport), nullptr, errors) {
+  explicit DeskScene(const std::string& sport) : session(desk_match(sport), tools::lua_sport, nullptr, errors) {
     session.watch([&](const runtime::News& news) { ticker.hear(news); });
     for (int frame = 0; frame < 60 * 60 && !busy; ++frame) {
       session.frame();
@@ -327,7 +328,7 @@ void BM_DeskDraw(benchmark::State& state, const std::string& sport) {
   DeskScene scene(sport);
   if (!scene.busy) return state.SkipWithError("the cloud never flew with 10,000 particles");
   runtime::Picture picture(scene.session.match().field(), {.width = int(state.range(0)), .height = int(state.range(1))});
-  const runtime::Overlay overlay{scene.session.sport().name(), "", "space pause   q quit", &scene.ticker, "0:01.00  last draw"};
+  const runtime::Overlay overlay{scene.session.sport().name, "", "space pause   q quit", &scene.ticker, "0:01.00  last draw"};
   cv::Mat image;
   for (auto _ : state) picture.draw(scene.session.match(), overlay, image);
   state.counters["particles"] = double(scene.session.match().world().cloud().size());
@@ -368,7 +369,7 @@ void BM_FateTurnover(benchmark::State& state) {
   o.particles = uint32_t(state.range(0));
   o.threads = 1;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   for (int frame = 0; frame < 120; ++frame) session.frame();
   const float dt = float(1.0 / session.match().fps());
   const float amplitude = noise_amplitude(session.match().world().field().brownian, dt);
@@ -421,12 +422,12 @@ void BM_FrameWithReload(benchmark::State& state) {
   runtime::SessionOptions o = endless_match();
   o.watch = true;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   for (int frame = 0; frame < 60; ++frame) session.frame();
-  session.sport().grant(session.match(), 1, "penalty", {});
-  const std::string powerup = session.sport().powerup_folders().back() / "penalty.lua";
+  tools::scripted_rules(session).grant(session.match(), 1, "penalty", {});
+  const std::string powerup = tools::scripted_rules(session).folders().powerups.back() / "penalty.lua";
   // Where the sport was found (o.sport is its name): the reloader knows its files by that path.
-  const std::string sport = std::filesystem::path(session.sport().folder()) / "sport.lua";
+  const std::string sport = std::filesystem::path(session.sport().folder) / "sport.lua";
   double longest = 0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
@@ -500,7 +501,7 @@ void BM_RealTimePacing(benchmark::State& state) {
     runtime::SessionOptions o = endless_match();
     o.pacing = runtime::SessionOptions::Pacing::RealTime;
     std::ostringstream errors;
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     const auto start = std::chrono::steady_clock::now();
     for (int frame = 0; frame < 120; ++frame) session.frame();
     ratio = session.match().time() / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -17,6 +17,7 @@
 #include "playback.h"
 #include "video.h"
 #include "window.h"
+#include "lua_sport.h"
 
 namespace quantum::tools {
 namespace {
@@ -118,11 +119,11 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   int hand_player = -1;
   Playback::Players players;
   if (desk.hand) {
-    const lua::Sport sport(o.sport, lua::engine_rules_folder(), lua::Params(o.params));
-    const Field field = sport.field();
+    const lua::ScriptedRules sport(o.sport, lua::engine_rules_folder(), lua::Params(o.params));
+    const Field field = sport.spec().field;
     hand_player = hand_body(field, desk.hand_player);
     const std::vector<double> skills = o.skills.empty() ? std::vector<double>(field.bodies.size(), 0.6) : o.skills;
-    players = [field, skills, seed = o.seed, speed = sport.throw_speed(), hand_player, &hand] {
+    players = [field, skills, seed = o.seed, speed = sport.spec().match.throw_speed, hand_player, &hand] {
       return std::make_unique<runtime::HandPlayers>(field, skills, seed, speed, hand_player, hand);
     };
   }
@@ -140,7 +141,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   // the next match; the view draws this match's.
   const Field field = playback.live().match().field();
   runtime::Picture picture(field);
-  runtime::Overlay overlay{playback.live().sport().name(), "", "", &ticker, "", hand_player};
+  runtime::Overlay overlay{playback.live().sport().name, "", "", &ticker, "", hand_player};
   cv::Mat image, view;
   picture.draw(playback.shown().match(), overlay, image);
   runtime::TimeBar bar;
@@ -157,7 +158,7 @@ PlayResult play_at_desk(runtime::SessionOptions o, const DeskOptions& desk, std:
   };
   std::optional<runtime::Window> window;
   if (desk.view) {
-    window.emplace("Quantum games: " + playback.live().sport().name(),
+    window.emplace("Quantum games: " + playback.live().sport().name,
                    follows_window ? cv::Size() : cv::Size(image.cols, image.rows + runtime::TimeBar::kHeight));
     if (follows_window) fit_picture(window->fitting(cv::Size()));
   }

@@ -2,6 +2,7 @@
 
 #include "desk.h"
 #include "interrupts.h"
+#include "lua_sport.h"
 #include "quantum/limits.h"
 
 #include <algorithm>
@@ -144,7 +145,7 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
   if (desk && desk->wanted()) {
     result = play_at_desk(options, *desk, out, errors, transcript, telling);
   } else {
-    runtime::Session session(options, transcript ? &out : nullptr, errors);
+    runtime::Session session(options, tools::lua_sport, transcript ? &out : nullptr, errors);
     runtime::end_matches_on_signals();
     const std::unique_ptr<runtime::ProgressLine> progress = match_progress(session, telling, errors, "match");
     while (session.frame())

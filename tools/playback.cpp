@@ -1,4 +1,5 @@
 #include "playback.h"
+#include "lua_sport.h"
 
 #include <cstdlib>
 #include <ostream>
@@ -35,7 +36,7 @@ Playback::Playback(runtime::SessionOptions options, std::ostream* transcript, st
 Playback::~Playback() = default;
 
 std::unique_ptr<runtime::Session> Playback::open_live() {
-  return std::make_unique<runtime::Session>(options_, transcript_, errors_, players_ ? players_() : nullptr);
+  return std::make_unique<runtime::Session>(options_, tools::lua_sport, transcript_, errors_, players_ ? players_() : nullptr);
 }
 
 double Playback::length() const { return live_->match().config().seconds; }
@@ -76,7 +77,7 @@ void Playback::seek(double t) {
   past.replay = options_.record;
   past.pacing = runtime::SessionOptions::Pacing::RealTime;
   past.watched = true;
-  past_ = std::make_unique<runtime::Session>(past, nullptr, unheard());
+  past_ = std::make_unique<runtime::Session>(past, tools::lua_sport, nullptr, unheard());
   past_->set_speed(speed_);
   past_->run_to(to);
 }

@@ -18,6 +18,7 @@
 
 #include "session.h"
 #include "system/sanitizers.h"
+#include "lua_sport.h"
 
 namespace fs = std::filesystem;
 using namespace quantum;
@@ -87,9 +88,9 @@ void scan_log(const fs::path& file, Figures& f) {
   }
 }
 
-std::vector<fs::path> powerup_scripts(const lua::Sport& sport) {
+std::vector<fs::path> powerup_scripts(const lua::ScriptedRules& sport) {
   std::vector<fs::path> out;
-  for (const fs::path& folder : sport.powerup_folders())
+  for (const fs::path& folder : sport.folders().powerups)
     if (fs::is_directory(folder))
       for (const auto& entry : fs::directory_iterator(folder))
         if (entry.path().extension() == ".lua") out.push_back(entry.path());
@@ -108,8 +109,8 @@ void play_match(const SoakOptions& so, const fs::path& logs, Figures& f) {
   o.events = (logs / "events.jsonl").string();
   o.decisions = (logs / "decisions.jsonl").string();
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
-  const std::vector<fs::path> powerups = powerup_scripts(session.sport());
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
+  const std::vector<fs::path> powerups = powerup_scripts(tools::scripted_rules(session));
   std::mt19937_64 random(o.seed);
   const std::regex not_a_number(R"(\b-?(nan|inf)\b)", std::regex::icase);
   double last_ball = 0;
@@ -137,7 +138,7 @@ void play_match(const SoakOptions& so, const fs::path& logs, Figures& f) {
       next_grant += so.grant_every;
       const std::string name = powerups[random() % powerups.size()].stem();
       try {
-        session.sport().grant(session.match(), int(random() % uint64_t(players)), name, {});
+        tools::scripted_rules(session).grant(session.match(), int(random() % uint64_t(players)), name, {});
         session.tell();
         ++f.grants;
       } catch (const std::exception& e) {

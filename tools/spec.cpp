@@ -8,7 +8,7 @@
 #include <iomanip>
 #include <iostream>
 
-#include "sport.h"
+#include "scripted_rules.h"
 #include "wrap_scenario.h"
 
 namespace quantum::tools {

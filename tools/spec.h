@@ -1,5 +1,5 @@
 // `quantum test`: runs Lua rule specs (*_spec.lua, busted's describe/it/assert) inside the
-// engine's own LuaJIT, with the scenario API of bindings/wrap_scenario.h.
+// engine's own LuaJIT, with the scenario API of tools/wrap_scenario.h.
 #pragma once
 
 #include <string>

@@ -3,7 +3,7 @@
 #include <ostream>
 
 #include "engine_paths.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum::tools {
 
@@ -18,10 +18,10 @@ int list_sports(std::ostream& out) {
       continue;
     }
     try {
-      const lua::Sport sport(place.folder.string());
-      out << "\n  " << sport.name() << "\n  players:";
+      const lua::ScriptedRules sport(place.folder.string());
+      out << "\n  " << sport.spec().name << "\n  players:";
       // Grouped by team, in field order: the names --input mouse:PLAYER and --handicap take.
-      const std::vector<BodySpec>& bodies = sport.field().bodies;
+      const std::vector<BodySpec>& bodies = sport.spec().field.bodies;
       for (size_t k = 0; k < bodies.size(); ++k) {
         const bool new_team = k == 0 || bodies[k].team != bodies[k - 1].team;
         out << (k == 0 ? " " : new_team ? "; " : ", ");

@@ -1,5 +1,7 @@
 #include "game/plain_rules.h"
 
+#include <algorithm>
+
 namespace quantum::game {
 
 void plain_event(const GameEvent& e, Match& match) {
@@ -16,6 +18,10 @@ void plain_event(const GameEvent& e, Match& match) {
   match.say("Goal for " + scorer + ", " + score);
   const int spot = match.field().spot_of(conceding);
   match.respawn(spot < 0 ? 0 : spot, kPlainRespawnDelay);
+}
+
+void PlainRules::factors(std::span<const FateView> fates, Match&, std::span<double> out, FactorTerms&) {
+  std::fill(out.begin(), out.begin() + std::ptrdiff_t(fates.size()), 1.0);
 }
 
 }  // namespace quantum::game

@@ -14,4 +14,12 @@ inline constexpr double kPlainRespawnDelay = 1.5;
 // What plain rules do with an event: a goal or own goal is awarded and announced.
 void plain_event(const GameEvent& event, Match& match);
 
+// Rules that are only the plain ones: every fate keeps its odds (factor 1), events go to
+// plain_event.
+class PlainRules final : public Rules {
+ public:
+  void factors(std::span<const FateView> fates, Match& match, std::span<double> out, FactorTerms& terms) override;
+  void on_event(const GameEvent& event, Match& match) override { plain_event(event, match); }
+};
+
 }  // namespace quantum::game

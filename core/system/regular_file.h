@@ -28,6 +28,21 @@ inline const char* kind_of(std::filesystem::file_type type) {
   }
 }
 
+// Why `file` may not be opened for reading: "" when it is a regular file or there is none, else
+// e.g. "rules/x/pipe.lua is a FIFO, not a regular file". Looks at its type (symlinks followed)
+// without opening it: opening a FIFO that nobody writes, or /dev/stdin, blocks.
+inline std::string not_a_regular_file(const std::filesystem::path& file) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(file, error);
+  switch (status.type()) {
+    case std::filesystem::file_type::regular:
+    case std::filesystem::file_type::not_found: return "";
+    case std::filesystem::file_type::none: return file.string() + ": " + error.message();
+    default: return file.string() + " is " + kind_of(status.type()) + ", not a regular file";
+  }
+}
+
+
 // Whether a symlink at `path` itself is followed (a sport may link a file it shares) or refused
 // (a recording holds its own files, so a link there can only lead out of it).
 enum class Links { Follow, Refuse };

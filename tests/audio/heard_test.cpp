@@ -19,6 +19,7 @@
 
 #include "listen.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -50,7 +51,7 @@ Rendered render(const std::string& sport, double seconds = 40, uint64_t seed = 5
   o.events = r.events;
   o.pacing = runtime::SessionOptions::Pacing::Fast;
   std::ostringstream transcript, errors;
-  runtime::Session session(o, &transcript, errors);
+  runtime::Session session(o, tools::lua_sport, &transcript, errors);
   session.run();
   EXPECT_EQ(errors.str(), "") << sport;
   r.transcript = transcript.str();

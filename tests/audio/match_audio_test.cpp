@@ -12,7 +12,8 @@
 #include "audio/audio.h"
 #include "play.h"
 #include "session.h"
-#include "sport.h"
+#include "scripted_rules.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -78,8 +79,8 @@ TEST(MatchAudio, ABounceOffTheLeftWallIsHeardOnTheLeft) {
   o.particles = 200;
   o.audio = "wav:" + wav;
   std::ostringstream warnings;
-  const Field field = lua::Sport(o.sport).field();
-  runtime::Session session(o, nullptr, warnings, std::make_unique<StillPlayers>(field));
+  const Field field = lua::ScriptedRules(o.sport).spec().field;
+  runtime::Session session(o, tools::lua_sport, nullptr, warnings, std::make_unique<StillPlayers>(field));
   int bounces = 0;
   session.watch([&](const runtime::News& news) {
     for (const game::GameEvent& e : news.events) bounces += e.type == game::EventKind::Bounce && e.actor == "left wall";
@@ -120,7 +121,7 @@ TEST(MatchAudio, AnUnknownVoiceAndAMissingSoundFallBackWithOneWarningEach) {
 
 TEST(MatchAudio, BadAudioSettingsInASportAreNamed) {
   try {
-    lua::Sport s(sport_with_audio("bad", R"({ listener = "centre" })"));
+    lua::ScriptedRules s(sport_with_audio("bad", R"({ listener = "centre" })"));
     FAIL() << "no error";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("audio.listener: expected a point"), std::string::npos) << e.what();

@@ -15,6 +15,7 @@
 #include "../runtime/desk_support.h"
 #include "quantum/limits.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -109,7 +110,7 @@ std::string play_as_sport(const Example& e) {
   o.particles = 300;
   std::ostringstream errors;
   try {
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     session.run();
   } catch (const std::exception& x) {
     return x.what();

@@ -1,10 +1,10 @@
 // Sport loading on any sport.lua beside air hockey's field: it loads, or refuses with the errors
-// lua::Sport documents; it never crashes, hangs or lets another exception out. A sport that loads
+// lua::ScriptedRules documents; it never crashes, hangs or lets another exception out. A sport that loads
 // plays a second of a match, so its handlers run too.
 #include <filesystem>
 
 #include "fuzz_support.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace fs = std::filesystem;
 
@@ -18,13 +18,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     // Loaded as a reload would be, within a frame's budget: an input that loops while loading
     // costs the fuzzer a frame's budget (80 ms under the address sanitizer), not a second.
-    quantum::lua::Sport sport(dir.string(), quantum::lua::engine_rules_folder(), {}, quantum::lua::Limits{});
+    quantum::lua::ScriptedRules sport(dir.string(), quantum::lua::engine_rules_folder(), {}, quantum::lua::Limits{});
     quantum::game::MatchConfig config;
     config.particles = 50;
     config.seconds = 1;
-    quantum::game::Match match(sport.field(), config, sport, sport.handicaps());
+    quantum::game::Match match(sport.spec().field, config, sport, sport.spec().handicaps);
     std::vector<quantum::BodyInput> still;
-    for (const quantum::BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
+    for (const quantum::BodySpec& b : sport.spec().field.bodies) still.push_back({b.start, {0, 0}});
     while (!match.finished()) {
       match.step(still);
       match.clear_news();

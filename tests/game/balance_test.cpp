@@ -16,7 +16,7 @@
 
 #include "balance.h"
 #include "field_loader.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -72,12 +72,12 @@ TEST(Balance, ResultsDoNotDependOnHowMatchesAreSpread) {
 // The automatic balance: each goal behind multiplies the trailing team's handicaps by 1 + per
 // goal, up to `most` times their own; the leaders keep theirs.
 TEST(Balance, AutoBalanceBoostsTheTrailingTeamPerGoalUpToItsMost) {
-  lua::Sport sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  lua::ScriptedRules sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
   game::MatchConfig config;
   config.particles = 100;
   config.balance_per_goal = 0.5;
   config.balance_most = 2;
-  game::Match match(sport.field(), config, sport, {1.0, 1.2});
+  game::Match match(sport.spec().field, config, sport, {1.0, 1.2});
   EXPECT_DOUBLE_EQ(match.handicap_now(0), 1.0);
   EXPECT_DOUBLE_EQ(match.handicap_now(1), 1.2);
   match.award("red", 1);
@@ -89,7 +89,7 @@ TEST(Balance, AutoBalanceBoostsTheTrailingTeamPerGoalUpToItsMost) {
   EXPECT_DOUBLE_EQ(match.handicap_now(0), 1.0);
   EXPECT_DOUBLE_EQ(match.handicap_now(1), 1.2 * 1.5);
   config.balance_per_goal = -1;
-  EXPECT_THROW(game::Match(sport.field(), config, sport), std::invalid_argument);
+  EXPECT_THROW(game::Match(sport.spec().field, config, sport), std::invalid_argument);
 }
 
 std::vector<std::string> lines_of(const std::filesystem::path& file) {

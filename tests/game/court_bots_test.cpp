@@ -7,6 +7,7 @@
 
 #include "game/bots.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -29,7 +30,7 @@ Rallies play(const std::string& players, int matches, double seconds) {
     o.seed = seed;
     o.audio = "none";
     std::ostringstream errors;
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     std::string side;  // the side that touched last, and whether its touch was a first one
     bool first_touch = false;
     session.watch([&](const runtime::News& news) {

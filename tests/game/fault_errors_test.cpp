@@ -7,7 +7,7 @@
 
 #include "fault_sport.h"
 #include "game/game.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -147,9 +147,9 @@ sport.modifiers = {
 
 // Air hockey's match, its scripts never run: the score as game.award leaves it.
 struct Scored {
-  lua::Sport sport{"airhockey"};
+  lua::ScriptedRules sport{"airhockey"};
   game::Match match;
-  explicit Scored(game::MatchConfig config = {}) : match(sport.field(), config, sport) {}
+  explicit Scored(game::MatchConfig config = {}) : match(sport.spec().field, config, sport) {}
   // Awards `team` kMostAward points at a time until its score would pass 2^31 either way.
   void award_past_the_bound(const std::string& team, double sign) {
     for (int64_t k = 0; k * int64_t(game::kMostAward) <= int64_t(1) << 31; ++k) match.award(team, sign * game::kMostAward);
@@ -190,7 +190,7 @@ TEST(FaultErrors, TheLeaderWinsWhenEveryScoreIsBelowZero) {
   s.match.award("blue", -3);
   s.match.award("red", -50);
   std::vector<BodyInput> still;
-  for (const BodySpec& b : s.sport.field().bodies) still.push_back({b.start, {0, 0}});
+  for (const BodySpec& b : s.sport.spec().field.bodies) still.push_back({b.start, {0, 0}});
   for (int frame = 0; frame < 120 && !s.match.finished(); ++frame) s.match.step(still);
   ASSERT_TRUE(s.match.finished());
   EXPECT_EQ(s.match.winner(), "blue");

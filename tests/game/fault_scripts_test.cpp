@@ -18,7 +18,7 @@
 
 #include "hostile_support.h"
 #include "reloader.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -90,17 +90,17 @@ constexpr double kSlowField = 0.4;
 
 // A match of the sport in `folder` (seeded), its players standing where they start.
 struct Live {
-  std::unique_ptr<lua::Sport> sport;
+  std::unique_ptr<lua::ScriptedRules> sport;
   std::unique_ptr<game::Match> match;
   std::vector<BodyInput> still;
 
   explicit Live(const fs::path& folder, uint64_t seed = 5) {
-    sport = std::make_unique<lua::Sport>(folder.string());
+    sport = std::make_unique<lua::ScriptedRules>(folder.string());
     game::MatchConfig config;
     config.particles = 200;
     config.seed = seed;
-    match = std::make_unique<game::Match>(sport->field(), config, *sport);
-    for (const BodySpec& b : sport->field().bodies) still.push_back({b.start, {0, 0}});
+    match = std::make_unique<game::Match>(sport->spec().field, config, *sport);
+    for (const BodySpec& b : sport->spec().field.bodies) still.push_back({b.start, {0, 0}});
   }
   // Plays `frames` frames; returns what was said that starts with `prefix`, in order.
   std::vector<std::string> play(int frames, const std::string& prefix = "") {
@@ -171,7 +171,7 @@ TEST(FaultReloads, AnEndlessFieldSavedMidMatchWaitsForTheNextMatch) {
   live.play(10);
   EXPECT_NEAR(live.match->time(), 20 / live.match->fps(), 1e-6);
   try {
-    lua::Sport next(r.sport.string());
+    lua::ScriptedRules next(r.sport.string());
     ADD_FAILURE() << "the endless field loaded";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find(r.field_lua().string()), std::string::npos) << e.what();
@@ -182,7 +182,7 @@ TEST(FaultReloads, AnEndlessFieldSavedMidMatchWaitsForTheNextMatch) {
 TEST(FaultReloads, AChangedFieldIsSaidOnceAndTakesEffectAtTheNextMatch) {
   const Rules r;
   Live live(r.sport);
-  const std::string name = live.sport->field().name;
+  const std::string name = live.sport->spec().field.name;
   lua::Reloader reloader(*live.sport, {}, false);
   save(r.field_lua(), r.field_with("field.name = 'A wider table'"));
   const Reload first = reload(live, reloader, {r.field_lua()});
@@ -193,9 +193,9 @@ TEST(FaultReloads, AChangedFieldIsSaidOnceAndTakesEffectAtTheNextMatch) {
   save(r.sport_lua(), r.sport_ending_with("sport.state = { version = 2 }"));
   const Reload sport = reload(live, reloader, {r.sport_lua()});
   EXPECT_EQ(sport.said, "quantum: reloaded " + r.sport_lua().string() + "\n");
-  EXPECT_EQ(live.sport->field().name, name) << "the match plays on its own field";
+  EXPECT_EQ(live.sport->spec().field.name, name) << "the match plays on its own field";
   EXPECT_EQ(live.match->field().name, name);
-  EXPECT_EQ(lua::Sport(r.sport.string()).field().name, "A wider table");
+  EXPECT_EQ(lua::ScriptedRules(r.sport.string()).spec().field.name, "A wider table");
 }
 
 // A sport.lua saved with an endless loop is refused within a frame's bound, and the version
@@ -204,7 +204,7 @@ TEST(FaultReloads, AnEndlessReloadedSportIsRefusedWithinAFramesBound) {
   const Rules r;
   save(r.field_lua(), r.field_with(spend(kSlowField)));
   Live live(r.sport);
-  const lua::Sport* before = live.sport.get();
+  const lua::ScriptedRules* before = live.sport.get();
   lua::Reloader reloader(*live.sport, {}, false);
   save(r.sport_lua(), r.sport_ending_with("while true do end"));
   const Reload done = reload(live, reloader, {r.sport_lua()});

@@ -13,6 +13,7 @@
 
 #include "hostile_support.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum::fault {
 
@@ -63,7 +64,7 @@ inline Played play(const fs::path& folder, double seconds = 4) {
   o.seconds = seconds;
   o.particles = 300;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.run();
   return {errors.str(), session.rule_errors()};
 }

@@ -86,7 +86,7 @@ TEST(Isolation, APowerUpCannotPoisonTheTablesTheSportIsHanded) {
   };
   for (const Attack& a : attacks) {
     SCOPED_TRACE(a.name);
-    lua::Sport sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
+    lua::ScriptedRules sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
     const Finished f = play_out(sport);
     EXPECT_TRUE(f.finished);
     EXPECT_EQ(f.scored, f.goals) << "a goal went uncounted";
@@ -114,7 +114,7 @@ TEST(Isolation, ModifiersAndFactorsOnlyCompute) {
   };
   for (const Attack& a : attacks) expect_survived(a);
   // The refusal ends the modifier's call, not the handler that asked for the prediction.
-  lua::Sport sport(hostile_sport("handler_after_refusal", "game.wormhole(0.3, 0.3, -0.3, -0.3) game.wormhole()",
+  lua::ScriptedRules sport(hostile_sport("handler_after_refusal", "game.wormhole(0.3, 0.3, -0.3, -0.3) game.wormhole()",
                                  "sport.modifiers = { function(fate, game) game.award('red', 1) return 1 end }"));
   const Finished f = play_out(sport);
   for (const std::string& e : f.errors) EXPECT_EQ(e.find("on.drop skipped"), std::string::npos) << e;

@@ -15,7 +15,7 @@
 #include "hostile_support.h"
 #include "quantum/contact.h"
 #include "quantum/limits.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -55,7 +55,7 @@ TEST(HostileLimits, AHugePhraseIsAnErrorAtItsLineAndTheMatchGoesOn) {
 
 // "Goal for " and 991 bytes: 1000.
 TEST(HostileLimits, APhraseJustWithinTheLimitIsSaid) {
-  lua::Sport sport(hostile_sport("say_1000", "game.say('Goal for {team}', { team = string.rep('b', 991) })"));
+  lua::ScriptedRules sport(hostile_sport("say_1000", "game.say('Goal for {team}', { team = string.rep('b', 991) })"));
   Played played(sport);
   bool said = false;
   for (int frame = 0; frame < 30; ++frame) {
@@ -74,7 +74,7 @@ void expect_sport_refused(const std::string& name, const std::string& extra, con
   const std::string dir = hostile_sport(name, "", extra);
   const double start = thread_cpu_seconds();
   try {
-    lua::Sport sport(dir);
+    lua::ScriptedRules sport(dir);
     ADD_FAILURE() << "loaded";
   } catch (const std::exception& e) {
     EXPECT_TRUE(says_one_of(e.what(), error)) << e.what();
@@ -122,7 +122,7 @@ void expect_playable(const std::string& sport_dir) {
   EXPECT_LT(loaded.cpu_seconds, kLoadBound);
   std::cout << "  " << fs::path(sport_dir).filename().string() << ": grid " << loaded.grid_bytes << " bytes, loaded in "
             << loaded.cpu_seconds * 1e3 << " ms of CPU\n";
-  lua::Sport sport(sport_dir);
+  lua::ScriptedRules sport(sport_dir);
   Played played(sport);
   for (int frame = 0; frame < 120; ++frame) played.step();
   EXPECT_TRUE(played.match.errors().empty()) << played.match.errors()[0];
@@ -213,7 +213,7 @@ TEST(HostileLimits, TheShippedSportsLoadWithTheirOwnGrids) {
   for (const auto& entry : fs::directory_iterator(QUANTUM_SOURCE_DIR "/rules")) {
     if (!fs::exists(entry.path() / "sport.lua")) continue;
     SCOPED_TRACE(entry.path().string());
-    EXPECT_NO_THROW(lua::Sport sport(entry.path().string()));
+    EXPECT_NO_THROW(lua::ScriptedRules sport(entry.path().string()));
     const Field field = lua::load_field(entry.path().string());
     const detail::Geometry geometry(field);
     EXPECT_EQ(geometry.cell, 0.05f);

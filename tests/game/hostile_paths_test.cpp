@@ -18,7 +18,7 @@
 #include "hostile_support.h"
 #include "match_audio.h"
 #include "reloader.h"
-#include "sport.h"
+#include "scripted_rules.h"
 #include "../shipped_sports.h"
 
 namespace quantum {
@@ -50,7 +50,7 @@ std::string error_within(Work work) {
 }
 
 std::string load_error(const std::string& folder) {
-  return error_within([folder] { lua::Sport sport(folder); });
+  return error_within([folder] { lua::ScriptedRules sport(folder); });
 }
 
 // A folder outside every sport, holding a copy of air hockey's field, a sound and a power-up
@@ -205,7 +205,7 @@ TEST(HostilePaths, APowerUpOutsideItsFoldersOrNotAFileIsAnErrorAndTheMatchGoesOn
     };
     auto outcome = std::make_shared<Outcome>();  // a match left blocked must not write to this frame
     const std::string thrown = error_within([outcome, folder] {
-      lua::Sport sport(folder);
+      lua::ScriptedRules sport(folder);
       Played played(sport);
       for (int frame = 0; frame < 30; ++frame) played.step();
       outcome->errors.assign(played.match.errors().begin(), played.match.errors().end());
@@ -238,7 +238,7 @@ TEST(HostilePaths, AReloadOfASportFileThatBecameAFifoFailsAndTheMatchGoesOn) {
   const fs::path folder = hostile_sport("paths_reload", "");
   auto said = std::make_shared<std::string>();
   const std::string thrown = error_within([folder, said] {
-    auto sport = std::make_unique<lua::Sport>(folder.string());
+    auto sport = std::make_unique<lua::ScriptedRules>(folder.string());
     Played played(*sport);
     lua::Reloader reloader(*sport, {}, false);
     put(folder / "sport.lua", Put::Fifo);
@@ -261,7 +261,7 @@ TEST(HostilePaths, ASoundThatBecameAFifoAfterTheLoadStaysSilent) {
   const fs::path dir = fs::temp_directory_path() / "quantum_hostile_paths_late_fifo";
   fs::create_directories(dir);
   put(dir / "shot.wav", Put::Fifo);
-  lua::SportAudio sounds;
+  game::SportAudio sounds;
   sounds.sounds["shot"] = (dir / "shot.wav").string();
   auto warned = std::make_shared<std::ostringstream>();
   EXPECT_EQ(error_within([sounds, warned, dir] {
@@ -290,13 +290,13 @@ TEST(HostilePaths, ShippedSportsAndTheirOwnFilesStillResolve) {
   ASSERT_TRUE(fs::equivalent(lua::engine_sounds_folder(), QUANTUM_SOURCE_DIR "/sounds"));
   for (const char* name : quantum::test::kShippedSports) {
     const std::string folder = std::string(QUANTUM_SOURCE_DIR "/rules/") + name;
-    const lua::Sport sport(folder);
-    for (const auto& [event, file] : sport.audio().sounds) {
+    const lua::ScriptedRules sport(folder);
+    for (const auto& [event, file] : sport.spec().audio.sounds) {
       EXPECT_TRUE(fs::is_regular_file(file)) << name << ": " << event << ": " << file;
       EXPECT_EQ(fs::path(file).parent_path(), lua::engine_sounds_folder()) << file;
     }
   }
-  lua::Sport airhockey(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  lua::ScriptedRules airhockey(QUANTUM_SOURCE_DIR "/rules/airhockey");
   Played played(airhockey);
   for (const char* powerup : {"attract", "black_ice", "goal_seeker", "penalty", "slow_motion", "stun", "wormhole"})
     EXPECT_NO_THROW(airhockey.grant(played.match, 0, powerup, {})) << powerup;
@@ -313,10 +313,10 @@ TEST(HostilePaths, ShippedSportsAndTheirOwnFilesStillResolve) {
   const fs::path linked = fs::temp_directory_path() / "quantum_hostile_paths_linked_sport";
   put(linked, Put::Symlink, dir);
   for (const fs::path& sport_folder : {dir, linked}) {
-    const lua::Sport sport(sport_folder.string());
-    EXPECT_EQ(sport.audio().sounds.at("shot"), (sport_folder / "sounds" / "own.wav").string());
-    EXPECT_EQ(sport.audio().recorded.at("goal"), (sport_folder / "alias.wav").string());
-    EXPECT_EQ(sport.field().bodies.size(), 2u);
+    const lua::ScriptedRules sport(sport_folder.string());
+    EXPECT_EQ(sport.spec().audio.sounds.at("shot"), (sport_folder / "sounds" / "own.wav").string());
+    EXPECT_EQ(sport.spec().audio.recorded.at("goal"), (sport_folder / "alias.wav").string());
+    EXPECT_EQ(sport.spec().field.bodies.size(), 2u);
   }
 }
 

@@ -15,7 +15,7 @@
 
 #include "game/bots.h"
 #include "game/game.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum::hostile {
 
@@ -50,8 +50,8 @@ inline std::string hostile_sport(const std::string& name, const std::string& bod
 
 // A match of the sport at 200 particles, its players standing where they start.
 struct Played {
-  explicit Played(lua::Sport& sport) : match(sport.field(), config(), sport) {
-    for (const BodySpec& b : sport.field().bodies) still.push_back({b.start, {0, 0}});
+  explicit Played(lua::ScriptedRules& sport) : match(sport.spec().field, config(), sport) {
+    for (const BodySpec& b : sport.spec().field.bodies) still.push_back({b.start, {0, 0}});
   }
   static game::MatchConfig config() {
     game::MatchConfig c;
@@ -89,13 +89,13 @@ struct Finished {
 
 // Long enough that a match has goals whatever the seed and the compiler's floating point make of
 // it (20 s had none in a clang build).
-inline Finished play_out(lua::Sport& sport, double seconds = 40, int particles = 300) {
+inline Finished play_out(lua::ScriptedRules& sport, double seconds = 40, int particles = 300) {
   game::MatchConfig config;
   config.particles = particles;
   config.seconds = seconds;
   config.seed = 5;
-  game::Match match(sport.field(), config, sport, sport.handicaps());
-  auto bots = game::make_bots(sport.field(), std::vector<double>(sport.field().bodies.size(), 0.9), 11, sport.throw_speed());
+  game::Match match(sport.spec().field, config, sport, sport.spec().handicaps);
+  auto bots = game::make_bots(sport.spec().field, std::vector<double>(sport.spec().field.bodies.size(), 0.9), 11, sport.spec().match.throw_speed);
   Finished out;
   for (int frame = 0; frame < 60 * (seconds + 10) && !match.finished(); ++frame) {
     const std::vector<BodyInput>& moves = bots->move(match.time(), 1 / match.fps(), match.players());
@@ -136,7 +136,7 @@ struct Attack {
 // instruction that cannot be interrupted; four times both under the address sanitizer).
 inline void expect_survived(const Attack& a) {
   SCOPED_TRACE(a.name);
-  lua::Sport sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
+  lua::ScriptedRules sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
   const Finished f = play_out(sport);
   EXPECT_TRUE(f.finished);
   EXPECT_GT(f.goals, 0);

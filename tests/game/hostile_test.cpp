@@ -15,7 +15,7 @@
 
 #include "game/bots.h"
 #include "hostile_support.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -46,7 +46,7 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
        "not enough memory|script runs too long"},
   };
   for (const Case& c : cases) {
-    lua::Sport sport(hostile_sport(c.name, c.body));
+    lua::ScriptedRules sport(hostile_sport(c.name, c.body));
     Played played(sport);
     game::Match& match = played.match;
     for (int frame = 0; frame < 30; ++frame) played.step();
@@ -63,7 +63,7 @@ TEST(Hostile, EveryForbiddenThingIsRefusedAndTheMatchGoesOn) {
 // line is cut at 1000 bytes and a frame shows at most 20.
 TEST(Sandbox, PrintGoesToStderrWithItsLineAndAFloodIsHeldBack) {
   // The 3 MB string is made at load: making it in a frame is charged most of the budget.
-  lua::Sport sport(hostile_sport("print", "print('dropped', 1, nil, true) print(long) for i = 1, 1000 do print(i) end",
+  lua::ScriptedRules sport(hostile_sport("print", "print('dropped', 1, nil, true) print(long) for i = 1, 1000 do print(i) end",
                                  "long = string.rep('x', 3e6)"));
   Played played(sport);
   testing::internal::CaptureStdout();
@@ -91,7 +91,7 @@ TEST(Sandbox, LoadingHasItsOwnBudgetAndLeavesTheFirstFramesWhole) {
     return "local t = os.clock() while os.clock() - t < " + std::to_string(frames * lua::Limits{}.cpu_seconds) +
            " do end";
   };
-  lua::Sport sport(hostile_sport("load_budget", "", spend(2),
+  lua::ScriptedRules sport(hostile_sport("load_budget", "", spend(2),
                                  "return { duration = 5, factor = function() return 1 end,\n"
                                  "  start = function() " + spend(0.6) + " end }\n"));
   Played played(sport);
@@ -102,7 +102,7 @@ TEST(Sandbox, LoadingHasItsOwnBudgetAndLeavesTheFirstFramesWhole) {
 }
 
 TEST(Hostile, OsClockIsThere) {
-  lua::Sport sport(hostile_sport("clock", "assert(type(os.clock()) == 'number')"));
+  lua::ScriptedRules sport(hostile_sport("clock", "assert(type(os.clock()) == 'number')"));
   Played played(sport);
   played.step();
   EXPECT_TRUE(played.match.errors().empty());
@@ -116,7 +116,7 @@ TEST(Hostile, AnEndlessPowerUpIsSkipped) {
   fs::create_directories(root / "powerups");
   fs::copy(QUANTUM_SOURCE_DIR "/rules/airhockey", root / "airhockey", fs::copy_options::recursive);
   std::ofstream(root / "powerups" / "spin.lua") << "return { duration = 5, factor = function() while true do end end }\n";
-  lua::Sport sport((root / "airhockey").string());
+  lua::ScriptedRules sport((root / "airhockey").string());
   Played played(sport);
   game::Match& match = played.match;
   played.step();
@@ -298,7 +298,7 @@ TEST(Sandbox, EngineWorkForAScriptIsWithinTheBudget) {
   // Each game.wormhole predicts the whole cloud again; a loop of them spent 0.75 s of one handler
   // at 20,000 particles, 109 calls between two looks of the hook.
   SCOPED_TRACE("wormhole_loop");
-  lua::Sport sport(hostile_sport("wormhole_loop", "for i = 1, 1e6 do game.wormhole(-0.3, 0.3, 0.6, 0, 0.1) end"));
+  lua::ScriptedRules sport(hostile_sport("wormhole_loop", "for i = 1, 1e6 do game.wormhole(-0.3, 0.3, 0.6, 0, 0.1) end"));
   const Finished f = play_out(sport, 10, 20000);
   EXPECT_TRUE(f.finished);
   ASSERT_FALSE(f.errors.empty());
@@ -342,7 +342,7 @@ end
   };
   for (const auto& a : attacks) {
     SCOPED_TRACE(a.name);
-    lua::Sport sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
+    lua::ScriptedRules sport(hostile_sport(a.name, a.drop, a.extra, a.powerup));
     const Finished f = play_out(sport);
     EXPECT_TRUE(sport.sandbox().abandoned());
     EXPECT_TRUE(sport.disabled());
@@ -464,7 +464,7 @@ TEST(Sandbox, PatternFunctionsMatchLuajitsOwn) {
 // A script that overruns again and again is disabled once, by name, and the match plays on by
 // the plain rules: a goal counts for the team that did not defend it.
 TEST(Sandbox, AScriptThatKeepsOverrunningIsDisabled) {
-  lua::Sport sport(hostile_sport("overrun", "",
+  lua::ScriptedRules sport(hostile_sport("overrun", "",
                                  "sport.modifiers = { function() while true do end end }\n"
                                  "sport.on.goal = function(game, e) while true do end end"));
   const Finished f = play_out(sport);
@@ -472,7 +472,7 @@ TEST(Sandbox, AScriptThatKeepsOverrunningIsDisabled) {
   int disabled = 0;
   for (const std::string& e : f.errors) disabled += e.find("disabled") != std::string::npos;
   EXPECT_EQ(disabled, 1);
-  EXPECT_EQ(f.errors.size(), size_t(lua::Sport::kOverrunsToDisable) + 1);
+  EXPECT_EQ(f.errors.size(), size_t(lua::ScriptedRules::kOverrunsToDisable) + 1);
   EXPECT_GT(f.goals, 0);
   EXPECT_EQ(f.scored, f.goals);
   EXPECT_TRUE(f.finished);
@@ -485,7 +485,7 @@ TEST(Sandbox, ADisabledTeamSportIsStillPlayed) {
   fs::remove_all(dir);
   fs::copy(QUANTUM_SOURCE_DIR "/rules/handball", dir, fs::copy_options::recursive);
   write_with_before_return(dir / "sport.lua", dir / "sport.lua", "sport.modifiers = { function() while true do end end }");
-  lua::Sport sport(dir.string());
+  lua::ScriptedRules sport(dir.string());
   const Finished f = play_out(sport, 60);
   EXPECT_TRUE(sport.disabled());
   EXPECT_TRUE(f.finished);
@@ -494,7 +494,7 @@ TEST(Sandbox, ADisabledTeamSportIsStillPlayed) {
 }
 
 TEST(Sandbox, AnOverrunningPowerUpIsDisabledAndTheSportPlaysOn) {
-  lua::Sport sport(hostile_sport("overrun_powerup", "game.grant(\"Red's mallet\", 'evil', { seconds = 60 })", "",
+  lua::ScriptedRules sport(hostile_sport("overrun_powerup", "game.grant(\"Red's mallet\", 'evil', { seconds = 60 })", "",
                                  "return { duration = 60, factor = function() while true do end end }\n"));
   const Finished f = play_out(sport);
   EXPECT_FALSE(sport.disabled());

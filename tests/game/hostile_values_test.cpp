@@ -151,7 +151,7 @@ TEST(HostileValues, FactorsSetWhilePlayingAreCheckedWithTheirKeyNamed) {
 // Loading the sport fails with an error naming its file ("sport" for sport.lua) and `error`.
 void expect_refused(const std::string& sport, const std::string& file, const std::string& error) {
   try {
-    lua::Sport loaded(sport);
+    lua::ScriptedRules loaded(sport);
     ADD_FAILURE() << "loaded";
   } catch (const std::exception& e) {
     EXPECT_TRUE(std::regex_search(e.what(), std::regex("/" + file + R"(\.lua: )" + error))) << e.what();
@@ -202,7 +202,7 @@ TEST(HostileValues, AwardsOutOfBoundsAreRefusedAtTheCallersLine) {
 }
 
 TEST(HostileValues, AScoreSaturatesRatherThanWrapping) {
-  lua::Sport sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
+  lua::ScriptedRules sport(QUANTUM_SOURCE_DIR "/rules/airhockey");
   Played played(sport);
   for (int k = 0; k < (INT_MAX / 1000) + 10; ++k) played.match.award("blue", 1000);
   EXPECT_EQ(played.match.score().at("blue"), INT_MAX);
@@ -248,7 +248,7 @@ TEST(HostileValues, AListenerOffTheFieldOrNotANumberIsRefusedWithItsKey) {
       {"sport.audio.facing = { 0, 0 }", "audio.facing: must be a direction: finite and not \\{0, 0\\}"},
   });
   // Beside the field is a place to listen from: a commentator's box 5 m behind Blue's end.
-  EXPECT_NO_THROW(lua::Sport(hostile_sport("listener", "", "sport.audio.listener = { -6, 0 }")));
+  EXPECT_NO_THROW(lua::ScriptedRules(hostile_sport("listener", "", "sport.audio.listener = { -6, 0 }")));
 }
 
 // The announcer's numbers become ints: one beyond an int's range (the fuzzer's 4.4e104) or not
@@ -264,10 +264,10 @@ TEST(HostileValues, AudioNumbersThatAreNoWholeNumberInRangeAreRefusedWithTheirKe
       {"sport.audio.priorities = { goal = -2^63 }", R"(audio\.priorities\.goal: expected a whole number from 0 to 100)"},
       {"sport.audio.priorities = { shot = 2.5 }", R"(audio\.priorities\.shot: expected a whole number from 0 to 100)"},
   });
-  lua::Sport edges(hostile_sport("audio_numbers", "", "sport.audio.rate = 450; sport.audio.volume = 0; sport.audio.keep = 100"));
-  EXPECT_EQ(edges.audio().rate, 450);
-  EXPECT_EQ(edges.audio().volume, 0);
-  EXPECT_EQ(edges.audio().keep, 100);
+  lua::ScriptedRules edges(hostile_sport("audio_numbers", "", "sport.audio.rate = 450; sport.audio.volume = 0; sport.audio.keep = 100"));
+  EXPECT_EQ(edges.spec().audio.rate, 450);
+  EXPECT_EQ(edges.spec().audio.volume, 0);
+  EXPECT_EQ(edges.spec().audio.keep, 100);
 }
 
 // A number beyond a float's range in a game call is a value like any other that cannot be: the

@@ -11,6 +11,7 @@
 
 #include "session.h"
 #include "../shipped_sports.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -32,7 +33,7 @@ Touches play(const std::string& sport, uint64_t seed, bool penalized) {
   o.seed = seed;
   o.particles = 500;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   game::Match& m = session.match();
   const int k = int(seed % m.players().size());
   if (penalized) m.grant(k, "penalty", 3600, {{"strength", 0}});

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "reloader.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -46,16 +46,16 @@ struct Rules {
 };
 
 struct Running {
-  std::unique_ptr<lua::Sport> sport;
+  std::unique_ptr<lua::ScriptedRules> sport;
   std::unique_ptr<game::Match> match;
   std::vector<BodyInput> still;
 
   explicit Running(const Rules& r) {
-    sport = std::make_unique<lua::Sport>(r.sport.string());
+    sport = std::make_unique<lua::ScriptedRules>(r.sport.string());
     game::MatchConfig config;
     config.particles = 400;
-    match = std::make_unique<game::Match>(sport->field(), config, *sport);
-    for (const BodySpec& b : sport->field().bodies) still.push_back({b.start, {0, 0}});
+    match = std::make_unique<game::Match>(sport->spec().field, config, *sport);
+    for (const BodySpec& b : sport->spec().field.bodies) still.push_back({b.start, {0, 0}});
     still[1].position = {0.88f, 0.06f};  // Red's mallet half in the way of a shot
     Cloud ball;
     for (int i = 0; i < 200; ++i) {

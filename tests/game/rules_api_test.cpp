@@ -17,7 +17,8 @@
 #include "lua_reader.h"
 #include "recording.h"
 #include "session.h"
-#include "sport.h"
+#include "scripted_rules.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -44,7 +45,7 @@ std::string sport_with(const std::string& name, const std::string& sport,
 std::string load_error(const std::string& name, const std::string& sport,
                        const std::map<std::string, std::string>& files = {}) {
   try {
-    lua::Sport s(sport_with(name, sport, files));
+    lua::ScriptedRules s(sport_with(name, sport, files));
   } catch (const std::exception& e) {
     return e.what();
   }
@@ -59,7 +60,7 @@ std::string rule_errors(const std::string& folder, double seconds = 3, uint64_t 
   o.seed = seed;
   o.particles = 300;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.run();
   return errors.str();
 }
@@ -168,10 +169,10 @@ TEST(SportFile, APowerUpKeepsItsOwnKeysButNotANearMiss) {
 }
 
 TEST(SportRules, AGrantTooLongIsRefusedBeforeThePowerUpStarts) {
-  lua::Sport sport(sport_with("long_grant", "return {}"));
+  lua::ScriptedRules sport(sport_with("long_grant", "return {}"));
   game::MatchConfig config;
   config.particles = 100;
-  game::Match match(sport.field(), config, sport);
+  game::Match match(sport.spec().field, config, sport);
   EXPECT_THROW(sport.grant(match, 0, "wormhole", {{"seconds", 5000}}), std::invalid_argument);
   EXPECT_TRUE(match.world().wormholes().empty());  // its start never ran
   EXPECT_TRUE(match.powerups().empty());
@@ -186,7 +187,7 @@ end } })");
   o.sport = folder;
   o.seconds = 0.1;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.run();
   EXPECT_HAS(errors.str(), "game.turn: unknown player 'bleu'");
   EXPECT_FALSE(session.match().players()[0].turn);  // as game.turn("red") left it
@@ -251,7 +252,7 @@ return { on = { drop = function(game, e) game.say(names.greeting .. " " .. two_t
   o.sport = folder;
   o.seconds = 0.1;
   std::ostringstream out, errors;
-  runtime::Session session(o, &out, errors);
+  runtime::Session session(o, tools::lua_sport, &out, errors);
   session.run();
   EXPECT_EQ(errors.str(), "");
   EXPECT_HAS(out.str(), "Hello red");
@@ -277,7 +278,7 @@ TEST(EventLog, EachEventKeepsItsOwnPhrases) {
   o.sport = folder;
   o.events = (fs::temp_directory_path() / "quantum_own_phrases.jsonl").string();
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.run();
   std::ifstream log(o.events);
   std::vector<nlohmann::json> lines;
@@ -306,7 +307,7 @@ return sport)";
 std::vector<std::string> said(const runtime::SessionOptions& o, std::unique_ptr<runtime::PlayerSource> players = nullptr,
                               int frames = 2) {
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors, std::move(players));
+  runtime::Session session(o, tools::lua_sport, nullptr, errors, std::move(players));
   std::vector<std::string> out;
   session.watch([&](const runtime::News& news) {
     for (const game::Said& s : news.said) out.push_back(s.text);
@@ -339,7 +340,7 @@ TEST(RulesRead, ASimulatedPlayerHasItsSkillAndAPersonNone) {
   EXPECT_SAID(text, "Red's mallet: skill 0.75, reach height nil");
   // At the desk, the mouse's player is a person.
   runtime::Hand hand;
-  const Field field = lua::Sport(o.sport).field();
+  const Field field = lua::ScriptedRules(o.sport).spec().field;
   text = said(o, std::make_unique<runtime::HandPlayers>(field, o.skills, 1, 10.0, 0, hand));
   EXPECT_SAID(text, "Blue's mallet: skill nil, reach height nil");
   EXPECT_SAID(text, "Red's mallet: skill 0.75, reach height nil");
@@ -452,7 +453,7 @@ Faults wall_games(bool with_turns) {
     o.seconds = 120;
     o.seed = seed;
     std::ostringstream errors;
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     session.watch([&](const runtime::News& news) {
       for (const game::Said& s : news.said) {
         f.points += s.text.rfind("Point ", 0) == 0;
@@ -493,7 +494,7 @@ std::pair<int, int> blue_shots_leftward(const std::string& aim) {
     o.seconds = 60;
     o.seed = seed;
     std::ostringstream errors;
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     session.watch([&](const runtime::News& news) {
       for (const game::GameEvent& e : news.events) {
         if (e.type != game::EventKind::Shot || e.actor != "Blue's mallet") continue;

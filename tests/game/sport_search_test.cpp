@@ -12,7 +12,7 @@
 
 #include "engine_paths.h"
 #include "field_loader.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -81,7 +81,7 @@ TEST(SportSearch, ANameIsFoundHereThenInQuantumPathThenAmongTheEngines) {
   // A folder here of that name and no sport anywhere: the loader says what the folder misses.
   EXPECT_EQ(lua::find_sport("photos"), "photos");
   try {
-    lua::Sport photos("photos");
+    lua::ScriptedRules photos("photos");
     FAIL() << "a folder without sport.lua loaded";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("photos/sport.lua"), std::string::npos) << e.what();
@@ -124,7 +124,7 @@ TEST(SportSearch, APathIsAPathAndAFieldFileAFile) {
   }
   // The field of a sport by name is the one its folder holds.
   EXPECT_EQ(lua::load_field("practice").bodies.size(), lua::load_field(practice.string()).bodies.size());
-  EXPECT_EQ(lua::Sport("practice").name(), lua::Sport(practice.string()).name());
+  EXPECT_EQ(lua::ScriptedRules("practice").spec().name, lua::ScriptedRules(practice.string()).spec().name);
 }
 
 TEST(SportSearch, TheDataIsTheCheckoutsInABuildAndQuantumDataMustBeData) {

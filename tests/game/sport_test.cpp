@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "play.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -25,7 +25,7 @@ std::string sport_with(const std::string& name, const std::string& text) {
 
 std::string load_error(const std::string& name, const std::string& text) {
   try {
-    lua::Sport sport(sport_with(name, text));
+    lua::ScriptedRules sport(sport_with(name, text));
   } catch (const std::exception& e) {
     return e.what();
   }
@@ -53,12 +53,12 @@ TEST(Sport, SyntaxErrorNamesFileAndLine) {
 // A sport may change a handicap during the match: here the drop handler hands Red a handicap of
 // 3, and a bad value is refused as a rule error.
 TEST(Sport, RulesMayChangeAHandicap) {
-  lua::Sport sport(sport_with("handicap", "local s = { on = { drop = function(game, e)\n"
+  lua::ScriptedRules sport(sport_with("handicap", "local s = { on = { drop = function(game, e)\n"
                                           "  game.handicap(\"Red's mallet\", 3)\n"
                                           "  game.handicap(\"Blue's mallet\", -1)\n"
                                           "end } }\nreturn s"));
-  game::Match match(sport.field(), small_match(), sport);
-  step_standing(match, sport.field());
+  game::Match match(sport.spec().field, small_match(), sport);
+  step_standing(match, sport.spec().field);
   EXPECT_DOUBLE_EQ(match.players()[1].handicap, 3.0);
   EXPECT_DOUBLE_EQ(match.players()[0].handicap, 1.0);
   const std::span<const std::string> errors = match.errors();
@@ -69,12 +69,12 @@ TEST(Sport, RulesMayChangeAHandicap) {
 // A team the sport's `teams` does not name is called by its own name. (The name was once handed
 // back as a reference to the argument's temporary: the sport fuzzer found the read after its end.)
 TEST(Sport, ATeamWithoutANameIsCalledByItself) {
-  lua::Sport sport(sport_with("team_name", "return { teams = { blue = 'The Blues' }, on = { drop = function(game, e)\n"
+  lua::ScriptedRules sport(sport_with("team_name", "return { teams = { blue = 'The Blues' }, on = { drop = function(game, e)\n"
                                            "  game.say(game.team_name('blue') .. ', ' .. game.team_name('red') .. ', ' .. "
                                            "game.team_name('a team nobody named, longer than a short string'))\n"
                                            "end } }"));
-  game::Match match(sport.field(), small_match(), sport);
-  step_standing(match, sport.field());
+  game::Match match(sport.spec().field, small_match(), sport);
+  step_standing(match, sport.spec().field);
   ASSERT_EQ(match.said().size(), 1u);
   EXPECT_EQ(match.said()[0].text, "The Blues, red, a team nobody named, longer than a short string");
 }

@@ -14,7 +14,8 @@
 #include "game/game.h"
 #include "session.h"
 #include "recorder.h"
-#include "sport.h"
+#include "scripted_rules.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -157,7 +158,7 @@ TEST(Stall, ABoundOutsideItsRangeIsRefusedWithItsValue) {
     fs::copy_file(QUANTUM_SOURCE_DIR "/rules/handball/field.lua", dir / "field.lua");
     std::ofstream(dir / "sport.lua") << "return { match = { stall = " << text << " } }\n";
     try {
-      lua::Sport sport(dir.string());
+      lua::ScriptedRules sport(dir.string());
       ADD_FAILURE() << "match.stall = " << text << " was taken";
     } catch (const std::exception& e) {
       EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
@@ -207,7 +208,7 @@ TEST_P(Silence, NoMatchGoesLongerThanItsBoundWithoutPlay) {
     o.seconds = 600;
     o.seed = seed;
     std::ostringstream errors;
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     double last = 0, longest = 0;
     session.watch([&](const runtime::News& news) {
       for (const game::GameEvent& e : news.events)

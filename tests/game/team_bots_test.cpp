@@ -16,6 +16,7 @@
 #include "../quantum/test_scenes.h"
 #include "recorder.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -219,7 +220,7 @@ void play_seeded(const std::string& sport, double seconds, uint64_t seed, Each e
   o.seed = seed;
   o.audio = "none";
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.watch([&](const runtime::News& news) {
     for (const game::GameEvent& e : news.events) each(e, session.match().field());
   });

@@ -8,7 +8,8 @@
 #include <sstream>
 
 #include "session.h"
-#include "sport.h"
+#include "scripted_rules.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -46,7 +47,7 @@ Played play(const std::string& folder, double seconds = 2, std::vector<std::stri
   o.params = std::move(params);
   std::ostringstream errors;
   Played out;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.watch([&](const runtime::News& news) {
     for (const game::GameEvent& e : news.events)
       out.events.push_back(e), out.actors.emplace_back(e.actor), out.previous.emplace_back(e.previous);

@@ -22,6 +22,7 @@
 #include "lua_sandbox.h"
 #include "session.h"
 #include "system/sanitizers.h"
+#include "lua_sport.h"
 
 namespace {
 
@@ -130,7 +131,7 @@ Measured measure(uint32_t particles, const std::string& audio, const std::string
   o.pacing = runtime::SessionOptions::Pacing::Fast;
   std::ofstream transcript(fs::temp_directory_path() / "quantum_allocation_transcript.txt");
   std::ostringstream errors;
-  runtime::Session session(o, &transcript, errors);
+  runtime::Session session(o, tools::lua_sport, &transcript, errors);
   // A phrase or sound heard for the first time is synthesized or loaded and handed to OpenAL
   // once: that frame may allocate. Every other frame must not.
   std::set<std::string> heard;
@@ -145,18 +146,18 @@ Measured measure(uint32_t particles, const std::string& audio, const std::string
   });
   // A power-up's factor runs for every fate of every frame, with the fate, its holder and its
   // numbers as tables: the engine's own, refilled in place.
-  if (!powerup.empty()) session.sport().grant(session.match(), 1, powerup, {{"seconds", 600}});
+  if (!powerup.empty()) tools::scripted_rules(session).grant(session.match(), 1, powerup, {{"seconds", 600}});
   for (int f = 0; f < kWarmUp; ++f) session.frame();
   Measured m;
   for (int f = 0; f < kMeasured; ++f) {
     first_heard = 0;
     any_event = false;
-    const size_t lua_before = session.sport().sandbox().allocations();
+    const size_t lua_before = tools::scripted_rules(session).sandbox().allocations();
     allocations = 0;
     counting = lanes_counting = true;
     session.frame();
     counting = lanes_counting = false;
-    const size_t lua = session.sport().sandbox().allocations() - lua_before;
+    const size_t lua = tools::scripted_rules(session).sandbox().allocations() - lua_before;
     const size_t cxx = allocations - lua;
     m.lua += lua;
     m.frames_with_events += any_event;

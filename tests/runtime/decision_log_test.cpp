@@ -17,6 +17,7 @@
 #include "log_files.h"
 #include "field_loader.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -49,7 +50,7 @@ Logs play(const std::string& sport, double seconds, uint64_t seed) {
   o.events = (dir / "events.jsonl").string();
   std::ostringstream errors;
   {
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     game::Match& m = session.match();
     m.grant(0, "attract", 3600, {{"strength", 2}});
     if (players > 1) m.grant(1, "penalty", 3600, {{"strength", 0}});

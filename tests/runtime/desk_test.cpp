@@ -17,6 +17,7 @@
 #include "players.h"
 #include "desk_support.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -101,8 +102,8 @@ TEST(Desk, TheHandMovesItsPlayerWithinTheFieldAndItsSpeed) {
   o.seconds = 5;
   runtime::Hand hand;
   std::ostringstream errors;
-  const Field field = lua::Sport(o.sport).field();
-  runtime::Session session(o, nullptr, errors,
+  const Field field = lua::ScriptedRules(o.sport).spec().field;
+  runtime::Session session(o, tools::lua_sport, nullptr, errors,
                            std::make_unique<runtime::HandPlayers>(field, std::vector<double>{0.6, 0.6}, 1, 10.0, 0, hand));
   hand.over = true;
   hand.at = {-0.5f, 0.3f};
@@ -127,13 +128,13 @@ TEST(Desk, AClickThrowsTheBallTheWayTheHandMoves) {
   o.seconds = 30;
   runtime::Hand hand;
   std::ostringstream errors;
-  const lua::Sport sport(o.sport);
-  const Field& field = sport.field();
+  const lua::ScriptedRules sport(o.sport);
+  const Field& field = sport.spec().field;
   int clara = 0;
   while (field.bodies[size_t(clara)].name != "Clara") ++clara;
-  runtime::Session session(o, nullptr, errors,
+  runtime::Session session(o, tools::lua_sport, nullptr, errors,
                            std::make_unique<runtime::HandPlayers>(field, std::vector<double>(field.bodies.size(), 0.6), 1,
-                                                                  sport.throw_speed(), clara, hand));
+                                                                  sport.spec().match.throw_speed, clara, hand));
   std::vector<game::GameEvent> throws;
   std::vector<std::string> throwers;
   session.watch([&](const runtime::News& news) {
@@ -154,7 +155,7 @@ TEST(Desk, AClickThrowsTheBallTheWayTheHandMoves) {
   session.frame();
   ASSERT_EQ(throws.size(), 1u);
   EXPECT_EQ(throwers[0], "Clara");
-  EXPECT_NEAR(std::hypot(throws[0].velocity.x, throws[0].velocity.y), sport.throw_speed(), 1e-3);
+  EXPECT_NEAR(std::hypot(throws[0].velocity.x, throws[0].velocity.y), sport.spec().match.throw_speed, 1e-3);
   EXPECT_NEAR(throws[0].velocity.x, 0, 1e-3);
   EXPECT_GT(throws[0].velocity.y, 0);
   EXPECT_NE(session.match().holder(), clara);

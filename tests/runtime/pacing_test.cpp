@@ -11,6 +11,7 @@
 
 #include "count_of.h"
 #include "session.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -26,7 +27,7 @@ std::string warnings_of_a_slow_match(runtime::SessionOptions::Pacing pacing, boo
   o.particles = 300;
   o.pacing = pacing;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.set_speed(100);
   if (!drawing) session.watch([](const runtime::News&) { std::this_thread::sleep_for(std::chrono::milliseconds(20)); });
   for (int frame = 0; frame < 60; ++frame) {
@@ -48,7 +49,7 @@ std::string warnings_of_a_large_cloud() {
   o.particles = 200'000;
   o.pacing = runtime::SessionOptions::Pacing::RealTime;
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.set_speed(100);
   // Late, and a second of play at least, whatever the machine: the doc quotes its end line so.
   for (int frame = 0; frame < 3000 && (errors.str().empty() || frame < 60); ++frame) session.frame();

@@ -12,6 +12,7 @@
 #include "scenes.h"
 #include "session.h"
 #include "../shipped_sports.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -51,7 +52,7 @@ TEST(DeskPicture, TheOutcomesAddUpToAHundredPercentInEverySport) {
     o.seconds = 30;
     o.particles = 2000;
     std::ostringstream errors;
-    runtime::Session session(o, nullptr, errors);
+    runtime::Session session(o, tools::lua_sport, nullptr, errors);
     const Field& field = session.match().field();
     const size_t possible = 2 * field.goals.size() + field.bodies.size() + 2 + (field.landings ? field.areas.size() + 1 : 0);
     int predicted = 0;
@@ -90,8 +91,8 @@ TEST(DeskPicture, TheOutcomesAddUpToAHundredPercentInEverySport) {
 TEST(DeskPicture, ThePictureFitsItsBoxWithTheFieldsAspect) {
   const cv::Size boxes[] = {{1280, 800}, {1920, 1080}, {800, 600}, {1100, 0}};
   for (const std::string sport : test::kShippedSports) {
-    const lua::Sport loaded(sport_folder(sport));
-    const Field& field = loaded.field();
+    const lua::ScriptedRules loaded(sport_folder(sport));
+    const Field& field = loaded.spec().field;
     World world(field, WorldConfig{});
     stand(world, starts(field));
     for (const cv::Size box : boxes) {
@@ -135,8 +136,8 @@ TEST(DeskPicture, ThePictureFitsItsBoxWithTheFieldsAspect) {
 // on no disc.
 TEST(DeskPicture, NamesStayOnTheFieldApartAndOffTheDiscs) {
   for (const std::string sport : {"handball", "soccer"}) {
-    const lua::Sport loaded(sport_folder(sport));
-    const Field& field = loaded.field();
+    const lua::ScriptedRules loaded(sport_folder(sport));
+    const Field& field = loaded.spec().field;
     const Vec2 lo = field.bounds_min, hi = field.bounds_max;
     std::vector<Vec2> at = {lo, {hi.x, 0}, {0, 0}, {0, 0}, {0.3f, 0}, hi, {lo.x, hi.y}, {0, lo.y}, {0, 0.3f}, {hi.x, lo.y}};
     ASSERT_LE(field.bodies.size(), at.size());
@@ -173,8 +174,8 @@ TEST(DeskPicture, NamesStayOnTheFieldApartAndOffTheDiscs) {
 // baseline: neither is drawn off the court.
 TEST(DeskPicture, AreasAreDrawnOnlyOnTheField) {
   for (const std::string sport : {"handball", "basketball"}) {
-    const lua::Sport loaded(sport_folder(sport));
-    const Field& field = loaded.field();
+    const lua::ScriptedRules loaded(sport_folder(sport));
+    const Field& field = loaded.spec().field;
     runtime::Picture picture(field);
     cv::Mat image;
     World world(field, WorldConfig{});
@@ -196,8 +197,8 @@ TEST(DeskPicture, AreasAreDrawnOnlyOnTheField) {
 }
 
 TEST(DeskPicture, ThePlayerAPersonDrivesIsRingedAndCalledYou) {
-  const lua::Sport loaded(sport_folder("airhockey"));
-  const Field& field = loaded.field();
+  const lua::ScriptedRules loaded(sport_folder("airhockey"));
+  const Field& field = loaded.spec().field;
   World world(field, WorldConfig{});
   stand(world, starts(field));
   runtime::Picture picture(field);
@@ -221,8 +222,8 @@ TEST(DeskPicture, ThePlayerAPersonDrivesIsRingedAndCalledYou) {
 
 // Each drawn path is labelled with its tweaked probability where it ends, and no other.
 TEST(DeskPicture, EachPathEndsWithItsProbability) {
-  const lua::Sport loaded(sport_folder("airhockey"));
-  const Field& field = loaded.field();
+  const lua::ScriptedRules loaded(sport_folder("airhockey"));
+  const Field& field = loaded.spec().field;
   World world(field, WorldConfig{});
   world.set_cloud(tools::spread_cloud(field, 3000, 7));
   std::vector<Event> events;

@@ -12,6 +12,7 @@
 #include "desk_support.h"
 #include "picture.h"
 #include "playback.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -39,7 +40,7 @@ void record(const fs::path& dir) {
   o.sport = QUANTUM_SOURCE_DIR "/rules/handball";
   o.seconds = 12, o.seed = 3, o.record = dir.string();
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.run();
   ASSERT_EQ(errors.str(), "");
 }

@@ -14,6 +14,7 @@
 #include "field_loader.h"
 #include "session.h"
 #include "synthetic.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -86,7 +87,7 @@ TEST(Rally, AGoalkeeperWhoWalksInLateTakesHisPlace) {
   o.accel = (dir / "accel.csv").string();
   o.pacing = runtime::SessionOptions::Pacing::Fast;
   std::ostringstream warnings;
-  runtime::Session session(o, nullptr, warnings);
+  runtime::Session session(o, tools::lua_sport, nullptr, warnings);
   const int hugo = 3;
   ASSERT_EQ(session.match().players()[hugo].name, "Hugo");
   const Vec2 place = session.match().field().bodies[hugo].start;

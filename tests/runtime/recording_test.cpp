@@ -26,6 +26,7 @@
 #include "recording.h"
 #include "session.h"
 #include "synthetic.h"
+#include "lua_sport.h"
 
 namespace quantum {
 namespace {
@@ -57,7 +58,7 @@ Logs run(runtime::SessionOptions o, const fs::path& out, const std::function<voi
   o.pacing = runtime::SessionOptions::Pacing::Fast;
   std::ostringstream warnings;
   {
-    runtime::Session session(o, nullptr, warnings);
+    runtime::Session session(o, tools::lua_sport, nullptr, warnings);
     for (int frame = 0; session.frame(); ++frame)
       if (each_frame) each_frame(session, frame);
     session.finish();
@@ -311,11 +312,11 @@ TEST(Recording, ARecordingGoesIntoANewFolder) {
   o.sport = QUANTUM_SOURCE_DIR "/rules/practice";
   o.record = dir.string();
   std::ostringstream warnings;
-  EXPECT_THROW(runtime::Session(o, nullptr, warnings), std::runtime_error);
+  EXPECT_THROW(runtime::Session(o, tools::lua_sport, nullptr, warnings), std::runtime_error);
   EXPECT_THROW({
     runtime::SessionOptions r;
     r.replay = (dir / "nothing").string();
-    runtime::Session(r, nullptr, warnings);
+    runtime::Session(r, tools::lua_sport, nullptr, warnings);
   }, std::runtime_error);
 }
 
@@ -453,7 +454,7 @@ TEST(Recording, ARecordingsSettingsOutOfRangeAreRefusedByName) {
     r.replay = recording.string();
     std::ostringstream warnings;
     try {
-      runtime::Session session(r, nullptr, warnings);
+      runtime::Session session(r, tools::lua_sport, nullptr, warnings);
       ADD_FAILURE() << key << " = " << value << " was taken";
     } catch (const std::runtime_error& e) {
       const std::string message = e.what();
@@ -482,7 +483,7 @@ TEST(Recording, AReplayThatFailsLeavesNoCopyBehind) {
   runtime::SessionOptions r;
   r.replay = recording.string();
   std::ostringstream warnings;
-  EXPECT_ANY_THROW(runtime::Session(r, nullptr, warnings));
+  EXPECT_ANY_THROW(runtime::Session(r, tools::lua_sport, nullptr, warnings));
   expect_no_work_folder_left();
 }
 
@@ -516,7 +517,7 @@ std::string refusal(const fs::path& recording) {
   r.replay = recording.string();
   std::ostringstream warnings;
   try {
-    runtime::Session session(r, nullptr, warnings);
+    runtime::Session session(r, tools::lua_sport, nullptr, warnings);
   } catch (const std::runtime_error& e) {
     return e.what();
   }
@@ -657,7 +658,7 @@ std::pair<int, std::string> replay_frames(const fs::path& recording) {
   r.audio = "none";
   std::ostringstream warnings;
   int frames = 0;
-  runtime::Session session(r, nullptr, warnings);
+  runtime::Session session(r, tools::lua_sport, nullptr, warnings);
   while (session.frame()) ++frames;
   session.finish();
   return {frames, warnings.str()};

@@ -16,6 +16,7 @@
 #include "lua_push.h"
 #include "lua_reader.h"
 #include "lua_wrap.h"
+#include "lua_sport.h"
 #include "quantum/narrow.h"
 #include "session.h"
 
@@ -201,7 +202,7 @@ int scenario(lua_State* L) {
   o.params = params_of(L, 2);
   auto bodies = std::make_unique<ScriptedPlayers>();
   s->bodies = bodies.get();
-  s->session = std::make_unique<runtime::Session>(o, nullptr, s->warnings, std::move(bodies));
+  s->session = std::make_unique<runtime::Session>(o, tools::lua_sport, nullptr, s->warnings, std::move(bodies));
   s->bodies->start(s->match().field());
   // Handicaps by player name, over the sport's; the spec's players are people (no skill) unless
   // it plays some as simulated players of a skill, for the rules to read.
@@ -269,7 +270,7 @@ int grant(lua_State* L) {
   const int player = body_index(s, check_string(L, 2));
   const std::string name = check_string(L, 3);
   if (!lua_isnoneornil(L, 4)) check_table(L, 4);
-  s.session->sport().grant(s.match(), player, name, numbers_of(L, 4));
+  tools::scripted_rules(*s.session).grant(s.match(), player, name, numbers_of(L, 4));
   s.session->tell();
   return 0;
 }
