@@ -17,7 +17,7 @@
 #include "fault_sport.h"
 #include "hostile_support.h"
 #include "recorder.h"
-#include "sport.h"
+#include "scripted_rules.h"
 
 namespace quantum {
 namespace {
@@ -83,7 +83,7 @@ std::string load_error(const std::string& sport) {
   fs::copy_file(QUANTUM_SOURCE_DIR "/rules/airhockey/field.lua", folder.path / "field.lua");
   std::ofstream(folder.path / "sport.lua") << sport;
   try {
-    lua::Sport loaded(folder.path.string());
+    lua::ScriptedRules loaded(folder.path.string());
   } catch (const std::exception& e) {
     return e.what();
   }
@@ -122,7 +122,7 @@ TEST(LimitsLuaCall, GameHandicapTakesTheMostAndRefusesMoreNamingTheRange) {
                     "  game.handicap(\"Blue's mallet\", 1000)\n"
                     "  game.handicap(\"Red's mallet\", 1000.5)\n"
                     "end");
-  lua::Sport sport(folder.path.string());
+  lua::ScriptedRules sport(folder.path.string());
   hostile::Played played(sport);
   played.step();
   const game::Match& match = played.match;
