@@ -1,5 +1,5 @@
 // Where a match's players come from, frame by frame: simulated players (game/bots.h), a tracking
-// source (core/tracking/input.h), or a script (the rule specs' scenario). The session asks its
+// source (core/tracking/input.h, tracked_players.cpp), or a script (the rule specs' scenario). The session asks its
 // source once a frame and hands it the frame's events. Besides where every body is, a source
 // says who threw (an accelerometer's whip, a bot's pass, a click at the desk); the session lets
 // a throw go only from the player who holds the ball.
@@ -16,7 +16,7 @@
 
 #include "game/bots.h"
 #include "game/game.h"
-#include "tracking/input.h"
+#include "tracking/options.h"
 
 namespace quantum::runtime {
 
@@ -137,42 +137,15 @@ class HandPlayers final : public PlayerSource {
 };
 
 // Players from a tracking source: each tracked id moves the body of that name. Recordings are
-// replayed in match time; live sources as their frames come.
-class TrackedPlayers final : public PlayerSource {
- public:
-  // `spec`: fakenect:DIR, kinect, video:FILE, camera:N or tuio:PORT (see tracking/input.h);
-  // `options`: accelerometers for throws (any source) and a camera's field of view. A Kinect's
-  // calibration, a table that is not the field and a source that sees nobody for its first
-  // seconds are told once to `warnings` (tracking::SetupCheck); `size` overrides the measured table.
-  TrackedPlayers(const std::string& spec, const Field& field, const tracking::SourceOptions& options = {},
-                 std::ostream* warnings = nullptr, std::optional<Vec2> size = std::nullopt,
-                 tracking::SetupOptions setup = {});
-  Status advance(double t, const game::Match& match, bool waiting) override;
-  std::span<const BodyInput> bodies() const override { return bodies_; }
-  // A tracked throw goes the way the tracker says, at the sport's throw speed.
-  std::span<const game::Throw> throws() const override { return throws_; }
-  bool live() const override { return input_.live(); }
-  void resync() override { t0_.reset(), next_ask_ = 0; }
-  void finish(double t) override { dropped_.tell(t, input_.dropped(), true); }
-
- private:
-  void apply(const tracking::TrackedFrame& f, double throw_speed);
-
-  Field field_;
-  std::string spec_;
-  tracking::TrackedField tracked_;
-  tracking::TrackingInput input_;
-  tracking::SetupCheck setup_;
-  std::ostream* warnings_;
-  std::vector<BodyInput> bodies_;
-  std::vector<game::Throw> throws_;
-  std::optional<tracking::TrackedFrame> pending_;
-  // Source time at match time 0: negative for a recording, whose 0 s plays at the first step's end.
-  std::optional<double> t0_;
-  bool seen_ = false;     // a frame has come
-  double next_ask_ = 0;   // match time from which a live source is asked again
-  // What the input dropped (tracking::TrackingInput::dropped), told.
-  DroppedValues dropped_;
-};
+// replayed in match time; live sources as their frames come. `spec`: fakenect:DIR, kinect,
+// video:FILE, camera:N or tuio:PORT (see tracking/input.h); `options`: accelerometers for throws
+// (any source) and a camera's field of view. A Kinect's calibration, a table that is not the
+// field and a source that sees nobody for its first seconds are told once to `warnings`
+// (tracking::SetupCheck); `size` overrides the measured table. In a quantum built without
+// tracking (QUANTUM_WITH_TRACKING), throws std::invalid_argument saying so.
+std::unique_ptr<PlayerSource> tracked_players(const std::string& spec, const Field& field,
+                                              const tracking::SourceOptions& options = {},
+                                              std::ostream* warnings = nullptr, std::optional<Vec2> size = std::nullopt,
+                                              tracking::SetupOptions setup = {});
 
 }  // namespace quantum::runtime

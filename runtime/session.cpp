@@ -101,8 +101,7 @@ Session::Session(const SessionOptions& o, const SportLoader& sports, std::ostrea
       players_ = std::make_unique<BotPlayers>(match_->field(), per_player(o.skills, skills, sport, "--skill", "skills"),
                                               o.seed, config.throw_speed);
     } else {
-      players_ = std::make_unique<TrackedPlayers>(o.input, match_->field(), tracking::SourceOptions{o.accel, o.fov},
-                                                  &errors_, o.field_size, o.setup);
+      players_ = tracked_players(o.input, match_->field(), {o.accel, o.fov}, &errors_, o.field_size, o.setup);
     }
   }
   // A replay's rules read the skills its recording's did (none in a recording made before rules

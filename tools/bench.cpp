@@ -319,7 +319,7 @@ struct DeskScene {
   }
 };
 
-// The desk's drawing of one busy frame of `sport` (runtime/picture.h), the same frame again and
+// The desk's drawing of one busy frame of `sport` (runtime/desk/picture.h), the same frame again and
 // again, in a picture state.range(0) pixels wide and state.range(1) high (0: as the field needs;
 // 1100 x 0 is a video's and a snapshot's): what the live view, a video and a snapshot pay for a
 // picture. Its yardstick is BM_DeskFrameStep of the same sport in the same run: a live view keeps
@@ -344,7 +344,7 @@ void BM_DeskFrameStep(benchmark::State& state, const std::string& sport) {
 }
 
 // A new picture of `sport`'s field for a full-HD window, as a window makes one whenever it is
-// resized (runtime/picture.h): the layout and the layer of what every frame draws alike.
+// resized (runtime/desk/picture.h): the layout and the layer of what every frame draws alike.
 void BM_DeskResize(benchmark::State& state, const std::string& sport) {
   const Field field = lua::load_field(sport);
   for (auto _ : state) {

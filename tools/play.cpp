@@ -4,6 +4,7 @@
 #include "interrupts.h"
 #include "lua_sport.h"
 #include "quantum/limits.h"
+#include "version.h"
 
 #include <algorithm>
 #include <cmath>
@@ -143,7 +144,12 @@ PlayResult play(const runtime::SessionOptions& options, std::ostream& out, std::
                 const DeskOptions* desk, const Telling* telling) {
   PlayResult result;
   if (desk && desk->wanted()) {
+#if QUANTUM_WITH_DESK
     result = play_at_desk(options, *desk, out, errors, transcript, telling);
+#else
+    throw std::invalid_argument("--view, --video, --snapshot and --input mouse: " +
+                                runtime::built_without(runtime::Module::Desk));
+#endif
   } else {
     runtime::Session session(options, tools::lua_sport, transcript ? &out : nullptr, errors);
     runtime::end_matches_on_signals();

@@ -238,6 +238,14 @@ std::string unknown_first(const CLI::App& app, const std::string& first) {
   return said(app, quantum::lua::unknown_key(first, commands, "command"));
 }
 
+// A command of a module this build left out (CMake's QUANTUM_WITH_*), told as a bad command line
+// is: "quantum listen: this quantum was built without the speech recognizer
+// (-DQUANTUM_WITH_RECOGNIZER=ON)".
+[[maybe_unused]] int left_out(const CLI::App& command, quantum::runtime::Module module) {
+  std::cerr << said(command, quantum::runtime::built_without(module)) << '\n';
+  return 1;
+}
+
 // What a command left over, CLI11 knowing no place for it: an unknown option, named with the
 // nearest one, or a stray argument.
 std::string left_over(const CLI::App& command) {
@@ -272,7 +280,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   // Before the commands are added: each takes the help flag from here.
   app.set_help_flag("-h,--help", "show this help, with examples, and exit");
-  app.set_version_flag("--version", quantum::runtime::version_line(), "show the version, the commit and the build's options");
+  app.set_version_flag("--version", quantum::runtime::version_line() + "\n" + quantum::runtime::modules_line(),
+                       "show the version, the commit, the build's options and its modules");
   app.get_formatter()->label("SUBCOMMAND", "COMMAND");
   // The last of a repeated option counts: `tools/play.sh --seconds 5` overrides the script's own.
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -498,10 +507,20 @@ int main(int argc, char** argv) {
     if (sports->parsed()) code = quantum::tools::list_sports(std::cout) == 0 ? 0 : 1;
     if (audit->parsed()) code = quantum::tools::audit(audit_files, std::cout, std::cerr, isatty(STDERR_FILENO));
     if (track->parsed()) {
+#if QUANTUM_WITH_TRACKING
       tracking.field_given = track->count("--field") > 0;
       quantum::tools::track(tracking, std::cout);
+#else
+      return left_out(*track, quantum::runtime::Module::Tracking);
+#endif
     }
-    if (listen->parsed()) quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
+    if (listen->parsed()) {
+#if QUANTUM_WITH_RECOGNIZER
+      quantum::tools::report(quantum::tools::listen(listen_wav, listen_events), std::cout);
+#else
+      return left_out(*listen, quantum::runtime::Module::Recognizer);
+#endif
+    }
     if (balance->parsed()) {
       if (!study_skills.empty()) study.skills = quantum::tools::parse_skills(study_skills);
       if (!study_handicaps.empty()) study.handicaps = quantum::tools::parse_list(study_handicaps, "--handicap");

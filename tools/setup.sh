@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Installs the Debian packages the project uses (idempotent, non-interactive) and builds Release:
+# Installs the Debian packages the project uses (idempotent, non-interactive) and builds Release,
+# every optional part included (CONTRIBUTING.md, "Build options", says which package is whose):
 # every target, or only those named (`tools/setup.sh quantum quantum_tests`). With --play first,
 # only what a match needs: the engine's build and run packages, not the test tools, and a new
-# build folder configured without the tests (tools/play.sh). Safe to run again: it installs
+# build folder configured without the tests and the benchmarks (tools/play.sh). Safe to run again: it installs
 # only what is missing and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,10 +21,10 @@ engine_packages=(
   libluajit-5.1-dev            # field files and rules
   libopenal-dev libespeak-ng-dev libsndfile1-dev  # sound: mixer, announcer voice, clips
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us libsamplerate0-dev  # quantum listen: a speech recognizer
-  libcairo2-dev                # quantum-synth --markers: the markers as a PDF at their printed size
+  libcairo2-dev                # tracking: quantum-synth --markers, the markers as a PDF at their printed size
   libcli11-dev nlohmann-json3-dev
   zlib1g-dev                   # logs named .gz, written and read compressed
-  libx11-dev                   # the desk's window: the screen's size, and a clear error without a display
+  libx11-dev                   # the desk: its window's screen size, and a clear error without a display
   libboost-math-dev            # chi-square distribution for the rule specs' statistics
 )
 test_packages=(
@@ -53,9 +54,10 @@ fi
 mkdir -p build
 log=build/setup.log
 configure=(-DCMAKE_BUILD_TYPE=Release)
-# A play leaves a build folder's choice as it was; a new one gets no tests, whose packages it lacks.
-if ((!play)); then configure+=(-DQUANTUM_BUILD_TESTS=ON)
-elif [ ! -f build/CMakeCache.txt ]; then configure+=(-DQUANTUM_BUILD_TESTS=OFF); fi
+# A play leaves a build folder's choice as it was; a new one gets no tests or benchmarks, whose
+# packages it lacks.
+if ((!play)); then configure+=(-DQUANTUM_BUILD_TESTS=ON -DQUANTUM_BUILD_BENCHMARKS=ON)
+elif [ ! -f build/CMakeCache.txt ]; then configure+=(-DQUANTUM_BUILD_TESTS=OFF -DQUANTUM_BUILD_BENCHMARKS=OFF); fi
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 if ! { cmake -S . -B build "${configure[@]}" && cmake --build build -j"$(nproc)" "${targets[@]}"; } >"$log" 2>&1; then

@@ -8,7 +8,9 @@
 #include <map>
 #include <optional>
 
+#if QUANTUM_WITH_REFERENCE
 #include "box2d_backend.h"
+#endif
 #include "interrupts.h"
 #include "json_lines.h"
 #include "output_files.h"
@@ -18,8 +20,11 @@
 #include "quantum/world.h"
 #include "scenes.h"
 #include "event_log.h"
-#include "picture.h"
 #include "recording.h"
+#include "version.h"
+#if QUANTUM_WITH_DESK
+#include "picture.h"
+#endif
 
 namespace quantum::tools {
 namespace {
@@ -147,6 +152,15 @@ void pass_on(World& world, int thrower, std::vector<Event>& events) {
   world.release(thrower, v, ThrowSpread{}, events);
 }
 
+// --backend box2d: the reference (core/reference), in a quantum built with it.
+std::unique_ptr<Backend> reference_backend([[maybe_unused]] const Field& field) {
+#if QUANTUM_WITH_REFERENCE
+  return make_box2d_backend(field);
+#else
+  throw std::invalid_argument("--backend box2d: " + runtime::built_without(runtime::Module::Reference));
+#endif
+}
+
 }  // namespace
 
 void write_event(std::ostream& out, const Event& e, const Field& f) {
@@ -166,7 +180,13 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   limits::check(limits::kFps, o.fps, "--fps");
   if (o.backend != "fast" && o.backend != "box2d")
     throw std::invalid_argument("--backend must be fast or box2d, not '" + o.backend + "'");
-  if (!o.snapshot.empty()) runtime::check_snapshot_file(o.snapshot);
+  if (!o.snapshot.empty()) {
+#if QUANTUM_WITH_DESK
+    runtime::check_snapshot_file(o.snapshot);
+#else
+    throw std::invalid_argument("--snapshot: " + runtime::built_without(runtime::Module::Desk));
+#endif
+  }
   lua::Params params(o.params);
   Field field = lua::load_field(o.field, &params);
   params.check_read(o.field);
@@ -175,7 +195,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   config.particles = o.particles;
   config.seed = o.seed;
   config.purgatory_frames = o.purgatory;
-  World world(field, config, o.backend == "box2d" ? make_box2d_backend(field) : nullptr);
+  World world(field, config, o.backend == "box2d" ? reference_backend(field) : nullptr);
   // With height and a hoop the scene is a shooting practice: the players stand where the field
   // puts them, and the shooter shoots again a second after each shot ends (the paper's Figure 4).
   const int shooter = shooter_of(world.field(), o.shooter);
@@ -191,8 +211,19 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   if (decisions.stream()) write_header(*decisions.stream(), o, world.field());
   FateReport report;  // the fates the draws are tweaked by
   game::FactorTerms terms;  // what each of their factors and the contacts' is made of
+#if QUANTUM_WITH_DESK
   runtime::Picture picture(world.field());
   cv::Mat image;
+  // The picture of the world as it is now, over the one before; its size ("1100x620").
+  const auto take_snapshot = [&] {
+    picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
+    runtime::write_snapshot(o.snapshot, image);
+    return std::to_string(image.cols) + "x" + std::to_string(image.rows);
+  };
+#else
+  const auto take_snapshot = [] { return std::string(); };  // never asked: --snapshot is refused above
+#endif
+  std::string snapshot_size;
 
   std::vector<Event> events;
   std::map<std::string, int> counts, conceded;
@@ -236,8 +267,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
     if (shot) retweak(world, o.factors, report, terms);
     // The picture of a shot is taken as it leaves the hand.
     if (shot && !o.snapshot.empty() && !have_snapshot_moment) {
-      picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
-      runtime::write_snapshot(o.snapshot, image);
+      snapshot_size = take_snapshot();
       have_snapshot_moment = true;
     }
     world.step(dt, shooter >= 0 ? std::span<const BodyInput>(standing) : scripted_mallets(world.field(), world.time() + dt),
@@ -264,8 +294,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
       bool hit = false;
       for (const Event& e : events) hit |= e.type == EventType::Hit;
       if (hit || (!have_snapshot_moment && s + 1 == steps)) {
-        picture.draw(world, world.predict(), runtime::Overlay{"quantum simulate: " + world.field().name, "", "", nullptr, ""}, image);
-        runtime::write_snapshot(o.snapshot, image);
+        snapshot_size = take_snapshot();
         have_snapshot_moment = true;
       }
     }
@@ -275,8 +304,7 @@ void simulate(const SimulateOptions& o, std::ostream& summary) {
   // Each file written, on stderr: the summary on `summary` is what other tools read.
   for (const runtime::LineFile* file : {&log, &decisions})
     if (const std::optional<runtime::Written> w = file->written()) runtime::say_written(std::cerr, *w);
-  if (have_snapshot_moment)
-    runtime::say_written(std::cerr, {o.snapshot, std::to_string(image.cols) + "x" + std::to_string(image.rows)});
+  if (have_snapshot_moment) runtime::say_written(std::cerr, {o.snapshot, snapshot_size});
 
   summary << "simulated " << o.seconds << " s of " << world.field().name << " (" << o.backend << " backend, "
           << o.particles << " particles, seed " << o.seed << ")\n";

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "tracking/input.h"
+#include "tracking/options.h"
 
 namespace quantum::tools {
 

@@ -5,14 +5,10 @@
 #include <memory>
 #include <string>
 
+#include "tracking/options.h"
 #include "tracking/tracking.h"
 
 namespace quantum::tracking {
-
-struct SourceOptions {
-  std::string accel;  // with video, camera or tuio: FILE (CSV) or udp:PORT
-  float fov = 82;     // with video or camera: horizontal field of view, degrees
-};
 
 class TrackingInput {
  public:
@@ -80,11 +76,8 @@ class NobodySeen {
 // What `quantum track` and `play --input` do with a source's frames before using them: tell its
 // calibration once, and when the table is not the sport's field warn (or with `strict` stop); with
 // `fit`, stretch the table's metres over the sport's field; warn (or stop) once when a hat
-// camera's markers do not fit the field (hat_view_mismatch); warn once when nobody is seen.
-struct SetupOptions {
-  bool strict = false, fit = false;
-};
-
+// camera's markers do not fit the field (hat_view_mismatch); warn once when nobody is seen
+// (SetupOptions: options.h).
 class SetupCheck {
  public:
   // `sport`: the sport's own field (tracked_field without --field-size).

@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
+#if QUANTUM_WITH_DESK
+#include <opencv2/imgcodecs.hpp>
+#endif
 
 #include <array>
 #include <cmath>
@@ -21,7 +23,9 @@
 #include "quantum/limits.h"
 #include "recording.h"
 #include "scenes.h"
+#if QUANTUM_WITH_TRACKING
 #include "synthetic.h"
+#endif
 #include "../shipped_sports.h"
 
 namespace {
@@ -192,6 +196,7 @@ TEST(Cli, SimulateTakesTheFieldsParameters) {
   EXPECT_NE(unread.err.find("unknown parameter 'points' (known: net, players)"), std::string::npos) << unread.err;
 }
 
+#if QUANTUM_WITH_DESK
 TEST(Cli, SnapshotIsAPicture) {
   const std::string png = std::filesystem::temp_directory_path() / "quantum_cli_snapshot.png";
   std::filesystem::remove(png);
@@ -202,12 +207,15 @@ TEST(Cli, SnapshotIsAPicture) {
   EXPECT_EQ(img.cols, 1100);  // the desk's picture (tests/runtime/desk_test.cpp checks what it shows)
   EXPECT_GT(img.rows, 500);
 }
+#endif
 
+#if QUANTUM_WITH_REFERENCE
 TEST(Cli, Box2DBackendRuns) {
   const Outcome r = quantum("simulate " + kTable + " --seconds 3 --particles 200 --backend box2d --events -");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"type\":\"drop\""), std::string::npos);
 }
+#endif
 
 TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
   Outcome r = quantum("simulate /nonexistent/field.lua");
@@ -222,9 +230,11 @@ TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
   EXPECT_NE(r.status, 0);
   r = quantum("simulate " + kTable + " --particles 0");
   EXPECT_NE(r.status, 0);
+#if QUANTUM_WITH_DESK
   r = quantum("simulate " + kTable + " --snapshot /nonexistent/dir/x.png --seconds 2");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("/nonexistent/dir/x.png"), std::string::npos) << r.err;
+#endif
 }
 
 // Values the engine cannot honour are refused before anything runs, naming the option.
@@ -316,8 +326,10 @@ TEST(Cli, AnOutputThatCannotBeWrittenStopsPlayBeforeItStarts) {
       {"--events /nonexistent/dir/x.jsonl", "--events /nonexistent/dir/x.jsonl: no folder /nonexistent/dir"},
       {"--decisions " + folder, "--decisions " + folder + ": is a folder, not a file"},
       {"--record /dev/null/x", "--record /dev/null/x: cannot make the folder"},
+#if QUANTUM_WITH_DESK
       {"--snapshot /nonexistent/dir/x.png", "--snapshot /nonexistent/dir/x.png: no folder /nonexistent/dir"},
       {"--snapshot " + folder + "/quantum_cli.bmpx", "not a picture file OpenCV writes"},
+#endif
   };
   for (const auto& [option, said] : refused) {
     const Outcome r = quantum("play rules/airhockey --seconds 600 --quiet " + option);
@@ -389,6 +401,7 @@ TEST(Cli, PlayRecordsTheMatchToAWav) {
   std::filesystem::remove(wav), std::filesystem::remove(events);
 }
 
+#if QUANTUM_WITH_TRACKING
 // `quantum track` on a synthetic recording: one JSON object per depth frame, nobody while the
 // background is learnt, both players after it; a corrupt frame is dropped.
 TEST(Cli, TrackPrintsOneJsonObjectPerFrame) {
@@ -550,6 +563,7 @@ TEST(Cli, TrackRefusesAnUnknownSource) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("unknown source 'webcam'"), std::string::npos) << r.err;
 }
+#endif
 
 TEST(Cli, PlayRefusesABadAudioOption) {
   const Outcome r = quantum("play rules/airhockey --seconds 1 --quiet --audio speakers");
@@ -656,11 +670,22 @@ TEST(Cli, VersionNamesTheProjectVersionTheCommitAndTheBuild) {
                         0),
             0u)
       << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(, (gcc|clang) \d+\.\d+[^,]*, sanitizers (on|off)\)\n$)"))) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(, (gcc|clang) \d+\.\d+[^,]*, sanitizers (on|off)\)\nmodules: )"))) << r.out;
 }
 
 // Each command's --help ends with two or three examples, real command lines whose options are
 // their command's own; a command's first example is of that command.
+// Its second line says which of the optional parts this build has (CMake's QUANTUM_WITH_*).
+TEST(Cli, VersionListsTheModulesOfThisBuild) {
+  const Outcome r = quantum("--version");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const auto on = [](bool built) { return built ? " on" : " off"; };
+  const std::string modules = std::string("\nmodules: tracking") + on(QUANTUM_WITH_TRACKING) + ", desk" +
+                              on(QUANTUM_WITH_DESK) + ", recognizer" + on(QUANTUM_WITH_RECOGNIZER) + ", reference" +
+                              on(QUANTUM_WITH_REFERENCE) + "\n";
+  EXPECT_TRUE(r.out.ends_with(modules)) << r.out;
+}
+
 TEST(Cli, EveryHelpEndsWithExamplesOfRealCommandLines) {
   const std::vector<std::string> commands = {"simulate", "play", "replay", "balance", "test", "track", "listen", "audit"};
   std::map<std::string, std::string> help;

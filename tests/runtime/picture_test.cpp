@@ -1,4 +1,4 @@
-// The desk's picture (runtime/picture.h): a legend whose outcomes add up to 100 % in every
+// The desk's picture (runtime/desk/picture.h): a legend whose outcomes add up to 100 % in every
 // sport, a picture that fits the box it is given with the field's aspect kept, names that stay on
 // the field and apart, areas drawn only on the field, the player a person drives marked, and the
 // paths' probabilities where they end.
