@@ -1,5 +1,5 @@
 // TUIO over OSC, any packet (a message or a bundle), through the same path a live tracker's
-// packets take into a match (runtime::TrackedPlayers): the bodies it moves stay finite, within
+// packets take into a match (runtime::tracked_players): the bodies it moves stay finite, within
 // a field's size of the field and under its speed limit; a bad packet is dropped.
 #include <lo/lo.h>
 
@@ -35,12 +35,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static game::Match match(field, game::MatchConfig{}, rules);
   static const std::vector<char> end = frame_end();
   const int port = fuzz::free_port();
-  runtime::TrackedPlayers players("tuio:" + std::to_string(port), field);
+  const std::unique_ptr<runtime::PlayerSource> players = runtime::tracked_players("tuio:" + std::to_string(port), field);
   fuzz::send_datagram(port, data, size);
   fuzz::send_datagram(port, end.data(), end.size());
-  players.advance(0, match, false);
+  players->advance(0, match, false);
   const float slack = std::max(field.bounds_max.x - field.bounds_min.x, field.bounds_max.y - field.bounds_min.y);
-  for (const BodyInput& b : players.bodies()) {
+  for (const BodyInput& b : players->bodies()) {
     const bool inside = b.position.x >= field.bounds_min.x - slack && b.position.x <= field.bounds_max.x + slack &&
                         b.position.y >= field.bounds_min.y - slack && b.position.y <= field.bounds_max.y + slack;
     if (!(inside && std::hypot(b.velocity.x, b.velocity.y) < field.max_body_speed)) __builtin_trap();  // NaN fails too
