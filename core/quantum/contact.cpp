@@ -268,7 +268,7 @@ void MoverBatch::resize(size_t n) {
   // A little more than asked: arrays of a prediction chunk's power-of-two length lie a multiple
   // of 4 KiB apart, so one particle's x, y, ux, ... fall in one L1 set and evict each other. 96
   // bytes more staggers them (at chunks of 1,024 the 1M fate report measured about 5 % faster).
-  for (auto* v : {&x, &y, &ux, &uy, &vx, &vy, &t, &when, &hnx, &hny}) v->resize(n + 24);
+  for (auto* v : {&x, &y, &ux, &uy, &vx, &vy, &t, &when, &nx, &ny}) v->resize(n + 24);
   code.resize(n);
   maybe.resize(n + 8);  // collect_flagged reads whole words of eight
   marked.resize(n);
@@ -348,12 +348,11 @@ namespace {
 
 // Particle i's contact becomes (dt, c, nx, ny) if that comes sooner. Every load comes before any
 // store: clang's vectorizer gives up on a loop that loads one array after storing to another.
-[[gnu::always_inline]] inline void keep_sooner(size_t i, float dt, int32_t c, float nx, float ny, float* __restrict when,
-                                               int32_t* __restrict code, float* __restrict hnx, float* __restrict hny) {
-  float w = when[i], ax = hnx[i], ay = hny[i];
-  int32_t k = code[i];
+[[gnu::always_inline]] inline void keep_sooner(const Paths& p, size_t i, float dt, int32_t c, float nx, float ny) {
+  float w = p.when[i], ax = p.nx[i], ay = p.ny[i];
+  int32_t k = p.code[i];
   take_sooner(dt, c, nx, ny, w, k, ax, ay);
-  when[i] = w, code[i] = k, hnx[i] = ax, hny[i] = ay;
+  p.when[i] = w, p.code[i] = k, p.nx[i] = ax, p.ny[i] = ay;
 }
 
 // The walls k0 .. k0 + B - 1 against every particle, in one pass: each particle's nearest
@@ -361,28 +360,22 @@ namespace {
 // wall, which was most of the wall loops' time. The same tests in the same order as one wall
 // at a time, so the same contact wins.
 template <size_t B>
-void walls_block(const Geometry& g, size_t k0, const MoverBatch& b, size_t n, float t1, float* __restrict when,
-                 int32_t* __restrict code, float* __restrict hnx, float* __restrict hny) {
+void walls_block(const Geometry& g, size_t k0, const Paths p, size_t n, float t1) {
   SegmentParams s[B];
   int32_t c[B];
   for (size_t j = 0; j < B; ++j) s[j] = segment(g, k0 + j), c[j] = hit_code(HitKind::Wall, g.wall[k0 + j]);
   const float r = g.r;
-  const float* __restrict x = b.x.data();
-  const float* __restrict y = b.y.data();
-  const float* __restrict ux = b.ux.data();
-  const float* __restrict uy = b.uy.data();
-  const float* __restrict t = b.t.data();
   QUANTUM_INDEPENDENT_ITERATIONS
   for (size_t i = 0; i < n; ++i) {
-    float w = when[i], ax = hnx[i], ay = hny[i];
-    int32_t k = code[i];
+    float w = p.when[i], ax = p.nx[i], ay = p.ny[i];
+    int32_t k = p.code[i];
 #pragma GCC unroll 4  // unrolled before the vectorizer sees the particle loop, which it otherwise leaves
     for (size_t j = 0; j < B; ++j) {
       float nx, ny;
-      const float dt = wall_time(s[j], r, x[i], y[i], ux[i], uy[i], t1 - t[i], nx, ny);
+      const float dt = wall_time(s[j], r, p.x[i], p.y[i], p.ux[i], p.uy[i], t1 - p.t[i], nx, ny);
       take_sooner(dt, c[j], nx, ny, w, k, ax, ay);
     }
-    when[i] = w, code[i] = k, hnx[i] = ax, hny[i] = ay;
+    p.when[i] = w, p.code[i] = k, p.nx[i] = ax, p.ny[i] = ay;
   }
 }
 
@@ -391,21 +384,13 @@ void walls_block(const Geometry& g, size_t k0, const MoverBatch& b, size_t n, fl
 void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, MoverBatch& b, size_t n, float t1) {
   // Hand-written for the compiler's vectorizer: each loop runs one primitive over all particles,
   // and the primitive tests are the branch-free functions next_hit uses too.
-  float* __restrict when = b.when.data();
-  float* __restrict hnx = b.hnx.data();
-  float* __restrict hny = b.hny.data();
-  int32_t* __restrict code = b.code.data();
-  const float* __restrict x = b.x.data();
-  const float* __restrict y = b.y.data();
-  const float* __restrict ux = b.ux.data();
-  const float* __restrict uy = b.uy.data();
-  const float* __restrict t = b.t.data();
-  for (size_t i = 0; i < n; ++i) when[i] = kInf, code[i] = -1, hnx[i] = 0, hny[i] = 0;
+  const Paths p(b);
+  for (size_t i = 0; i < n; ++i) p.when[i] = kInf, p.code[i] = -1, p.nx[i] = 0, p.ny[i] = 0;
   const float r = g.r;
   size_t k = 0;
-  for (; k + 4 <= g.ax.size(); k += 4) walls_block<4>(g, k, b, n, t1, when, code, hnx, hny);
-  for (; k + 2 <= g.ax.size(); k += 2) walls_block<2>(g, k, b, n, t1, when, code, hnx, hny);
-  for (; k < g.ax.size(); ++k) walls_block<1>(g, k, b, n, t1, when, code, hnx, hny);
+  for (; k + 4 <= g.ax.size(); k += 4) walls_block<4>(g, k, p, n, t1);
+  for (; k + 2 <= g.ax.size(); k += 2) walls_block<2>(g, k, p, n, t1);
+  for (; k < g.ax.size(); ++k) walls_block<1>(g, k, p, n, t1);
   // End points: a path passes near a given one rarely (a corner or a post a few centimetres
   // wide, seen from across the field). A vectorized pass without a square root or a division
   // marks the particles whose line comes within reach of the point, or that overlap it; only
@@ -417,19 +402,19 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     const float px = g.cap_x[k], py = g.cap_y[k];
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i)
-      maybe[i] = uint8_t(circle_may_meet(x[i] - px, y[i] - py, ux[i], uy[i], r));
+      maybe[i] = uint8_t(circle_may_meet(p.x[i] - px, p.y[i] - py, p.ux[i], p.uy[i], r));
     const int m = collect_flagged(maybe, int(n), marked);
     for (int j = 0; j < m; ++j) {
       const size_t i = size_t(marked[j]);
-      const float qx = x[i] - px, qy = y[i] - py;
-      const float dt = circle_time(qx, qy, ux[i], uy[i], r, t1 - t[i]);
-      const float hx = qx + ux[i] * dt, hy = qy + uy[i] * dt, ll = hx * hx + hy * hy;
-      if (!(dt < when[i] && ll > 0)) continue;
+      const float qx = p.x[i] - px, qy = p.y[i] - py;
+      const float dt = circle_time(qx, qy, p.ux[i], p.uy[i], r, t1 - p.t[i]);
+      const float hx = qx + p.ux[i] * dt, hy = qy + p.uy[i] * dt, ll = hx * hx + hy * hy;
+      if (!(dt < p.when[i] && ll > 0)) continue;
       // The normal (a square root and two divisions) only for a nearer contact among the few
       // marked paths, never in the vectorized loops for every candidate: in a match's frame that
       // was a third of its time (docs/PERFORMANCE.md).
       const float l = std::sqrt(ll);
-      when[i] = dt, code[i] = c, hnx[i] = hx / l, hny[i] = hy / l;
+      p.when[i] = dt, p.code[i] = c, p.nx[i] = hx / l, p.ny[i] = hy / l;
     }
   }
   for (size_t k = 0; k < g.gax.size(); ++k) {
@@ -437,8 +422,8 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     const SegmentParams s = goal_line(g, k);
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
-      const float dt = goal_time(s, x[i], y[i], ux[i], uy[i], t1 - t[i]);
-      keep_sooner(i, dt, c, s.nx, s.ny, when, code, hnx, hny);
+      const float dt = goal_time(s, p.x[i], p.y[i], p.ux[i], p.uy[i], t1 - p.t[i]);
+      keep_sooner(p, i, dt, c, s.nx, s.ny);
     }
   }
   {
@@ -446,8 +431,8 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     const Box bounds = g.bounds;
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
-      const float dt = bounds_time(bounds, x[i], y[i], ux[i], uy[i], t1 - t[i]);
-      keep_sooner(i, dt, c, 0, 0, when, code, hnx, hny);
+      const float dt = bounds_time(bounds, p.x[i], p.y[i], p.ux[i], p.uy[i], t1 - p.t[i]);
+      keep_sooner(p, i, dt, c, 0, 0);
     }
   }
   for (size_t k = 0; k < g.mx.size(); ++k) {
@@ -455,8 +440,8 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     const float px = g.mx[k], py = g.my[k], pr = g.mr[k];
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
-      const float dt = mouth_time(x[i] - px, y[i] - py, ux[i], uy[i], pr, t1 - t[i]);
-      keep_sooner(i, dt, c, 0, 0, when, code, hnx, hny);
+      const float dt = mouth_time(p.x[i] - px, p.y[i] - py, p.ux[i], p.uy[i], pr, t1 - p.t[i]);
+      keep_sooner(p, i, dt, c, 0, 0);
     }
   }
   for (int k = 0; k < n_bodies; ++k) {
@@ -466,16 +451,16 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
     // As for end points: the pre-pass marks the paths that can come within reach of the body
     // while it moves or once it rests, and only those take body_time's two exact tests.
     QUANTUM_INDEPENDENT_ITERATIONS
-    for (size_t i = 0; i < n; ++i) maybe[i] = uint8_t(body_may_meet(body, r, x[i], y[i], ux[i], uy[i], t[i]));
+    for (size_t i = 0; i < n; ++i) maybe[i] = uint8_t(body_may_meet(body, r, p.x[i], p.y[i], p.ux[i], p.uy[i], p.t[i]));
     const int m = collect_flagged(maybe, int(n), marked);
     for (int j = 0; j < m; ++j) {
       const size_t i = size_t(marked[j]);
-      const float dt = body_time(body, r, x[i], y[i], ux[i], uy[i], t[i], t1);
-      if (!(dt < when[i])) continue;
-      const float hx = x[i] + ux[i] * dt - body_x(body, t[i] + dt), hy = y[i] + uy[i] * dt - body_y(body, t[i] + dt);
+      const float dt = body_time(body, r, p.x[i], p.y[i], p.ux[i], p.uy[i], p.t[i], t1);
+      if (!(dt < p.when[i])) continue;
+      const float hx = p.x[i] + p.ux[i] * dt - body_x(body, p.t[i] + dt), hy = p.y[i] + p.uy[i] * dt - body_y(body, p.t[i] + dt);
       const float l = norm(hx, hy);
       const bool centre = !(l > 0);  // dead centre: any direction is as good
-      when[i] = dt, code[i] = c, hnx[i] = centre ? 1.0f : hx / l, hny[i] = centre ? 0.0f : hy / l;
+      p.when[i] = dt, p.code[i] = c, p.nx[i] = centre ? 1.0f : hx / l, p.ny[i] = centre ? 0.0f : hy / l;
     }
   }
 }

@@ -216,7 +216,7 @@ Hit next_hit(const Geometry& g, const BodyPath* bodies, int n_bodies, const Move
 // Particles in structure-of-arrays form, searched together.
 struct MoverBatch {
   std::vector<float> x, y, ux, uy, vx, vy, t;
-  std::vector<float> when, hnx, hny;  // the search's answer: time from t, normal
+  std::vector<float> when, nx, ny;    // the search's answer: time from t, normal
   std::vector<int32_t> code;          // kind << 16 | index, or -1 for none
   std::vector<uint8_t> maybe;         // scratch: particles an end point may meet...
   std::vector<int16_t> marked;        // ...and their indices
@@ -226,6 +226,21 @@ struct MoverBatch {
   }
 };
 constexpr int32_t hit_code(HitKind kind, int index) { return int32_t(kind) << 16 | index; }
+
+// What every batched search reads and answers, flat or with height (Mover3Batch has these
+// columns too): each particle's path from its own time t, and its nearest contact so far. Taken
+// once per search and handed by value to its passes, so the vectorized loops read plain local
+// pointers (a copy whose address never escapes is split into registers).
+struct Paths {
+  const float *__restrict x, *__restrict y, *__restrict ux, *__restrict uy, *__restrict t;
+  float *__restrict when, *__restrict nx, *__restrict ny;
+  int32_t* __restrict code;
+
+  template <class Batch>
+  explicit Paths(Batch& b)
+      : x(b.x.data()), y(b.y.data()), ux(b.ux.data()), uy(b.uy.data()), t(b.t.data()), when(b.when.data()),
+        nx(b.nx.data()), ny(b.ny.data()), code(b.code.data()) {}
+};
 inline HitKind code_kind(int32_t code) { return code < 0 ? HitKind::None : HitKind(code >> 16); }
 inline int code_index(int32_t code) { return code & 0xFFFF; }
 
@@ -236,8 +251,6 @@ void batch_next_hits(const Geometry& g, const BodyPath* bodies, int n_bodies, Mo
 // back inside.
 constexpr float kSkin = 2e-6f;
 
-// Applies a contact found by a search to m, already moved to the contact time t. Inline: the
-// prediction resolves every particle's every contact, most of them walls.
 // A bounce off a vertical surface of restitution e (a wall, a backboard), normal (nx, ny) toward
 // the ball: the drift and the ball's own velocity are reflected alike, on a flat field or with
 // height (M is a Mover or a Mover3).
@@ -249,8 +262,14 @@ template <class M>
   m.x += kSkin * nx, m.y += kSkin * ny;
 }
 
+// Applies a contact found by a search to m, already moved to the contact time t: a wall, a
+// wormhole mouth or a body's side. Each acts on the ball's horizontal motion only, so this is the
+// one resolve of them on a flat field and with height (M is a Mover or a Mover3; height.h's
+// resolve adds the floor, the ceiling, boards, rims and bodies' tops, and hands the rest here).
+// Inline: the prediction resolves every particle's every contact, most of them walls.
+template <class M>
 inline void resolve(const Geometry& g, const BodyPath* bodies, HitKind kind, int index, float nx, float ny, float t,
-             Mover& m) {
+                    M& m) {
   if (kind == HitKind::Wall) {
     reflect_off(m, nx, ny, g.e_wall);
   } else if (kind == HitKind::Wormhole) {

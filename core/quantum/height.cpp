@@ -69,17 +69,8 @@ struct Ring {
 // into found[i]. The search runs only while the ball is level with the rod (one or two stretches
 // of the arc) and passes within reach of it horizontally; the particles still searching probe
 // together, round by round.
-void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) {
+void ring_times(const Ring& hoop, const Paths3 p, RingScratch& w, size_t n, const float* limit) {
   const Ring h = hoop;  // a local: stores to the float arrays might otherwise alias it
-  const float* __restrict x = b.x.data();
-  const float* __restrict y = b.y.data();
-  const float* __restrict z = b.z.data();
-  const float* __restrict ux = b.ux.data();
-  const float* __restrict uy = b.uy.data();
-  const float* __restrict vz = b.vz.data();
-  const float* __restrict gl = b.g.data();
-  const int32_t* __restrict near = b.near.data();
-  RingScratch& w = b.ring;
   float* __restrict hi0 = w.hi0.data();
   float* __restrict lo1 = w.lo1.data();
   float* __restrict hi1 = w.hi1.data();
@@ -92,19 +83,19 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
   uint32_t* __restrict stage = w.stage.data();
   uint32_t* __restrict steps = w.steps.data();
   auto distance = [&](size_t i, float t) __attribute__((always_inline)) {
-    return hypot2(x[i] - h.x + ux[i] * t, y[i] - h.y + uy[i] * t);
+    return hypot2(p.x[i] - h.x + p.ux[i] * t, p.y[i] - h.y + p.uy[i] * t);
   };
   // A stretch [lo, hi] of the arc, clamped to [0, limit]: whether it can meet the rod, how fast
   // the ball goes in it at most, and how its gap may bend.
   int32_t any = 0;
   auto stretch = [&](size_t i, float& lo, float& hi, float& fast, float& bend) __attribute__((always_inline)) {
-    const float g = gl[i], uu = ux[i] * ux[i] + uy[i] * uy[i];
+    const float g = p.g[i], uu = p.ux[i] * p.ux[i] + p.uy[i] * p.uy[i];
     lo = std::max(lo, 0.0f), hi = std::min(hi, limit[i]);
     // Horizontally: never within reach of the ring line, or all the time well inside the ring.
-    const float qx = x[i] - h.x, qy = y[i] - h.y;
-    const float closest = uu > 0 ? std::clamp(-(qx * ux[i] + qy * uy[i]) / uu, lo, hi) : lo;
+    const float qx = p.x[i] - h.x, qy = p.y[i] - h.y;
+    const float closest = uu > 0 ? std::clamp(-(qx * p.ux[i] + qy * p.uy[i]) / uu, lo, hi) : lo;
     const float nearest = distance(i, closest);
-    const float w0 = vz[i] - g * lo, w1 = vz[i] - g * hi;
+    const float w0 = p.vz[i] - g * lo, w1 = p.vz[i] - g * hi;
     fast = std::sqrt(uu + std::max(w0 * w0, w1 * w1));
     bend = g + uu / std::max(nearest, 1e-3f);
     return (lo <= hi) & !(nearest > h.radius + h.reach) &
@@ -112,16 +103,16 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
   };
   QUANTUM_INDEPENDENT_ITERATIONS
   for (size_t i = 0; i < n; ++i) {
-    const float g = gl[i], v = vz[i];
+    const float g = p.g[i], v = p.vz[i];
     // Level with the rod: the arc above its bottom, less the time above its top.
-    const float low = v * v + 2 * g * (z[i] - (h.z - h.reach)), high = v * v + 2 * g * (z[i] - (h.z + h.reach));
+    const float low = v * v + 2 * g * (p.z[i] - (h.z - h.reach)), high = v * v + 2 * g * (p.z[i] - (h.z + h.reach));
     const float rl = std::sqrt(std::max(low, 0.0f)), rh = std::sqrt(std::max(high, 0.0f));
     const float a0 = (v - rl) / g, a1 = (v + rl) / g, b0 = (v - rh) / g, b1 = (v + rh) / g;
     const bool split = high >= 0;
     float l0 = a0, h0 = split ? b0 : a1, l1 = b1, h1 = a1;
     float f0, f1, e0, e1;
     // A ball on the floor never reaches a ring.
-    const bool level = (near[i] != 0) & (g > 0) & (low >= 0);
+    const bool level = (p.near[i] != 0) & (g > 0) & (low >= 0);
     const bool first = level & stretch(i, l0, h0, f0, e0), second = level & split & stretch(i, l1, h1, f1, e1);
     hi0[i] = h0, lo1[i] = second ? l1 : kInf, hi1[i] = h1, fast0[i] = f0, fast1[i] = f1, bend0[i] = e0, bend1[i] = e1;
     stage[i] = first ? 0 : second ? 1 : 2;
@@ -144,8 +135,8 @@ void ring_times(const Ring& hoop, Mover3Batch& b, size_t n, const float* limit) 
   size_t m = 0;
   for (size_t i = 0; i < n; ++i) {
     // Slot m is at or before i: what it overwrites has been read.
-    lane[m] = int32_t(i), qx[m] = x[i] - h.x, qy[m] = y[i] - h.y, qz[m] = z[i], wx[m] = ux[i], wy[m] = uy[i];
-    wz[m] = vz[i], wg[m] = gl[i];
+    lane[m] = int32_t(i), qx[m] = p.x[i] - h.x, qy[m] = p.y[i] - h.y, qz[m] = p.z[i], wx[m] = p.ux[i], wy[m] = p.uy[i];
+    wz[m] = p.vz[i], wg[m] = p.g[i];
     hi0[m] = hi0[i], lo1[m] = lo1[i], hi1[m] = hi1[i], fast0[m] = fast0[i], fast1[m] = fast1[i];
     bend0[m] = bend0[i], bend1[m] = bend1[i], at[m] = at[i], stage[m] = stage[i], steps[m] = 0;
     m += stage[i] < 2;
@@ -266,54 +257,38 @@ void search3(const Geometry& geo, const Sky& s, const BodyPath* bodies, int n_bo
   // Hand-written for the compiler's vectorizer, as batch_next_hits: each loop runs one kind of
   // surface over all particles, branch-free. Only the rim search and the walls (rare: a path
   // leaving the safe box) run one particle at a time, each for the particles that need them.
-  const float* __restrict x = b.x.data();
-  const float* __restrict y = b.y.data();
-  const float* __restrict z = b.z.data();
-  const float* __restrict ux = b.ux.data();
-  const float* __restrict uy = b.uy.data();
-  const float* __restrict vz = b.vz.data();
-  const float* __restrict t = b.t.data();
-  float* __restrict when = b.when.data();
-  float* __restrict hnx = b.nx.data();
-  float* __restrict hny = b.ny.data();
-  float* __restrict hnz = b.nz.data();
-  float* __restrict gl = b.g.data();
-  float* __restrict span = b.span.data();
-  int32_t* __restrict code = b.code.data();
-  int32_t* __restrict surface = b.surface.data();
-  int32_t* __restrict item = b.item.data();
-  int32_t* __restrict near = b.near.data();
+  const Paths3 p(b);
   const float r = s.r, gravity = s.g, ground = s.r + kGroundSkin, ceiling = s.ceiling;
   const int32_t floor_code = hit_code(HitKind::Wall, s.floor_wall), ceiling_code = hit_code(HitKind::Wall, s.ceiling_wall);
   auto set = [&](size_t i, bool better, float dt, int32_t c, Surface f, int k, float nx, float ny, float nz) {
-    when[i] = better ? dt : when[i], code[i] = better ? c : code[i];
-    surface[i] = better ? int32_t(f) : surface[i], item[i] = better ? k : item[i];
-    hnx[i] = better ? nx : hnx[i], hny[i] = better ? ny : hny[i], hnz[i] = better ? nz : hnz[i];
+    p.when[i] = better ? dt : p.when[i], p.code[i] = better ? c : p.code[i];
+    p.surface[i] = better ? int32_t(f) : p.surface[i], p.item[i] = better ? k : p.item[i];
+    p.nx[i] = better ? nx : p.nx[i], p.ny[i] = better ? ny : p.ny[i], p.nz[i] = better ? nz : p.nz[i];
   };
   // The floor and the ceiling first, in closed form: nothing after the ball meets them counts, so
   // every other search looks only that far (a long prediction's flight ends at the next bounce).
   QUANTUM_INDEPENDENT_ITERATIONS
   for (size_t i = 0; i < n; ++i) {
     // A ball resting on the floor rolls: the floor holds gravity.
-    const float g = ((vz[i] == 0) & (z[i] <= ground)) ? 0.0f : gravity;
-    gl[i] = g;
-    when[i] = kInf, code[i] = -1, surface[i] = int32_t(Surface::Segment), item[i] = -1;
-    hnx[i] = 0, hny[i] = 0, hnz[i] = 0;
-    const float left = t1 - t[i];
-    const float down = ((z[i] <= r) & (vz[i] < 0)) ? 0.0f : descent_time(z[i], vz[i], g, r);
+    const float g = ((p.vz[i] == 0) & (p.z[i] <= ground)) ? 0.0f : gravity;
+    p.g[i] = g;
+    p.when[i] = kInf, p.code[i] = -1, p.surface[i] = int32_t(Surface::Segment), p.item[i] = -1;
+    p.nx[i] = 0, p.ny[i] = 0, p.nz[i] = 0;
+    const float left = t1 - p.t[i];
+    const float down = ((p.z[i] <= r) & (p.vz[i] < 0)) ? 0.0f : descent_time(p.z[i], p.vz[i], g, r);
     set(i, (g > 0) & (down <= left), down, floor_code, Surface::Floor, -1, 0, 0, 1);
-    span[i] = std::min(left, when[i]);
+    p.span[i] = std::min(left, p.when[i]);
   }
   if (ceiling < kInf) {
     for (size_t i = 0; i < n; ++i) {
-      const float left = t1 - t[i], up = ascent_time(z[i], vz[i], gl[i], ceiling);
-      set(i, (up <= left) & (up < when[i]), up, ceiling_code, Surface::Ceiling, -1, 0, 0, -1);
-      span[i] = std::min(left, when[i]);
+      const float left = t1 - p.t[i], up = ascent_time(p.z[i], p.vz[i], p.g[i], ceiling);
+      set(i, (up <= left) & (up < p.when[i]), up, ceiling_code, Surface::Ceiling, -1, 0, 0, -1);
+      p.span[i] = std::min(left, p.when[i]);
     }
   }
   if (s.roll > 0) {
     for (size_t i = 0; i < n; ++i)
-      if (gl[i] == 0) span[i] = s.rolled(t1 - t[i]);
+      if (p.g[i] == 0) p.span[i] = s.rolled(t1 - p.t[i]);
   }
   // Walls, goal lines, the bounds and wormholes: only where the path leaves the safe box. A court
   // with lines only (no walls, no goal lines) has just its bounds to search, for every particle
@@ -324,15 +299,15 @@ void search3(const Geometry& geo, const Sky& s, const BodyPath* bodies, int n_bo
     const int32_t out = hit_code(HitKind::Out, 0);
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
-      const float dt = bounds_time(bounds, x[i], y[i], ux[i], uy[i], span[i]);
-      set(i, dt < when[i], dt, out, Surface::Segment, -1, 0, 0, 0);
+      const float dt = bounds_time(bounds, p.x[i], p.y[i], p.ux[i], p.uy[i], p.span[i]);
+      set(i, dt < p.when[i], dt, out, Surface::Segment, -1, 0, 0, 0);
     }
   } else {
     for (size_t i = 0; i < n; ++i) {
-      const float ex = x[i] + ux[i] * span[i], ey = y[i] + uy[i] * span[i];
-      if (!mouths && safe.contains(x[i], y[i]) && safe.contains(ex, ey)) continue;
-      const Hit flat = next_hit(geo, nullptr, 0, {x[i], y[i], ux[i], uy[i], b.vx[i], b.vy[i]}, t[i], t[i] + span[i], false);
-      set(i, flat.dt < when[i], flat.dt, hit_code(flat.kind, flat.index), Surface::Segment, -1, flat.nx, flat.ny, 0);
+      const float ex = p.x[i] + p.ux[i] * p.span[i], ey = p.y[i] + p.uy[i] * p.span[i];
+      if (!mouths && safe.contains(p.x[i], p.y[i]) && safe.contains(ex, ey)) continue;
+      const Hit flat = next_hit(geo, nullptr, 0, {p.x[i], p.y[i], p.ux[i], p.uy[i], b.vx[i], b.vy[i]}, p.t[i], p.t[i] + p.span[i], false);
+      set(i, flat.dt < p.when[i], flat.dt, hit_code(flat.kind, flat.index), Surface::Segment, -1, flat.nx, flat.ny, 0);
     }
   }
 
@@ -342,52 +317,52 @@ void search3(const Geometry& geo, const Sky& s, const BodyPath* bodies, int n_bo
     int32_t any_near = 0;
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
-      const float g = gl[i], d = span[i], ex = x[i] + ux[i] * d, ey = y[i] + uy[i] * d;
-      const float end = z[i] + vz[i] * d - 0.5f * g * d * d;
-      const float peak = ((g > 0) & (vz[i] > 0) & (vz[i] < g * d)) ? z[i] + vz[i] * vz[i] / (2 * g) : std::max(z[i], end);
-      near[i] = int32_t((std::max(x[i], ex) >= ox0) & (std::min(x[i], ex) <= ox1) & (std::max(y[i], ey) >= oy0) &
-                        (std::min(y[i], ey) <= oy1) & (peak >= oz0) & (std::min(z[i], end) <= oz1));
-      any_near |= near[i];
+      const float g = p.g[i], d = p.span[i], ex = p.x[i] + p.ux[i] * d, ey = p.y[i] + p.uy[i] * d;
+      const float end = p.z[i] + p.vz[i] * d - 0.5f * g * d * d;
+      const float peak = ((g > 0) & (p.vz[i] > 0) & (p.vz[i] < g * d)) ? p.z[i] + p.vz[i] * p.vz[i] / (2 * g) : std::max(p.z[i], end);
+      p.near[i] = int32_t((std::max(p.x[i], ex) >= ox0) & (std::min(p.x[i], ex) <= ox1) & (std::max(p.y[i], ey) >= oy0) &
+                        (std::min(p.y[i], ey) <= oy1) & (peak >= oz0) & (std::min(p.z[i], end) <= oz1));
+      any_near |= p.near[i];
     }
     if (!any_near) goto bodies;
     for (size_t k = 0; k < s.board.size(); ++k) {
-      const SegmentParams p = s.board[k];
+      const SegmentParams board = s.board[k];
       const float bottom = s.bbottom[k], top = s.btop[k];
       const int32_t c = hit_code(HitKind::Wall, s.bwall[k]);
       QUANTUM_INDEPENDENT_ITERATIONS
       for (size_t i = 0; i < n; ++i) {
         // Beside a board's edge (within a ball's radius of its plane, over, under or past it) the
         // ball flies on: edges are not modelled, and a ball there must not hit the face from inside.
-        const bool beside = std::fabs((x[i] - p.ax) * p.nx + (y[i] - p.ay) * p.ny) < r - kTolerance;
+        const bool beside = std::fabs((p.x[i] - board.ax) * board.nx + (p.y[i] - board.ay) * board.ny) < r - kTolerance;
         float nx, ny;
-        const float dt = wall_time(p, r, x[i], y[i], ux[i], uy[i], span[i], nx, ny);
-        const float h = z[i] + vz[i] * dt - 0.5f * gl[i] * dt * dt;
-        set(i, near[i] & !beside & (dt < when[i]) & (h >= bottom) & (h <= top), dt, c, Surface::Board, int(k), nx, ny, 0);
+        const float dt = wall_time(board, r, p.x[i], p.y[i], p.ux[i], p.uy[i], p.span[i], nx, ny);
+        const float h = p.z[i] + p.vz[i] * dt - 0.5f * p.g[i] * dt * dt;
+        set(i, p.near[i] & !beside & (dt < p.when[i]) & (h >= bottom) & (h <= top), dt, c, Surface::Board, int(k), nx, ny, 0);
       }
     }
     for (size_t k = 0; k < s.hx.size(); ++k) {
       const float cx = s.hx[k], cy = s.hy[k], cz = s.hz[k], ring = s.hring[k];
       const int32_t rim = hit_code(HitKind::Wall, s.hwall[k]), basket = hit_code(HitKind::Goal, s.hgoal[k]);
       float* __restrict limit = b.ring.limit.data();
-      for (size_t i = 0; i < n; ++i) limit[i] = std::min(span[i], when[i]);
-      ring_times({cx, cy, cz, ring, s.htube[k] + r}, b, n, limit);
+      for (size_t i = 0; i < n; ++i) limit[i] = std::min(p.span[i], p.when[i]);
+      ring_times({cx, cy, cz, ring, s.htube[k] + r}, p, b.ring, n, limit);
       const float* __restrict found = b.ring.found.data();
       QUANTUM_INDEPENDENT_ITERATIONS
       for (size_t i = 0; i < n; ++i) {
         const float dt = found[i];
-        const float px = x[i] + ux[i] * dt - cx, py = y[i] + uy[i] * dt - cy;
-        const float pz = z[i] + vz[i] * dt - 0.5f * gl[i] * dt * dt - cz, rho = hypot2(px, py);
+        const float px = p.x[i] + p.ux[i] * dt - cx, py = p.y[i] + p.uy[i] * dt - cy;
+        const float pz = p.z[i] + p.vz[i] * dt - 0.5f * p.g[i] * dt * dt - cz, rho = hypot2(px, py);
         const float nx = rho > 0 ? px - ring * px / rho : 0, ny = rho > 0 ? py - ring * py / rho : 0;
         const float l = std::sqrt(nx * nx + ny * ny + pz * pz);
         const bool flat = !(l > 0);
-        set(i, dt < when[i], dt, rim, Surface::Rim, int(k), flat ? 0.0f : nx / l, flat ? 0.0f : ny / l, flat ? 1.0f : pz / l);
+        set(i, dt < p.when[i], dt, rim, Surface::Rim, int(k), flat ? 0.0f : nx / l, flat ? 0.0f : ny / l, flat ? 1.0f : pz / l);
       }
       // Through the ring from above: a basket.
       QUANTUM_INDEPENDENT_ITERATIONS
       for (size_t i = 0; i < n; ++i) {
-        const float down = descent_time(z[i], vz[i], gl[i], cz);
-        const float hx = x[i] + ux[i] * down - cx, hy = y[i] + uy[i] * down - cy;
-        set(i, near[i] & (gl[i] > 0) & (down <= span[i]) & (down < when[i]) & (hypot2(hx, hy) < ring), down, basket,
+        const float down = descent_time(p.z[i], p.vz[i], p.g[i], cz);
+        const float hx = p.x[i] + p.ux[i] * down - cx, hy = p.y[i] + p.uy[i] * down - cy;
+        set(i, p.near[i] & (p.g[i] > 0) & (down <= p.span[i]) & (down < p.when[i]) & (hypot2(hx, hy) < ring), down, basket,
             Surface::Segment, int(k), 0, 0, -1);
       }
     }
@@ -406,30 +381,30 @@ bodies:
     int32_t any_close = 0;
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
-      const float t0 = t[i], d = span[i], ex = x[i] + ux[i] * d, ey = y[i] + uy[i] * d;
+      const float t0 = p.t[i], d = p.span[i], ex = p.x[i] + p.ux[i] * d, ey = p.y[i] + p.uy[i] * d;
       const float cx0 = body_x(body, t0), cx1 = body_x(body, t0 + d), cy0 = body_y(body, t0), cy1 = body_y(body, t0 + d);
-      clear[i] = float((std::max(cx0, cx1) + body.radius < std::min(x[i], ex) - r) |
-                         (std::min(cx0, cx1) - body.radius > std::max(x[i], ex) + r) |
-                         (std::max(cy0, cy1) + body.radius < std::min(y[i], ey) - r) |
-                         (std::min(cy0, cy1) - body.radius > std::max(y[i], ey) + r));
+      clear[i] = float((std::max(cx0, cx1) + body.radius < std::min(p.x[i], ex) - r) |
+                         (std::min(cx0, cx1) - body.radius > std::max(p.x[i], ex) + r) |
+                         (std::max(cy0, cy1) + body.radius < std::min(p.y[i], ey) - r) |
+                         (std::min(cy0, cy1) - body.radius > std::max(p.y[i], ey) + r));
       any_close |= int32_t(clear[i] == 0);
     }
     if (!any_close) continue;
     QUANTUM_INDEPENDENT_ITERATIONS
     for (size_t i = 0; i < n; ++i) {
-      const float t0 = t[i], d = span[i], g = gl[i];
+      const float t0 = p.t[i], d = p.span[i], g = p.g[i];
       // The side, below the body's reach...
-      const float side = body_time(body, r, x[i], y[i], ux[i], uy[i], t0, t0 + d);
-      float hx = x[i] + ux[i] * side - body_x(body, t0 + side), hy = y[i] + uy[i] * side - body_y(body, t0 + side);
+      const float side = body_time(body, r, p.x[i], p.y[i], p.ux[i], p.uy[i], t0, t0 + d);
+      float hx = p.x[i] + p.ux[i] * side - body_x(body, t0 + side), hy = p.y[i] + p.uy[i] * side - body_y(body, t0 + side);
       const float l = hypot2(hx, hy);
       const bool centred = !(l > 0);  // dead centre: any direction is as good
       hx = centred ? 1.0f : hx / l, hy = centred ? 0.0f : hy / l;
-      const float h = z[i] + vz[i] * side - 0.5f * g * side * side;
-      set(i, (clear[i] == 0.0f) & (side < when[i]) & (h <= over), side, c, Surface::Side, -1, hx, hy, 0);
+      const float h = p.z[i] + p.vz[i] * side - 0.5f * g * side * side;
+      set(i, (clear[i] == 0.0f) & (side < p.when[i]) & (h <= over), side, c, Surface::Side, -1, hx, hy, 0);
       // ...or the top, coming down onto the hands.
-      const float top = descent_time(z[i], vz[i], g, over);
-      const float tx = x[i] + ux[i] * top - body_x(body, t0 + top), ty = y[i] + uy[i] * top - body_y(body, t0 + top);
-      set(i, (clear[i] == 0.0f) & (z[i] > over) & (top <= d) & (top < when[i]) & (hypot2(tx, ty) < reach), top, c, Surface::Top, -1,
+      const float top = descent_time(p.z[i], p.vz[i], g, over);
+      const float tx = p.x[i] + p.ux[i] * top - body_x(body, t0 + top), ty = p.y[i] + p.uy[i] * top - body_y(body, t0 + top);
+      set(i, (clear[i] == 0.0f) & (p.z[i] > over) & (top <= d) & (top < p.when[i]) & (hypot2(tx, ty) < reach), top, c, Surface::Top, -1,
           0, 0, 1);
     }
   }
@@ -460,7 +435,7 @@ Hit3 next_hit3(const Geometry& geo, const Sky& sky, const BodyPath* bodies, int 
   return one.hit(0);
 }
 
-void resolve3(const Geometry& geo, const Sky& s, const BodyPath* bodies, const Hit3& hit, float t, Mover3& m) {
+void resolve(const Geometry& geo, const Sky& s, const BodyPath* bodies, const Hit3& hit, float t, Mover3& m) {
   switch (hit.surface) {
     case Surface::Floor:
     case Surface::Ceiling: {
@@ -490,12 +465,7 @@ void resolve3(const Geometry& geo, const Sky& s, const BodyPath* bodies, const H
       break;
     }
     case Surface::Segment:
-    case Surface::Side: {
-      Mover flat = m.flat();
-      resolve(geo, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, flat);
-      m.x = flat.x, m.y = flat.y, m.ux = flat.ux, m.uy = flat.uy, m.vx = flat.vx, m.vy = flat.vy;
-      break;
-    }
+    case Surface::Side: resolve(geo, bodies, hit.kind, hit.index, hit.nx, hit.ny, t, m); break;
   }
 }
 

@@ -114,6 +114,18 @@ struct Mover3Batch {
   }
 };
 
+// The columns the search with height reads and answers beyond the flat search's (Paths): taken
+// once per search, and handed on to the rim search.
+struct Paths3 : Paths {
+  const float *__restrict z, *__restrict vz;
+  float *__restrict nz, *__restrict g, *__restrict span;  // g and span: the search's scratch
+  int32_t *__restrict surface, *__restrict item, *__restrict near;
+
+  explicit Paths3(Mover3Batch& b)
+      : Paths(b), z(b.z.data()), vz(b.vz.data()), nz(b.nz.data()), g(b.g.data()), span(b.span.data()),
+        surface(b.surface.data()), item(b.item.data()), near(b.near.data()) {}
+};
+
 // next_hit3 for particles [0, n) of the batch, each from its own b.t up to t1. next_hit3 is this
 // search on a batch of one, so both find the same contact to the bit.
 void batch_next_hits3(const Geometry& g, const Sky& sky, const BodyPath* bodies, int n_bodies, Mover3Batch& b,
@@ -126,8 +138,9 @@ Mover3 advanced(const Sky& sky, const Mover3& m, float dt);
 Hit3 next_hit3(const Geometry& g, const Sky& sky, const BodyPath* bodies, int n_bodies, const Mover3& m, float t0,
                float t1, bool with_bodies);
 
-// Applies a contact found by the search to m, already moved to the contact time t.
-void resolve3(const Geometry& g, const Sky& sky, const BodyPath* bodies, const Hit3& hit, float t, Mover3& m);
+// Applies a contact found by the search to m, already moved to the contact time t: the floor, the
+// ceiling, a board, a rim or a body's top here, the rest by the flat field's resolve (contact.h).
+void resolve(const Geometry& g, const Sky& sky, const BodyPath* bodies, const Hit3& hit, float t, Mover3& m);
 
 // The ball's speed into the surface it met (for whether a bounce is heard).
 float impact_speed(const Hit3& hit, const Mover3& m);

@@ -29,7 +29,7 @@ struct Flat {
   }
   Hit hit(const Batch& b, size_t j) const {
     const HitKind kind = code_kind(b.code[j]);
-    return {b.when[j], kind, kind == HitKind::None ? -1 : code_index(b.code[j]), b.hnx[j], b.hny[j]};
+    return {b.when[j], kind, kind == HitKind::None ? -1 : code_index(b.code[j]), b.nx[j], b.ny[j]};
   }
   static Mover mover(const Batch& b, size_t j) { return {b.x[j], b.y[j], b.ux[j], b.uy[j], b.vx[j], b.vy[j]}; }
   // Particle i of a cloud, moving with its own velocity (no drift).
@@ -85,7 +85,7 @@ struct Tall {
   float span(const Mover& m, float dt) const { return sky.gravity_on(m) == 0 ? sky.rolled(dt) : dt; }
   // Free flight for dt seconds: a parabola, or a roll on the floor.
   Mover advanced(const Mover& m, float dt) const { return detail::advanced(sky, m, dt); }
-  void resolve(const BodyPath* bodies, const Hit& h, float t, Mover& m) const { resolve3(g, sky, bodies, h, t, m); }
+  void resolve(const BodyPath* bodies, const Hit& h, float t, Mover& m) const { detail::resolve(g, sky, bodies, h, t, m); }
   static float impact_speed(const Hit& h, const Mover& m) { return detail::impact_speed(h, m); }
 };
 

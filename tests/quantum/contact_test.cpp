@@ -107,8 +107,8 @@ TEST(Contact, TheBatchedSearchFindsWhatTheScalarSearchFinds) {
         // centre to the ball's at the contact time.
         const float reach = kind == detail::HitKind::Body ? bodies[size_t(index)].radius + g.r : g.r;
         const float slack = 1e-4f + 2 * std::hypot(m.ux, m.uy) * std::fabs(batch.when[i] - hit.dt) / reach;
-        ASSERT_NEAR(batch.hnx[i], hit.nx, slack) << "kind " << int(kind) << " at " << hit.dt;
-        ASSERT_NEAR(batch.hny[i], hit.ny, slack) << "kind " << int(kind) << " at " << hit.dt;
+        ASSERT_NEAR(batch.nx[i], hit.nx, slack) << "kind " << int(kind) << " at " << hit.dt;
+        ASSERT_NEAR(batch.ny[i], hit.ny, slack) << "kind " << int(kind) << " at " << hit.dt;
         at_end_points += kind == detail::HitKind::Wall && touches_an_end_point(g, m, batch.when[i]);
         at_bodies += kind == detail::HitKind::Body;
       }
