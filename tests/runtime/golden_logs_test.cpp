@@ -25,6 +25,7 @@
 
 #include "../shipped_sports.h"
 #include "output_files.h"
+#include "lua_sport.h"
 #include "session.h"
 
 namespace quantum {
@@ -46,7 +47,7 @@ void play(const std::string& sport, const fs::path& events, const fs::path& deci
   o.events = events.string();
   o.decisions = decisions.string();
   std::ostringstream errors;
-  runtime::Session session(o, nullptr, errors);
+  runtime::Session session(o, tools::lua_sport, nullptr, errors);
   session.run();
 }
 
