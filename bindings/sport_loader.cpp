@@ -203,8 +203,9 @@ void read_match(const Reader& r, int t, game::SportSpec& spec) {
   spec.match.seconds = r.number(m, "seconds", "match", spec.match.seconds, false);
   r.within("match.seconds", limits::kMatchSeconds, spec.match.seconds);
   spec.match.stall = r.number(m, "stall", "match", spec.match.stall, false);
-  if (!(spec.match.stall >= game::kLeastStall && spec.match.stall <= game::kMostStall))
-    r.fail("match.stall", "must be a number of seconds in [1, 3600] (how long a match may go without play), got " +
+  if (!limits::kStall.contains(spec.match.stall))
+    r.fail("match.stall", "must be a number of seconds in " + limits::interval(limits::kStall) +
+                              " (how long a match may go without play), got " +
                               (std::ostringstream() << spec.match.stall).str());
   if (r.field(m, "start")) {
     r.expect(LUA_TSTRING, "match.start");

@@ -146,8 +146,7 @@ class Rules {
   virtual void begin_frame(Match&) {}
 };
 
-// Handicaps are in limits::kHandicap, (0, kMostHandicap].
-inline constexpr double kMostHandicap = limits::kHandicap.hi;
+// Handicaps are in limits::kHandicap.
 inline bool handicap_ok(double h) { return limits::kHandicap.contains(h); }  // false for NaN too
 
 // A fate factor, and each term of it, is in limits::kFactor, [0, kMostFactor].
@@ -173,11 +172,6 @@ inline constexpr double kMostAward = 1000;
 // which has no positive twin.
 inline constexpr int kMostScore = std::numeric_limits<int>::max();
 
-// The stall bound (MatchConfig::stall, a sport's match.stall) is in limits::kStall.
-inline constexpr double kLeastStall = limits::kStall.lo, kMostStall = limits::kStall.hi;
-// The most tackles per second a sport may ask for (MatchConfig::tackle_rate, tackles.rate).
-inline constexpr double kMostTackleRate = limits::kTackleRate.hi;
-
 struct MatchConfig {
   uint32_t particles = 1000;
   uint64_t seed = 1;
@@ -196,12 +190,12 @@ struct MatchConfig {
   ThrowSpread throw_spread;
   // Seconds a match may go without play (counts_as_play) before the rules hear `stalled`; when
   // they do nothing about it, the match restarts play itself (see Match::step). In
-  // [kLeastStall, kMostStall].
+  // limits::kStall.
   double stall = 20;
   // Tackles (players who catch): per second, how often an opponent within reach of the holder
   // (their bodies touching) takes the ball, before the fate factors of kind `tackle`; each
-  // frame's chance is 1 - e^(-rate x factor / fps). 0, the default, is no tackles. In [0,
-  // kMostTackleRate].
+  // frame's chance is 1 - e^(-rate x factor / fps). 0, the default, is no tackles. In
+  // limits::kTackleRate.
   double tackle_rate = 0;
 };
 
